@@ -1,0 +1,384 @@
+//! Time stepping: variational implicit Euler (MODEL section 2) and the static solve.
+//!
+//! One dynamic step minimises the incremental potential
+//! `Phi(q) = 1/(2h^2) (q - qhat)^T M (q - qhat) + E(q, t_{n+1})`, `qhat = q_n + h v_n`,
+//! by Newton's method: the Hessian (every stencil projected to positive semi-definite) is
+//! assembled into a fixed banded pattern and factorised by faer's sparse Cholesky
+//! ([`linsolve`]); a backtracking (Armijo) line search on `Phi` guards each update; the step
+//! has converged when the last full Newton correction is below `tol * a` on every position
+//! and below `tol` rad on every twist angle (the gradient scaled by the inverse Hessian).
+//! Then `v_{n+1} = (q_{n+1} - q_n)/h` and the reference frames are transported in time.
+//! A step that fails (iteration cap, failed line search, non-finite value) is retried as
+//! two steps of `h/2`, up to `max_halvings` times, then reported with time, step and reason.
+//!
+//! The static mode minimises `E(q)` with the same Newton machinery, ramping gravity and the
+//! natural strains over `load_steps` increments.
+//!
+//! Extension points: the rest strains at `t_{n+1}` come from an [`Actuation`] (muscles), and
+//! the linear solve of each Newton iterate is one call that a contact solver may replace.
+
+pub mod linsolve;
+
+use crate::energy::{self, Assembly, Ctx, Term};
+use crate::model::Model;
+use crate::rod::dof;
+use crate::state::State;
+use linsolve::LinSolver;
+use std::time::Instant;
+
+/// Time-dependent natural strains (muscle activation enters here, MODEL 1.2).
+pub trait Actuation: Send + Sync {
+    /// Fill the integrated natural curvature `kappa0[i]` and twist `m0[i]` of every interior
+    /// node `i` at time `t`.
+    fn rest_strains(&self, t: f64, m: &Model, kappa0: &mut [[f64; 2]], m0: &mut [f64]);
+}
+
+/// The rod's own uniform natural curvature and twist from the problem file.
+pub struct Natural;
+
+impl Actuation for Natural {
+    fn rest_strains(&self, _t: f64, m: &Model, kappa0: &mut [[f64; 2]], m0: &mut [f64]) {
+        for i in 1..m.nodes - 1 {
+            let l = m.voronoi[i];
+            kappa0[i] = [m.natural_curvature[0] * l, m.natural_curvature[1] * l];
+            m0[i] = m.natural_twist * l;
+        }
+    }
+}
+
+/// Cumulative solver statistics.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Stats {
+    /// Accepted steps (dynamic) or load increments (static).
+    pub steps: usize,
+    /// Newton iterations over all accepted steps.
+    pub newton_iterations: usize,
+    /// Step halvings (each failed attempt that was retried with h/2).
+    pub step_halvings: usize,
+    /// Line-search backtracks.
+    pub backtracks: usize,
+    /// Times a factorisation needed a diagonal shift.
+    pub shifted_factorizations: usize,
+    /// Seconds in energy, gradient and Hessian assembly.
+    pub assembly_s: f64,
+    /// Seconds in numeric factorisation.
+    pub factor_s: f64,
+    /// Seconds in triangular solves.
+    pub solve_s: f64,
+    /// Seconds in line-search energy evaluations.
+    pub line_search_s: f64,
+}
+
+/// A step that could not be completed.
+#[derive(Debug, thiserror::Error)]
+pub enum StepError {
+    /// Rejected after all allowed halvings.
+    #[error("step rejected at t = {t} s with dt = {dt} s after {halvings} halvings: {reason}")]
+    Rejected {
+        /// Time at the start of the failed step (s).
+        t: f64,
+        /// Smallest step tried (s).
+        dt: f64,
+        /// Halvings tried.
+        halvings: usize,
+        /// Why the last attempt failed.
+        reason: String,
+    },
+}
+
+/// Energies of a state (J).
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct Energies {
+    /// Kinetic energy.
+    pub kinetic: f64,
+    /// Elastic energy (stretch, bend, twist).
+    pub elastic: f64,
+    /// Gravitational potential energy.
+    pub gravity: f64,
+    /// Sum.
+    pub total: f64,
+}
+
+/// The stepper: model, terms, preallocated workspace and statistics.
+pub struct Integrator<'m> {
+    /// The model.
+    pub model: &'m Model,
+    terms: Vec<Box<dyn Term>>,
+    actuation: Box<dyn Actuation>,
+    asm: Assembly,
+    lin: LinSolver,
+    qhat: Vec<f64>,
+    dq: Vec<f64>,
+    trial: Vec<f64>,
+    q_prev: Vec<f64>,
+    v_prev: Vec<f64>,
+    kappa0: Vec<[f64; 2]>,
+    m0: Vec<f64>,
+    load: f64,
+    /// Statistics so far.
+    pub stats: Stats,
+}
+
+impl<'m> Integrator<'m> {
+    /// A stepper for `model` driven by `actuation`.
+    pub fn new(model: &'m Model, actuation: Box<dyn Actuation>) -> Self {
+        let asm = Assembly::new(model.ndof);
+        let lin = LinSolver::new(&asm);
+        let n = model.ndof;
+        Integrator {
+            model,
+            terms: energy::rod_terms(),
+            actuation,
+            asm,
+            lin,
+            qhat: vec![0.0; n],
+            dq: vec![0.0; n],
+            trial: vec![0.0; n],
+            q_prev: vec![0.0; n],
+            v_prev: vec![0.0; n],
+            kappa0: vec![[0.0; 2]; model.nodes],
+            m0: vec![0.0; model.nodes],
+            load: 1.0,
+            stats: Stats::default(),
+        }
+    }
+
+    fn set_time(&mut self, t: f64) {
+        self.actuation.rest_strains(t, self.model, &mut self.kappa0, &mut self.m0);
+        if self.load != 1.0 {
+            for k in self.kappa0.iter_mut() {
+                k[0] *= self.load;
+                k[1] *= self.load;
+            }
+            for m in self.m0.iter_mut() {
+                *m *= self.load;
+            }
+        }
+    }
+
+    fn gravity(&self) -> [f64; 3] {
+        let g = self.model.gravity;
+        [g[0] * self.load, g[1] * self.load, g[2] * self.load]
+    }
+
+    /// Energies of `s` with the rest strains at `s.t`.
+    pub fn energies(&mut self, s: &State) -> Energies {
+        self.set_time(s.t);
+        let ctx = Ctx { model: self.model, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+        let mut elastic = 0.0;
+        let mut gravity = 0.0;
+        for t in &self.terms {
+            let e = t.eval(&ctx, &s.q, None, false);
+            if t.name() == "gravity" {
+                gravity += e;
+            } else {
+                elastic += e;
+            }
+        }
+        let kinetic = s.kinetic_energy(self.model);
+        Energies { kinetic, elastic, gravity, total: kinetic + elastic + gravity }
+    }
+
+    /// Objective of the step problem at `q` (no derivatives).
+    fn objective(&self, s: &State, q: &[f64], h: Option<f64>) -> f64 {
+        let ctx = Ctx { model: self.model, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+        let mut f = energy::total(&self.terms, &ctx, q, None, false);
+        if let Some(h) = h {
+            let w = 0.5 / (h * h);
+            for k in 0..q.len() {
+                f += w * self.model.mass[k] * (q[k] - self.qhat[k]).powi(2);
+            }
+        }
+        f
+    }
+
+    /// Newton iterations on `s.q` (the iterate) for the dynamic step (`h = Some`) or the
+    /// static problem. Returns the iteration count.
+    fn newton(&mut self, s: &mut State, h: Option<f64>) -> Result<usize, String> {
+        let m = self.model;
+        let n = m.ndof;
+        let a = m.diameter;
+        for it in 1..=m.max_iterations {
+            let t0 = Instant::now();
+            self.asm.clear();
+            let f0 = {
+                let ctx = Ctx { model: m, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+                let mut f = energy::total(&self.terms, &ctx, &s.q, Some(&mut self.asm), true);
+                if let Some(h) = h {
+                    let w = 1.0 / (h * h);
+                    for k in 0..n {
+                        let d = s.q[k] - self.qhat[k];
+                        f += 0.5 * w * m.mass[k] * d * d;
+                        self.asm.grad[k] += w * m.mass[k] * d;
+                        self.asm.add_h(k, k, w * m.mass[k]);
+                    }
+                }
+                f
+            };
+            for k in 0..n {
+                if m.fixed[k] {
+                    self.asm.fix(k);
+                }
+            }
+            if !f0.is_finite() || self.asm.grad.iter().any(|g| !g.is_finite()) {
+                return Err(format!("non-finite objective or gradient at Newton iteration {it}"));
+            }
+            let t1 = Instant::now();
+            self.stats.assembly_s += (t1 - t0).as_secs_f64();
+            // Factorise; shift the diagonal if the projected Hessian is only semi-definite.
+            if self.lin.factor(&self.asm).is_err() {
+                self.stats.shifted_factorizations += 1;
+                let dmax = (0..n).map(|k| self.asm.h(k, k).abs()).fold(0.0, f64::max).max(1e-300);
+                let mut shift = 1e-10 * dmax;
+                let mut ok = false;
+                for _ in 0..12 {
+                    for k in 0..n {
+                        self.asm.add_h(k, k, shift);
+                    }
+                    if self.lin.factor(&self.asm).is_ok() {
+                        ok = true;
+                        break;
+                    }
+                    shift *= 10.0;
+                }
+                if !ok {
+                    return Err(format!("Hessian not positive definite even with a diagonal shift (iteration {it})"));
+                }
+            }
+            let t2 = Instant::now();
+            self.stats.factor_s += (t2 - t1).as_secs_f64();
+            for k in 0..n {
+                self.dq[k] = -self.asm.grad[k];
+            }
+            self.lin.solve(&mut self.dq);
+            let t3 = Instant::now();
+            self.stats.solve_s += (t3 - t2).as_secs_f64();
+            if self.dq.iter().any(|d| !d.is_finite()) {
+                return Err(format!("non-finite Newton direction at iteration {it}"));
+            }
+            let slope: f64 = self.asm.grad.iter().zip(&self.dq).map(|(g, d)| g * d).sum();
+            // Backtracking line search on the objective, tolerant of round-off near the minimum.
+            let mut alpha = 1.0;
+            let noise = 1e-13 * f0.abs().max(1e-300);
+            let mut accepted = false;
+            for _ in 0..40 {
+                for k in 0..n {
+                    self.trial[k] = s.q[k] + alpha * self.dq[k];
+                }
+                let ft = self.objective(s, &self.trial, h);
+                if ft.is_finite() && ft <= f0 + 1e-4 * alpha * slope + noise {
+                    accepted = true;
+                    break;
+                }
+                alpha *= 0.5;
+                self.stats.backtracks += 1;
+            }
+            self.stats.line_search_s += t3.elapsed().as_secs_f64();
+            if !accepted {
+                return Err(format!("line search failed at Newton iteration {it} (slope {slope:.3e})"));
+            }
+            std::mem::swap(&mut s.q, &mut self.trial);
+            if h.is_none() {
+                s.update_frames();
+            }
+            let mut dx: f64 = 0.0;
+            let mut dth: f64 = 0.0;
+            for i in 0..m.nodes {
+                for c in 0..3 {
+                    dx = dx.max(self.dq[dof::node(i) + c].abs());
+                }
+                if i + 1 < m.nodes {
+                    dth = dth.max(self.dq[dof::edge(i)].abs());
+                }
+            }
+            if alpha == 1.0 && dx <= m.tolerance * a && dth <= m.tolerance {
+                return Ok(it);
+            }
+        }
+        Err(format!("Newton did not converge in {} iterations", m.max_iterations))
+    }
+
+    /// One implicit Euler step of size `h`, without retries.
+    pub fn try_step(&mut self, s: &mut State, h: f64) -> Result<usize, String> {
+        let m = self.model;
+        self.q_prev.copy_from_slice(&s.q);
+        self.v_prev.copy_from_slice(&s.v);
+        for k in 0..m.ndof {
+            self.qhat[k] = if m.fixed[k] { s.q[k] } else { s.q[k] + h * s.v[k] };
+        }
+        self.set_time(s.t + h);
+        s.q.copy_from_slice(&self.qhat);
+        match self.newton(s, Some(h)) {
+            Ok(it) => {
+                for k in 0..m.ndof {
+                    s.v[k] = (s.q[k] - self.q_prev[k]) / h;
+                }
+                s.update_frames();
+                s.t += h;
+                Ok(it)
+            }
+            Err(e) => {
+                s.q.copy_from_slice(&self.q_prev);
+                s.v.copy_from_slice(&self.v_prev);
+                Err(e)
+            }
+        }
+    }
+
+    /// Advance by `h`, halving on failure (at most `max_halvings` levels).
+    pub fn step(&mut self, s: &mut State, h: f64) -> Result<(), StepError> {
+        self.step_level(s, h, 0)
+    }
+
+    fn step_level(&mut self, s: &mut State, h: f64, level: usize) -> Result<(), StepError> {
+        match self.try_step(s, h) {
+            Ok(it) => {
+                self.stats.steps += 1;
+                self.stats.newton_iterations += it;
+                Ok(())
+            }
+            Err(reason) => {
+                if level >= self.model.max_halvings {
+                    return Err(StepError::Rejected { t: s.t, dt: h, halvings: level, reason });
+                }
+                self.stats.step_halvings += 1;
+                self.step_level(s, 0.5 * h, level + 1)?;
+                self.step_level(s, 0.5 * h, level + 1)
+            }
+        }
+    }
+
+    /// Static equilibrium at load fraction `load` (gravity and natural strains scaled).
+    pub fn solve_static(&mut self, s: &mut State, load: f64) -> Result<usize, StepError> {
+        self.load = load;
+        self.set_time(s.t);
+        let r = self.newton(s, None);
+        self.load = 1.0;
+        match r {
+            Ok(it) => {
+                self.stats.steps += 1;
+                self.stats.newton_iterations += it;
+                s.v.fill(0.0);
+                Ok(it)
+            }
+            Err(reason) => Err(StepError::Rejected { t: s.t, dt: 0.0, halvings: 0, reason: format!("static solve at load {load}: {reason}") }),
+        }
+    }
+
+    /// Gradient and (unprojected) Hessian of the rod energy at `q` with the frames of `s` and
+    /// rest strains at `s.t` (for tests and diagnostics).
+    pub fn energy_derivatives(&mut self, s: &State, q: &[f64], project: bool) -> (f64, Assembly) {
+        self.set_time(s.t);
+        let mut asm = Assembly::new(self.model.ndof);
+        let ctx = Ctx { model: self.model, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+        let e = energy::total(&self.terms, &ctx, q, Some(&mut asm), project);
+        (e, asm)
+    }
+
+    /// Rod energy at `q` with the frames of `s` and rest strains at `s.t`.
+    pub fn energy_at(&mut self, s: &State, q: &[f64]) -> f64 {
+        self.set_time(s.t);
+        let ctx = Ctx { model: self.model, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+        energy::total(&self.terms, &ctx, q, None, false)
+    }
+}

@@ -1,0 +1,246 @@
+//! The immutable [`Model`]: geometry, masses, stiffnesses, boundary conditions and settings,
+//! compiled once from a validated [`Problem`].
+//!
+//! A clamped end is modelled by one extra *ghost* edge beyond the clamped end node, whose two
+//! nodes and twist angle are fixed: the clamp holds the end node's position and the end's
+//! material frame, and the bending/twist stencil at the end node carries the clamp moment.
+//! This places the clamp exactly at the rod's end (s = 0 or s = L), so the discrete cantilever
+//! carries its whole weight over its whole length (no O(h) loss of length at the root).
+
+use crate::problem::{Clamp, Mode, Problem};
+use crate::rod::{dof, frames, vec3::f};
+use std::f64::consts::PI;
+use std::ops::Range;
+
+/// Everything that does not change during a run.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Number of nodes in the internal rod (real nodes plus a ghost node at a clamped end).
+    pub nodes: usize,
+    /// Internal indices of the real nodes (node `real.start` is the head, s = 0).
+    pub real: Range<usize>,
+    /// Number of generalised coordinates.
+    pub ndof: usize,
+    /// Rod length `L` (m).
+    pub length: f64,
+    /// Diameter `a` (m).
+    pub diameter: f64,
+    /// Density `rho` (kg/m^3).
+    pub density: f64,
+    /// Bending rigidity `B` (N m^2).
+    pub bend: f64,
+    /// Twist rigidity `C` (N m^2).
+    pub twist: f64,
+    /// Stretching rigidity `EA` (N).
+    pub stretch: f64,
+    /// Rest length of each internal edge (m).
+    pub rest_len: Vec<f64>,
+    /// Voronoi length of each internal node (m; 0 at the two internal ends).
+    pub voronoi: Vec<f64>,
+    /// Mass (kg) or twist inertia (kg m^2) of each coordinate.
+    pub mass: Vec<f64>,
+    /// Coordinates held fixed (clamp).
+    pub fixed: Vec<bool>,
+    /// Gravity vector (m/s^2).
+    pub gravity: [f64; 3],
+    /// Natural curvature density `[about d1, about d2]` (1/m).
+    pub natural_curvature: [f64; 2],
+    /// Natural twist density (rad/m).
+    pub natural_twist: f64,
+    /// Integration mode.
+    pub mode: Mode,
+    /// Time step (s); static mode: unused.
+    pub dt: f64,
+    /// Duration (s); static mode: unused.
+    pub duration: f64,
+    /// Output interval (s).
+    pub output_interval: f64,
+    /// Static load increments.
+    pub load_steps: usize,
+    /// Newton tolerance (relative to `a` for positions, rad for angles).
+    pub tolerance: f64,
+    /// Newton iteration cap per step.
+    pub max_iterations: usize,
+    /// Step halvings allowed before the run stops.
+    pub max_halvings: usize,
+    /// Initial coordinates.
+    pub q0: Vec<f64>,
+    /// Initial velocities.
+    pub v0: Vec<f64>,
+    /// Initial reference director `a1` of every internal edge.
+    pub a1_0: Vec<[f64; 3]>,
+    /// Clamp.
+    pub clamp: Clamp,
+}
+
+/// Dimensionless groups of a model (MODEL.md section 6).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Dimensionless {
+    /// Scaled weight `W = rho g a^2 L^3 / B`.
+    pub scaled_weight: f64,
+    /// Aspect ratio `L / a`.
+    pub aspect_ratio: f64,
+}
+
+impl Model {
+    /// Compile a validated problem.
+    pub fn new(p: &Problem) -> Self {
+        let r = &p.rod;
+        let n = r.elements;
+        let l0 = r.length / n as f64;
+        let (nodes, real) = match r.clamp {
+            Clamp::None => (n + 1, 0..n + 1),
+            Clamp::Head => (n + 2, 1..n + 2),
+            Clamp::Tail => (n + 2, 0..n + 1),
+        };
+        let ndof = dof::count(nodes);
+        let a = r.diameter;
+        let area = PI * a * a / 4.0;
+        let polar = PI * a.powi(4) / 32.0;
+        let rest_len = vec![l0; nodes - 1];
+        let mut voronoi = vec![0.0; nodes];
+        for i in 1..nodes - 1 {
+            voronoi[i] = 0.5 * (rest_len[i - 1] + rest_len[i]);
+        }
+        let mut mass = vec![0.0; ndof];
+        for (k, i) in real.clone().enumerate() {
+            let lv = if k == 0 || k == n { 0.5 * l0 } else { l0 };
+            for c in 0..3 {
+                mass[dof::node(i) + c] = r.density * area * lv;
+            }
+        }
+        for j in 0..nodes - 1 {
+            mass[dof::edge(j)] = r.density * polar * rest_len[j];
+        }
+        let mut fixed = vec![false; ndof];
+        let fix_node = |i: usize, fixed: &mut Vec<bool>| {
+            for c in 0..3 {
+                fixed[dof::node(i) + c] = true;
+            }
+        };
+        match r.clamp {
+            Clamp::None => {}
+            Clamp::Head => {
+                fix_node(0, &mut fixed);
+                fix_node(1, &mut fixed);
+                fixed[dof::edge(0)] = true;
+            }
+            Clamp::Tail => {
+                fix_node(nodes - 1, &mut fixed);
+                fix_node(nodes - 2, &mut fixed);
+                fixed[dof::edge(nodes - 2)] = true;
+            }
+        }
+        // Initial straight rod: head (s = 0) at x = L, tail at the origin, rotated by heading.
+        let phi = p.initial.heading_deg.to_radians();
+        let hdir = [phi.cos(), phi.sin(), 0.0];
+        let z = 0.5 * a + p.initial.height;
+        let first_s = if r.clamp == Clamp::Head { -l0 } else { 0.0 };
+        let mut q0 = vec![0.0; ndof];
+        let mut xs = Vec::with_capacity(nodes);
+        for i in 0..nodes {
+            let s = first_s + i as f64 * l0;
+            let x = [(r.length - s) * hdir[0], (r.length - s) * hdir[1], z];
+            q0[dof::node(i)..dof::node(i) + 3].copy_from_slice(&x);
+            xs.push(x);
+        }
+        let t = f::scale(hdir, -1.0);
+        let a1 = frames::initial_director(t);
+        let a1_0 = vec![a1; nodes - 1];
+        // Initial velocity: uniform plus rigid rotation about the centroid of the real nodes.
+        let centroid = {
+            let mut c = [0.0; 3];
+            for i in real.clone() {
+                c = f::add(c, xs[i]);
+            }
+            f::scale(c, 1.0 / real.len() as f64)
+        };
+        let w = p.initial.angular_velocity;
+        let mut v0 = vec![0.0; ndof];
+        for i in 0..nodes {
+            let v = f::add(p.initial.velocity, f::cross(w, f::sub(xs[i], centroid)));
+            for c in 0..3 {
+                if !fixed[dof::node(i) + c] {
+                    v0[dof::node(i) + c] = v[c];
+                }
+            }
+        }
+        for j in 0..nodes - 1 {
+            if !fixed[dof::edge(j)] {
+                v0[dof::edge(j)] = f::dot(w, t);
+            }
+        }
+        let (dt, duration) = match p.time.mode {
+            Mode::Dynamic => (p.time.dt.unwrap_or(1e-3), p.time.duration.unwrap_or(1.0)),
+            Mode::Static => (p.time.dt.unwrap_or(1.0), p.time.duration.unwrap_or(0.0)),
+        };
+        let max_iterations = match p.time.mode {
+            Mode::Dynamic => p.solver.max_iterations,
+            Mode::Static => 10 * p.solver.max_iterations,
+        };
+        Model {
+            nodes,
+            real,
+            ndof,
+            length: r.length,
+            diameter: a,
+            density: r.density,
+            bend: r.bending_stiffness,
+            twist: r.twist_stiffness.unwrap_or(2.0 * r.bending_stiffness / 3.0),
+            stretch: r.stretch_stiffness.unwrap_or(16.0 * r.bending_stiffness / (a * a)),
+            rest_len,
+            voronoi,
+            mass,
+            fixed,
+            gravity: [0.0, 0.0, -p.gravity.g],
+            natural_curvature: r.natural_curvature,
+            natural_twist: r.natural_twist,
+            mode: p.time.mode,
+            dt,
+            duration,
+            output_interval: p.output.interval.unwrap_or(duration / 100.0).max(0.0),
+            load_steps: p.time.load_steps,
+            tolerance: p.solver.tolerance,
+            max_iterations,
+            max_halvings: p.solver.max_halvings,
+            q0,
+            v0,
+            a1_0,
+            clamp: r.clamp,
+        }
+    }
+
+    /// Line density `rho A` (kg/m).
+    pub fn line_density(&self) -> f64 {
+        self.density * PI * self.diameter * self.diameter / 4.0
+    }
+
+    /// Total mass of the real rod (kg).
+    pub fn total_mass(&self) -> f64 {
+        self.line_density() * self.length
+    }
+
+    /// Number of real elements.
+    pub fn elements(&self) -> usize {
+        self.real.len() - 1
+    }
+
+    /// Internal edge indices of the real edges.
+    pub fn real_edges(&self) -> Range<usize> {
+        self.real.start..self.real.end - 1
+    }
+
+    /// Arc length of internal node `i` from the head (m).
+    pub fn arc_length(&self, i: usize) -> f64 {
+        (i as f64 - self.real.start as f64) * self.length / self.elements() as f64
+    }
+
+    /// Dimensionless groups.
+    pub fn dimensionless(&self) -> Dimensionless {
+        let g = f::norm(self.gravity);
+        Dimensionless {
+            scaled_weight: self.density * g * self.diameter.powi(2) * self.length.powi(3) / self.bend,
+            aspect_ratio: self.length / self.diameter,
+        }
+    }
+}

@@ -1,0 +1,381 @@
+//! Problem files: the TOML schema (SI units), its defaults, and validation.
+//!
+//! Every field is documented with its meaning, unit and default. Tables and fields may be
+//! omitted where a default exists; unknown keys are rejected. [`load`] parses and validates a
+//! file and returns errors that name the file, the key, its line and the allowed range.
+
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A whole problem file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Problem {
+    /// The rod (required table).
+    pub rod: RodSpec,
+    /// Initial shape and velocity.
+    #[serde(default)]
+    pub initial: InitialSpec,
+    /// Gravity.
+    #[serde(default)]
+    pub gravity: GravitySpec,
+    /// Time integration (required table).
+    pub time: TimeSpec,
+    /// What is written and how often.
+    #[serde(default)]
+    pub output: OutputSpec,
+    /// Newton solver settings.
+    #[serde(default)]
+    pub solver: SolverSpec,
+}
+
+/// Which end of the rod is clamped (position and material frame held).
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Clamp {
+    /// Both ends free.
+    #[default]
+    None,
+    /// The head (s = 0) is clamped.
+    Head,
+    /// The tail (s = L) is clamped.
+    Tail,
+}
+
+/// `[rod]`: geometry and material of the snake.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RodSpec {
+    /// Length `L` (m). Required, > 0.
+    pub length: f64,
+    /// Diameter `a` of the circular cross-section (m). Required, > 0.
+    pub diameter: f64,
+    /// Number of elements (edges) `N`. Default 50, at least 2.
+    #[serde(default = "d_elements")]
+    pub elements: usize,
+    /// Density `rho` (kg/m^3). Default 1000, > 0.
+    #[serde(default = "d_density")]
+    pub density: f64,
+    /// Bending rigidity `B` (N m^2). Required, > 0.
+    pub bending_stiffness: f64,
+    /// Twist rigidity `C` (N m^2). Default `2B/3` (Poisson ratio 0.5), > 0.
+    pub twist_stiffness: Option<f64>,
+    /// Stretching rigidity (N). Default `16 B / a^2`, the homogeneous circular rod's `EA`.
+    pub stretch_stiffness: Option<f64>,
+    /// Clamped end: "none" (default), "head" or "tail".
+    #[serde(default)]
+    pub clamp: Clamp,
+    /// Natural curvature `[about d1, about d2]` (1/m). Default `[0, 0]`.
+    #[serde(default)]
+    pub natural_curvature: [f64; 2],
+    /// Natural twist rate (rad/m). Default 0.
+    #[serde(default)]
+    pub natural_twist: f64,
+}
+fn d_elements() -> usize {
+    50
+}
+fn d_density() -> f64 {
+    1000.0
+}
+
+/// Initial shape.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Shape {
+    /// Straight along the heading; head (s = 0) at x = L, tail at the origin.
+    #[default]
+    Straight,
+}
+
+/// `[initial]`: initial configuration and velocity.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    /// Shape: "straight" (default): along +x, head (s = 0) at x = L, tail at x = 0,
+    /// centreline at z = a/2 + `height`.
+    #[serde(default)]
+    pub shape: Shape,
+    /// Uniform initial velocity (m/s). Default `[0, 0, 0]`.
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Initial rigid angular velocity about the centroid (rad/s). Default `[0, 0, 0]`.
+    #[serde(default)]
+    pub angular_velocity: [f64; 3],
+    /// Rotation of the straight rod about z (degrees); 0 = head toward +x. Default 0.
+    #[serde(default)]
+    pub heading_deg: f64,
+    /// Extra height of the centreline above `a/2` (m). Default 0.
+    #[serde(default)]
+    pub height: f64,
+}
+impl Default for InitialSpec {
+    fn default() -> Self {
+        Self { shape: Shape::Straight, velocity: [0.0; 3], angular_velocity: [0.0; 3], heading_deg: 0.0, height: 0.0 }
+    }
+}
+
+/// `[gravity]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GravitySpec {
+    /// Gravitational acceleration along -z (m/s^2). Default 9.81; 0 disables; >= 0.
+    #[serde(default = "d_g")]
+    pub g: f64,
+}
+fn d_g() -> f64 {
+    9.81
+}
+impl Default for GravitySpec {
+    fn default() -> Self {
+        Self { g: d_g() }
+    }
+}
+
+/// Integration mode.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Variational implicit Euler in time.
+    #[default]
+    Dynamic,
+    /// No inertia: minimise the potential energy (needs a clamp).
+    Static,
+}
+
+/// `[time]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    /// "dynamic" (default) or "static".
+    #[serde(default)]
+    pub mode: Mode,
+    /// Time step `h` (s). Required in dynamic mode, > 0.
+    pub dt: Option<f64>,
+    /// Simulated duration (s). Required in dynamic mode, > 0.
+    pub duration: Option<f64>,
+    /// Static mode: number of load increments (gravity and natural strains ramped). Default 1.
+    #[serde(default = "d_one")]
+    pub load_steps: usize,
+}
+fn d_one() -> usize {
+    1
+}
+
+/// `[output]`.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Interval between recorded frames (s). Default `duration / 100`; > 0.
+    pub interval: Option<f64>,
+}
+
+/// `[solver]`: Newton settings.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// Convergence: the last Newton correction is below `tolerance * a` on every position and
+    /// below `tolerance` (rad) on every twist angle. Default 1e-9, in (0, 1e-3].
+    #[serde(default = "d_tol")]
+    pub tolerance: f64,
+    /// Newton iterations per step before the step is rejected. Default 50 (static: 10x).
+    #[serde(default = "d_iters")]
+    pub max_iterations: usize,
+    /// Times a rejected step may be halved before the run stops. Default 8.
+    #[serde(default = "d_halvings")]
+    pub max_halvings: usize,
+}
+fn d_tol() -> f64 {
+    1e-9
+}
+fn d_iters() -> usize {
+    50
+}
+fn d_halvings() -> usize {
+    8
+}
+impl Default for SolverSpec {
+    fn default() -> Self {
+        Self { tolerance: d_tol(), max_iterations: d_iters(), max_halvings: d_halvings() }
+    }
+}
+
+/// A problem-file error: names the file, the key and its line, and what is allowed.
+#[derive(Debug, thiserror::Error)]
+pub enum ProblemError {
+    /// The file could not be read.
+    #[error("{file}: cannot read: {source}")]
+    Io {
+        /// File.
+        file: PathBuf,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// TOML syntax, type, unknown or missing key.
+    #[error("{file}: {message}")]
+    Parse {
+        /// File.
+        file: PathBuf,
+        /// toml's message (line, column, snippet, key).
+        message: String,
+    },
+    /// A value outside its allowed range.
+    #[error("{file}:{line}: `{key}` = {value} is not allowed: must be {allowed}")]
+    Invalid {
+        /// File.
+        file: PathBuf,
+        /// 1-based line of the key (or of its table when the key is absent).
+        line: usize,
+        /// Dotted key, e.g. `rod.length`.
+        key: String,
+        /// The offending value as written.
+        value: String,
+        /// Allowed range with unit.
+        allowed: String,
+    },
+}
+
+/// Read, parse and validate a problem file.
+pub fn load(path: &Path) -> Result<Problem, ProblemError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io { file: path.into(), source })?;
+    parse(&text, path)
+}
+
+/// Parse and validate problem text; `path` is only used in messages.
+pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
+    let p: Problem = toml::from_str(text).map_err(|e| ProblemError::Parse { file: path.into(), message: e.to_string().trim_end().to_string() })?;
+    validate(&p, text, path)?;
+    Ok(p)
+}
+
+/// 1-based line of `key` inside `[table]`, or of the table header, or 1.
+pub fn key_line(text: &str, table: &str, key: &str) -> usize {
+    let mut current = String::new();
+    let mut header_line = None;
+    for (n, raw) in text.lines().enumerate() {
+        let line = raw.trim();
+        if line.starts_with('[') {
+            current = line.trim_start_matches('[').split(']').next().unwrap_or("").trim().to_string();
+            if current == table {
+                header_line = Some(n + 1);
+            }
+            continue;
+        }
+        if current == table {
+            if let Some(rest) = line.strip_prefix(key) {
+                if rest.trim_start().starts_with('=') {
+                    return n + 1;
+                }
+            }
+        }
+    }
+    header_line.unwrap_or(1)
+}
+
+struct Checker<'a> {
+    text: &'a str,
+    path: &'a Path,
+}
+
+impl Checker<'_> {
+    fn fail(&self, table: &str, key: &str, value: String, allowed: &str) -> ProblemError {
+        ProblemError::Invalid {
+            file: self.path.into(),
+            line: key_line(self.text, table, key),
+            key: format!("{table}.{key}"),
+            value,
+            allowed: allowed.into(),
+        }
+    }
+    fn positive(&self, table: &str, key: &str, v: f64, unit: &str) -> Result<(), ProblemError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            Err(self.fail(table, key, format!("{v}"), &format!("a finite number > 0 ({unit})")))
+        }
+    }
+    fn finite(&self, table: &str, key: &str, v: &[f64], unit: &str) -> Result<(), ProblemError> {
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(self.fail(table, key, format!("{v:?}"), &format!("finite ({unit})")))
+        }
+    }
+    fn range(&self, table: &str, key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), ProblemError> {
+        if v.is_finite() && v > lo && v <= hi {
+            Ok(())
+        } else {
+            Err(self.fail(table, key, format!("{v}"), &format!("in ({lo}, {hi}] ({unit})")))
+        }
+    }
+}
+
+fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
+    let c = Checker { text, path };
+    let r = &p.rod;
+    c.positive("rod", "length", r.length, "m")?;
+    c.positive("rod", "diameter", r.diameter, "m")?;
+    if r.diameter >= r.length {
+        return Err(c.fail("rod", "diameter", format!("{}", r.diameter), "smaller than rod.length (m)"));
+    }
+    if !(2..=100_000).contains(&r.elements) {
+        return Err(c.fail("rod", "elements", format!("{}", r.elements), "an integer in [2, 100000]"));
+    }
+    c.positive("rod", "density", r.density, "kg/m^3")?;
+    c.positive("rod", "bending_stiffness", r.bending_stiffness, "N m^2")?;
+    if let Some(v) = r.twist_stiffness {
+        c.positive("rod", "twist_stiffness", v, "N m^2")?;
+    }
+    if let Some(v) = r.stretch_stiffness {
+        c.positive("rod", "stretch_stiffness", v, "N")?;
+    }
+    c.finite("rod", "natural_curvature", &r.natural_curvature, "1/m")?;
+    c.finite("rod", "natural_twist", &[r.natural_twist], "rad/m")?;
+    let i = &p.initial;
+    c.finite("initial", "velocity", &i.velocity, "m/s")?;
+    c.finite("initial", "angular_velocity", &i.angular_velocity, "rad/s")?;
+    c.finite("initial", "heading_deg", &[i.heading_deg], "degrees")?;
+    if !(i.height.is_finite() && i.height >= 0.0) {
+        return Err(c.fail("initial", "height", format!("{}", i.height), "a finite number >= 0 (m)"));
+    }
+    if !(p.gravity.g.is_finite() && p.gravity.g >= 0.0) {
+        return Err(c.fail("gravity", "g", format!("{}", p.gravity.g), "a finite number >= 0 (m/s^2)"));
+    }
+    let t = &p.time;
+    match t.mode {
+        Mode::Dynamic => {
+            let dt = t.dt.ok_or_else(|| c.fail("time", "dt", "(missing)".into(), "given in dynamic mode, > 0 (s)"))?;
+            c.positive("time", "dt", dt, "s")?;
+            let d = t.duration.ok_or_else(|| c.fail("time", "duration", "(missing)".into(), "given in dynamic mode, > 0 (s)"))?;
+            c.positive("time", "duration", d, "s")?;
+            if dt > d {
+                return Err(c.fail("time", "dt", format!("{dt}"), "at most time.duration (s)"));
+            }
+        }
+        Mode::Static => {
+            if r.clamp == Clamp::None {
+                return Err(c.fail("time", "mode", "\"static\"".into(), "\"dynamic\" unless rod.clamp is \"head\" or \"tail\" (a free rod has no static equilibrium)"));
+            }
+            if let Some(dt) = t.dt {
+                c.positive("time", "dt", dt, "s")?;
+            }
+            if let Some(d) = t.duration {
+                c.positive("time", "duration", d, "s")?;
+            }
+        }
+    }
+    if !(1..=10_000).contains(&t.load_steps) {
+        return Err(c.fail("time", "load_steps", format!("{}", t.load_steps), "an integer in [1, 10000]"));
+    }
+    if let Some(iv) = p.output.interval {
+        c.positive("output", "interval", iv, "s")?;
+    }
+    c.range("solver", "tolerance", p.solver.tolerance, 0.0, 1e-3, "dimensionless")?;
+    if !(1..=10_000).contains(&p.solver.max_iterations) {
+        return Err(c.fail("solver", "max_iterations", format!("{}", p.solver.max_iterations), "an integer in [1, 10000]"));
+    }
+    if p.solver.max_halvings > 30 {
+        return Err(c.fail("solver", "max_halvings", format!("{}", p.solver.max_halvings), "an integer in [0, 30]"));
+    }
+    Ok(())
+}
