@@ -1,9 +1,11 @@
 //! slither: a simulator and gait designer for snake locomotion.
 pub mod energy;
+pub mod fd;
 pub mod integrator;
 pub mod model;
+pub mod output;
 pub mod problem;
 pub mod rod;
+pub mod sim;
 pub mod state;
-pub mod fd;
 pub mod topology;

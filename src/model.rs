@@ -4,8 +4,9 @@
 //! A clamped end is modelled by one extra *ghost* edge beyond the clamped end node, whose two
 //! nodes and twist angle are fixed: the clamp holds the end node's position and the end's
 //! material frame, and the bending/twist stencil at the end node carries the clamp moment.
-//! This places the clamp exactly at the rod's end (s = 0 or s = L), so the discrete cantilever
-//! carries its whole weight over its whole length (no O(h) loss of length at the root).
+//! The end node's Voronoi length is halved (only the half cell outside the clamp bends), which
+//! places the clamp exactly at the rod's end (s = 0 or s = L): the discrete cantilever has its
+//! whole length and converges at second order.
 
 use crate::problem::{Clamp, Mode, Problem};
 use crate::rod::{dof, frames, vec3::f};
@@ -101,6 +102,14 @@ impl Model {
         let mut voronoi = vec![0.0; nodes];
         for i in 1..nodes - 1 {
             voronoi[i] = 0.5 * (rest_len[i - 1] + rest_len[i]);
+        }
+        // The clamped end node's Voronoi cell lies half inside the clamp: only the half outside
+        // bends (the ghost edge is the clamp, not rod material). This keeps the clamp at s = 0
+        // or s = L exactly (second-order convergence of the cantilever).
+        match r.clamp {
+            Clamp::None => {}
+            Clamp::Head => voronoi[1] = 0.5 * l0,
+            Clamp::Tail => voronoi[nodes - 2] = 0.5 * l0,
         }
         let mut mass = vec![0.0; ndof];
         for (k, i) in real.clone().enumerate() {

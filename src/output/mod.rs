@@ -1,0 +1,136 @@
+//! Files a run writes into its output directory: `summary.json` (statistics, observables and
+//! dimensionless groups), `final.csv` (the final centreline and directors) and
+//! `trajectory.npz` (times, positions and twist angles at the output times, loadable by
+//! `numpy.load`).
+
+use crate::model::Model;
+use crate::rod::vec3::f;
+use crate::sim::{Frame, Outcome};
+use npyz::WriterBuilder;
+use serde::Serialize;
+use std::io::Write;
+use std::path::Path;
+
+/// The `summary.json` record.
+#[derive(Serialize)]
+pub struct Summary {
+    /// "completed" or "failed".
+    pub status: String,
+    /// Failure message, if the run stopped early.
+    pub error: Option<String>,
+    /// Problem file.
+    pub problem: String,
+    /// "dynamic" or "static".
+    pub mode: String,
+    /// Simulated time reached (s).
+    pub t_final: f64,
+    /// Accepted steps (static: load increments).
+    pub steps: usize,
+    /// Wall-clock time of the integration (s).
+    pub wall_time_s: f64,
+    /// Largest |edge strain| over the run.
+    pub max_strain: f64,
+    /// Total energy at the end (J): kinetic + elastic + gravitational.
+    pub energy_final: f64,
+    /// Energy split at the end (J).
+    pub energies_final: crate::integrator::Energies,
+    /// Mean Newton iterations per accepted step.
+    pub newton_iterations_mean: f64,
+    /// Step halvings.
+    pub step_halvings: usize,
+    /// Dimensionless groups.
+    pub dimensionless: crate::model::Dimensionless,
+    /// Full solver statistics.
+    pub stats: crate::integrator::Stats,
+    /// Tip (head) position at the end (m).
+    pub head_final: [f64; 3],
+    /// Tail position at the end (m).
+    pub tail_final: [f64; 3],
+}
+
+impl Summary {
+    /// Build from a run.
+    pub fn new(problem: &Path, m: &Model, o: &Outcome) -> Self {
+        let s = &o.state;
+        Summary {
+            status: if o.error.is_some() { "failed".into() } else { "completed".into() },
+            error: o.error.as_ref().map(|e| e.to_string()),
+            problem: problem.display().to_string(),
+            mode: format!("{:?}", m.mode).to_lowercase(),
+            t_final: s.t,
+            steps: o.stats.steps,
+            wall_time_s: o.wall_time_s,
+            max_strain: o.max_strain,
+            energy_final: o.energies.total,
+            energies_final: o.energies,
+            newton_iterations_mean: o.stats.newton_iterations as f64 / o.stats.steps.max(1) as f64,
+            step_halvings: o.stats.step_halvings,
+            dimensionless: m.dimensionless(),
+            stats: o.stats.clone(),
+            head_final: s.node(m.real.start),
+            tail_final: s.node(m.real.end - 1),
+        }
+    }
+}
+
+/// Write `summary.json`.
+pub fn write_summary(dir: &Path, s: &Summary) -> std::io::Result<()> {
+    let text = serde_json::to_string_pretty(s).expect("summary serialises");
+    std::fs::write(dir.join("summary.json"), text + "\n")
+}
+
+/// Write `final.csv`: header `s,x,y,z,d1x,d1y,d1z`, one row per real node; row i's d1 is the
+/// director of the edge starting at node i (the last row repeats the last edge's).
+pub fn write_final_csv(dir: &Path, m: &Model, o: &Outcome) -> std::io::Result<()> {
+    let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("final.csv"))?);
+    writeln!(w, "s,x,y,z,d1x,d1y,d1z")?;
+    let s = &o.state;
+    let last_edge = m.real.end - 2;
+    for i in m.real.clone() {
+        let x = s.node(i);
+        let (d1, _) = s.directors(i.min(last_edge));
+        writeln!(w, "{:.17e},{:.17e},{:.17e},{:.17e},{:.17e},{:.17e},{:.17e}", m.arc_length(i), x[0], x[1], x[2], d1[0], d1[1], d1[2])?;
+    }
+    w.flush()
+}
+
+fn put(npz: &mut npyz::npz::NpzWriter<std::io::BufWriter<std::fs::File>>, name: &str, shape: &[u64], data: impl IntoIterator<Item = f64>) -> std::io::Result<()> {
+    let opts = npyz::zip::write::FileOptions::default().compression_method(npyz::zip::CompressionMethod::Stored);
+    let mut w = npz.array::<f64>(name, opts)?.default_dtype().shape(shape).begin_nd()?;
+    w.extend(data)?;
+    w.finish()
+}
+
+/// Write `trajectory.npz` with `t` (F), `x` (F x nodes x 3), `theta` (F x edges),
+/// `v` (F x nodes x 3), `s` (nodes) and any extra per-frame arrays `(name, per-node values)`.
+pub fn write_trajectory(dir: &Path, m: &Model, frames: &[Frame], extra: &[(&str, Vec<Vec<f64>>)]) -> std::io::Result<()> {
+    let mut npz = npyz::npz::NpzWriter::create(dir.join("trajectory.npz"))?;
+    let nf = frames.len() as u64;
+    let nn = m.real.len() as u64;
+    let ne = nn - 1;
+    put(&mut npz, "t", &[nf], frames.iter().map(|fr| fr.t))?;
+    put(&mut npz, "s", &[nn], m.real.clone().map(|i| m.arc_length(i)))?;
+    put(&mut npz, "x", &[nf, nn, 3], frames.iter().flat_map(|fr| fr.x.iter().flatten().copied()))?;
+    put(&mut npz, "v", &[nf, nn, 3], frames.iter().flat_map(|fr| fr.v.iter().flatten().copied()))?;
+    put(&mut npz, "theta", &[nf, ne], frames.iter().flat_map(|fr| fr.theta.iter().copied()))?;
+    for (name, data) in extra {
+        let k = data.first().map_or(0, |r| r.len()) as u64;
+        put(&mut npz, name, &[data.len() as u64, k], data.iter().flatten().copied())?;
+    }
+    Ok(())
+}
+
+/// Centroid displacement between the first and last frame (m).
+pub fn centroid_displacement(frames: &[Frame]) -> [f64; 3] {
+    let c = |fr: &Frame| {
+        let mut c = [0.0; 3];
+        for x in &fr.x {
+            c = f::add(c, *x);
+        }
+        f::scale(c, 1.0 / fr.x.len() as f64)
+    };
+    match (frames.first(), frames.last()) {
+        (Some(a), Some(b)) => f::sub(c(b), c(a)),
+        _ => [0.0; 3],
+    }
+}
