@@ -1,4 +1,5 @@
 //! slither: a simulator and gait designer for snake locomotion.
+pub mod contact;
 pub mod energy;
 pub mod fd;
 pub mod integrator;

@@ -72,6 +72,8 @@ pub struct Model {
     pub a1_0: Vec<[f64; 3]>,
     /// Clamp.
     pub clamp: Clamp,
+    /// Ground contact and friction, if any.
+    pub ground: Option<crate::contact::Ground>,
 }
 
 /// Dimensionless groups of a model (MODEL.md section 6).
@@ -201,7 +203,10 @@ impl Model {
             voronoi,
             mass,
             fixed,
-            gravity: [0.0, 0.0, -p.gravity.g],
+            gravity: {
+                let beta = p.ground.as_ref().map_or(0.0, |g| g.incline_deg.to_radians());
+                [-p.gravity.g * beta.sin(), 0.0, -p.gravity.g * beta.cos()]
+            },
             natural_curvature: r.natural_curvature,
             natural_twist: r.natural_twist,
             mode: p.time.mode,
@@ -216,6 +221,7 @@ impl Model {
             v0,
             a1_0,
             clamp: r.clamp,
+            ground: p.ground.as_ref().map(|g| crate::contact::Ground { mu_f: g.mu_forward, mu_b: g.mu_backward, mu_s: g.mu_sideways }),
         }
     }
 

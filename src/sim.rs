@@ -20,16 +20,19 @@ pub struct Frame {
     pub theta: Vec<f64>,
     /// Real node velocities (m/s).
     pub v: Vec<[f64; 3]>,
+    /// Normal contact force on each real node (N).
+    pub normal: Vec<f64>,
 }
 
 impl Frame {
     /// Record the real rod of `s`.
-    pub fn of(m: &Model, s: &State, t: f64) -> Self {
+    pub fn of(m: &Model, s: &State, t: f64, normal: Vec<f64>) -> Self {
         Frame {
             t,
             x: m.real.clone().map(|i| s.node(i)).collect(),
             theta: m.real_edges().map(|j| s.q[dof::edge(j)]).collect(),
             v: m.real.clone().map(|i| s.node_velocity(i)).collect(),
+            normal,
         }
     }
 }
@@ -50,6 +53,10 @@ pub struct Outcome {
     pub energies: Energies,
     /// The failure that stopped the run, if any.
     pub error: Option<StepError>,
+    /// Largest penetration of a node below `z = a/2` over all accepted steps (m).
+    pub max_penetration: f64,
+    /// Largest slip speed of a node in contact over all accepted steps (m/s).
+    pub slip_speed_max: f64,
 }
 
 /// Progress callback: fraction done in [0, 1].
@@ -60,9 +67,24 @@ pub fn run(model: &Model, actuation: Box<dyn Actuation>, progress: Progress, on_
     let start = Instant::now();
     let mut integ = Integrator::new(model, actuation);
     let mut s = State::initial(model);
-    let mut frames = vec![Frame::of(model, &s, 0.0)];
+    let mut frames = vec![Frame::of(model, &s, 0.0, integ.normal_forces())];
     let mut max_strain = s.max_strain(model);
     let mut error = None;
+    let mut max_penetration: f64 = 0.0;
+    let mut slip_speed_max: f64 = 0.0;
+    let mut watch = |s: &State, integ: &Integrator| {
+        if model.ground.is_some() {
+            let nf = integ.normal_forces();
+            for (k, i) in model.real.clone().enumerate() {
+                let x = s.node(i);
+                max_penetration = max_penetration.max(0.5 * model.diameter - x[2]);
+                if nf[k] > 0.0 {
+                    let v = s.node_velocity(i);
+                    slip_speed_max = slip_speed_max.max((v[0] * v[0] + v[1] * v[1]).sqrt());
+                }
+            }
+        }
+    };
     match model.mode {
         Mode::Dynamic => {
             let n_steps = (model.duration / model.dt).round().max(1.0) as usize;
@@ -73,9 +95,10 @@ pub fn run(model: &Model, actuation: Box<dyn Actuation>, progress: Progress, on_
                     break;
                 }
                 max_strain = max_strain.max(s.max_strain(model));
+                watch(&s, &integ);
                 on_step(&s);
                 if k % every == 0 || k == n_steps {
-                    frames.push(Frame::of(model, &s, s.t));
+                    frames.push(Frame::of(model, &s, s.t, integ.normal_forces()));
                 }
                 progress(k as f64 / n_steps as f64);
             }
@@ -90,11 +113,21 @@ pub fn run(model: &Model, actuation: Box<dyn Actuation>, progress: Progress, on_
                 }
                 max_strain = max_strain.max(s.max_strain(model));
                 on_step(&s);
-                frames.push(Frame::of(model, &s, load));
+                frames.push(Frame::of(model, &s, load, integ.normal_forces()));
                 progress(load);
             }
         }
     }
     let energies = integ.energies(&s);
-    Outcome { state: s, frames, stats: integ.stats.clone(), wall_time_s: start.elapsed().as_secs_f64(), max_strain, energies, error }
+    Outcome {
+        state: s,
+        frames,
+        stats: integ.stats.clone(),
+        wall_time_s: start.elapsed().as_secs_f64(),
+        max_strain,
+        energies,
+        error,
+        max_penetration,
+        slip_speed_max,
+    }
 }

@@ -42,6 +42,18 @@ pub struct Summary {
     pub dimensionless: crate::model::Dimensionless,
     /// Full solver statistics.
     pub stats: crate::integrator::Stats,
+    /// Largest penetration below `z = a/2` (m).
+    pub max_penetration: f64,
+    /// Displacement of the centroid from the first to the last frame (m).
+    pub centroid_displacement: [f64; 3],
+    /// Largest slip speed of a node in contact (m/s).
+    pub slip_speed_max: f64,
+    /// Summed normal force at the end (N).
+    pub normal_force_final: f64,
+    /// Mean Clarabel iterations per conic solve.
+    pub conic_iterations_mean: f64,
+    /// Conic solves per accepted step.
+    pub conic_solves_per_step: f64,
     /// Tip (head) position at the end (m).
     pub head_final: [f64; 3],
     /// Tail position at the end (m).
@@ -67,6 +79,12 @@ impl Summary {
             step_halvings: o.stats.step_halvings,
             dimensionless: m.dimensionless(),
             stats: o.stats.clone(),
+            max_penetration: o.max_penetration,
+            centroid_displacement: centroid_displacement(&o.frames),
+            slip_speed_max: o.slip_speed_max,
+            normal_force_final: o.frames.last().map_or(0.0, |f| f.normal.iter().sum()),
+            conic_iterations_mean: o.stats.conic_iterations as f64 / o.stats.conic_solves.max(1) as f64,
+            conic_solves_per_step: o.stats.conic_solves as f64 / o.stats.steps.max(1) as f64,
             head_final: s.node(m.real.start),
             tail_final: s.node(m.real.end - 1),
         }
@@ -113,6 +131,14 @@ pub fn write_trajectory(dir: &Path, m: &Model, frames: &[Frame], extra: &[(&str,
     put(&mut npz, "x", &[nf, nn, 3], frames.iter().flat_map(|fr| fr.x.iter().flatten().copied()))?;
     put(&mut npz, "v", &[nf, nn, 3], frames.iter().flat_map(|fr| fr.v.iter().flatten().copied()))?;
     put(&mut npz, "theta", &[nf, ne], frames.iter().flat_map(|fr| fr.theta.iter().copied()))?;
+    put(&mut npz, "normal_force", &[nf, nn], frames.iter().flat_map(|fr| fr.normal.iter().copied()))?;
+    // Slip velocity: the horizontal velocity of nodes in contact (zero elsewhere).
+    put(
+        &mut npz,
+        "slip_velocity",
+        &[nf, nn, 3],
+        frames.iter().flat_map(|fr| fr.v.iter().zip(&fr.normal).flat_map(|(v, n)| if *n > 0.0 { [v[0], v[1], 0.0] } else { [0.0; 3] })),
+    )?;
     for (name, data) in extra {
         let k = data.first().map_or(0, |r| r.len()) as u64;
         put(&mut npz, name, &[data.len() as u64, k], data.iter().flatten().copied())?;

@@ -27,6 +27,36 @@ pub struct Problem {
     /// Newton solver settings.
     #[serde(default)]
     pub solver: SolverSpec,
+    /// The ground; absent: no ground, no contact.
+    pub ground: Option<GroundSpec>,
+}
+
+/// `[ground]`: a plane `z = 0` with anisotropic kinetic Coulomb friction.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSpec {
+    /// Coefficient resisting forward (toward the head) sliding. Default 0.11, >= 0.
+    #[serde(default = "d_mu_f")]
+    pub mu_forward: f64,
+    /// Coefficient resisting backward sliding. Default 0.14, >= 0.
+    #[serde(default = "d_mu_b")]
+    pub mu_backward: f64,
+    /// Coefficient resisting sideways sliding. Default 0.20, >= 0.
+    #[serde(default = "d_mu_s")]
+    pub mu_sideways: f64,
+    /// Incline (degrees): gravity is tilted about y so that the slope rises along +x.
+    /// Default 0, in (-90, 90).
+    #[serde(default)]
+    pub incline_deg: f64,
+}
+fn d_mu_f() -> f64 {
+    0.11
+}
+fn d_mu_b() -> f64 {
+    0.14
+}
+fn d_mu_s() -> f64 {
+    0.20
 }
 
 /// Which end of the rod is clamped (position and material frame held).
@@ -243,9 +273,64 @@ pub fn load(path: &Path) -> Result<Problem, ProblemError> {
 
 /// Parse and validate problem text; `path` is only used in messages.
 pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
-    let p: Problem = toml::from_str(text).map_err(|e| ProblemError::Parse { file: path.into(), message: e.to_string().trim_end().to_string() })?;
+    let p: Problem = toml::from_str(text).map_err(|e| {
+        let message = e.to_string().trim_end().to_string();
+        let message = match toml_error_key(text, &e) {
+            Some(key) => format!("`{key}`: {message}"),
+            None => message,
+        };
+        ProblemError::Parse { file: path.into(), message }
+    })?;
     validate(&p, text, path)?;
     Ok(p)
+}
+
+/// The dotted key a TOML error is about (e.g. `rod.length`), found from the error's span: the
+/// table header and the `key =` statement enclosing it (so a bad element of a multi-line array
+/// still names its key); for "missing field" errors the table lacking the field plus the field.
+fn toml_error_key(text: &str, e: &toml::de::Error) -> Option<String> {
+    let span = e.span()?;
+    let start = span.start.min(text.len());
+    let (mut table, mut key) = (String::new(), None::<String>);
+    let mut offset = 0;
+    for raw in text.split_inclusive('\n') {
+        if offset > start {
+            break;
+        }
+        offset += raw.len();
+        let line = raw.trim();
+        if line.starts_with('[') {
+            table = line.trim_start_matches('[').split(']').next().unwrap_or("").trim().to_string();
+            key = None;
+        } else if let Some((k, _)) = line.split_once('=') {
+            let k = k.trim();
+            if !k.is_empty() && k.chars().all(|c| c.is_ascii_alphanumeric() || "_-.\"' ".contains(c)) {
+                key = Some(k.split('.').map(|s| s.trim().trim_matches(['"', '\''])).collect::<Vec<_>>().join("."));
+            }
+        }
+    }
+    let join = |a: &str, b: Option<&str>| match (a.is_empty(), b) {
+        (_, None) => a.to_string(),
+        (true, Some(b)) => b.to_string(),
+        (false, Some(b)) => format!("{a}.{b}"),
+    };
+    let dotted = match e.message().strip_prefix("missing field `").and_then(|m| m.strip_suffix('`')) {
+        Some(field) => {
+            // The span is the table lacking the field: its `[header]`, an inline `{ ... }`, or
+            // (for the root table) the start of the document.
+            let spanned = text.get(span).unwrap_or("").trim();
+            let owner = if spanned.starts_with('[') && spanned.ends_with(']') {
+                table
+            } else if spanned.starts_with('{') {
+                join(&table, key.as_deref())
+            } else {
+                String::new()
+            };
+            join(&owner, Some(field))
+        }
+        None => join(&table, key.as_deref()),
+    };
+    (!dotted.is_empty()).then_some(dotted)
 }
 
 /// 1-based line of `key` inside `[table]`, or of the table header, or 1.
@@ -366,6 +451,19 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     }
     if !(1..=10_000).contains(&t.load_steps) {
         return Err(c.fail("time", "load_steps", format!("{}", t.load_steps), "an integer in [1, 10000]"));
+    }
+    if let Some(gr) = &p.ground {
+        for (key, v) in [("mu_forward", gr.mu_forward), ("mu_backward", gr.mu_backward), ("mu_sideways", gr.mu_sideways)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(c.fail("ground", key, format!("{v}"), "a finite number >= 0 (dimensionless)"));
+            }
+        }
+        if !(gr.incline_deg.is_finite() && gr.incline_deg > -90.0 && gr.incline_deg < 90.0) {
+            return Err(c.fail("ground", "incline_deg", format!("{}", gr.incline_deg), "in (-90, 90) (degrees)"));
+        }
+        if t.mode == Mode::Static {
+            return Err(c.fail("time", "mode", "\"static\"".into(), "\"dynamic\" when a [ground] is present (friction needs time)"));
+        }
     }
     if let Some(iv) = p.output.interval {
         c.positive("output", "interval", iv, "s")?;

@@ -12,6 +12,12 @@ pub const fn edge(j: usize) -> usize {
     4 * j + 3
 }
 
+/// Whether coordinate `k` is a twist angle.
+#[inline]
+pub const fn is_edge(k: usize) -> bool {
+    k % 4 == 3
+}
+
 /// Number of generalised coordinates of a rod with `nodes` nodes (`nodes - 1` edges).
 #[inline]
 pub const fn count(nodes: usize) -> usize {

@@ -1,0 +1,225 @@
+//! Ground contact with anisotropic Coulomb friction as one second-order-cone program per
+//! Newton iterate, solved by Clarabel (MODEL section 3).
+//!
+//! Contact candidates are the real nodes, with the exact gap `z_i - a/2 >= 0` against the
+//! plane `z = 0` (an incline tilts gravity, not the plane, so gaps stay linear and exact: a
+//! sliding body cannot rise, there is no Anitescu drift to correct).
+//!
+//! At each contact the local frame is: forward `f` = the body tangent at the node projected
+//! on the ground, toward the head (s decreasing), taken at the start of the step; sideways
+//! `s = e_z x f`; normal `e_z`. With the node's slip velocity `v = (x - x_n)/h`, the friction
+//! dissipation potential is `D = N sqrt((mu(v_f) v_f)^2 + (mu_s v_s)^2)`, `mu = mu_f` for
+//! forward sliding and `mu_b` backward: the support function of the admissible force set (a
+//! union of two half-ellipses). It is second-order-cone representable with
+//! `v_f = u - w`, `u, w >= 0`, `sigma >= ||(mu_f u, mu_b w, mu_s v_s)||`, cost `h N sigma`.
+//!
+//! Each Newton iterate solves the convex SOCP
+//! `min 1/2 dq^T H dq + g^T dq + h sum_c N_c sigma_c` subject to the gaps at `q + dq`, the
+//! cone constraints and the linear slip definitions. The duals of the gap rows are the normal
+//! forces `N_c`; they enter the next iterate's dissipation (a fixed point on the normal
+//! forces, converged together with Newton), so at convergence the contact forces satisfy
+//! exact Coulomb complementarity: stiction inside the cone, sliding on its boundary.
+
+use crate::energy::Assembly;
+use crate::model::Model;
+use crate::rod::{dof, vec3::f};
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+
+/// Ground parameters.
+#[derive(Clone, Debug)]
+pub struct Ground {
+    /// Kinetic coefficient against forward sliding.
+    pub mu_f: f64,
+    /// Against backward sliding.
+    pub mu_b: f64,
+    /// Against sideways sliding.
+    pub mu_s: f64,
+}
+
+/// Per-step contact data and the normal-force fixed point.
+pub struct Contacts {
+    /// Internal node index of each contact candidate.
+    pub nodes: Vec<usize>,
+    /// Normal force at each candidate (N), the current fixed-point value.
+    pub normal: Vec<f64>,
+    forward: Vec<[f64; 3]>,
+    side: Vec<[f64; 3]>,
+    x_start: Vec<[f64; 3]>,
+    /// Normal forces from the last solve, not yet committed.
+    pub pending: Vec<f64>,
+    /// Clarabel iterations of the last solve.
+    pub last_iterations: u32,
+    /// Clarabel solve time of the last solve (s).
+    pub last_time: f64,
+    direct_method: String,
+}
+
+/// Outcome of one conic solve.
+pub struct ConicStep {
+    /// Largest change of a normal force between the lagged and new value (N).
+    pub max_normal_change: f64,
+    /// Optimal value of the conic model minus its value at `dq = 0` (J, <= 0).
+    pub predicted_decrease: f64,
+}
+
+impl Contacts {
+    /// Contact candidates of a model (real, not clamped nodes).
+    pub fn new(m: &Model, q: &[f64]) -> Self {
+        let nodes: Vec<usize> = m.real.clone().filter(|&i| !m.fixed[dof::node(i) + 2]).collect();
+        let nc = nodes.len();
+        // Initial normal forces: each node's weight share if it touches the ground.
+        let g = f::norm(m.gravity);
+        let normal: Vec<f64> = nodes
+            .iter()
+            .map(|&i| {
+                let z = q[dof::node(i) + 2];
+                if z - 0.5 * m.diameter <= 1e-9 * m.diameter {
+                    m.mass[dof::node(i)] * g
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let method = std::env::var("SLITHER_CLARABEL_METHOD").unwrap_or_else(|_| "qdldl".into());
+        Contacts { nodes, pending: normal.clone(), normal, forward: vec![[0.0; 3]; nc], side: vec![[0.0; 3]; nc], x_start: vec![[0.0; 3]; nc], last_iterations: 0, last_time: 0.0, direct_method: method }
+    }
+
+    /// Freeze the contact frames and start positions at the beginning of a step.
+    pub fn begin_step(&mut self, m: &Model, q: &[f64]) {
+        for (c, &i) in self.nodes.iter().enumerate() {
+            let x = |k: usize| [q[dof::node(k)], q[dof::node(k) + 1], q[dof::node(k) + 2]];
+            // Toward the head: from node i+1 to node i-1 (ends one-sided), on the ground.
+            let lo = if i > m.real.start { i - 1 } else { i };
+            let hi = if i + 1 < m.real.end { i + 1 } else { i };
+            let d = f::sub(x(lo), x(hi));
+            let mut fw = [d[0], d[1], 0.0];
+            if f::norm(fw) < 1e-12 {
+                fw = [1.0, 0.0, 0.0];
+            }
+            let fw = f::unit(fw);
+            self.forward[c] = fw;
+            self.side[c] = f::cross([0.0, 0.0, 1.0], fw);
+            self.x_start[c] = x(i);
+        }
+    }
+
+    /// Friction dissipation `h D` at `q` with the lagged normal forces (J).
+    pub fn dissipation(&self, g: &Ground, q: &[f64]) -> f64 {
+        let mut d = 0.0;
+        for (c, &i) in self.nodes.iter().enumerate() {
+            if self.normal[c] == 0.0 {
+                continue;
+            }
+            let k = dof::node(i);
+            let dx = f::sub([q[k], q[k + 1], q[k + 2]], self.x_start[c]);
+            let vf = f::dot(dx, self.forward[c]);
+            let vs = f::dot(dx, self.side[c]);
+            let mu = if vf > 0.0 { g.mu_f } else { g.mu_b };
+            d += self.normal[c] * ((mu * vf).powi(2) + (g.mu_s * vs).powi(2)).sqrt();
+        }
+        d // h D = h N mu |v| = N mu |dx|
+    }
+
+    /// Solve the conic subproblem at the iterate `q`: writes the step into `dq` and updates the
+    /// normal forces.
+    pub fn solve(&mut self, m: &Model, g: &Ground, asm: &Assembly, q: &[f64], h: f64, dq: &mut [f64]) -> Result<ConicStep, String> {
+        let n = asm.n();
+        let nc = self.nodes.len();
+        let nv = n + 4 * nc;
+        let var = |c: usize, k: usize| n + 4 * c + k; // u, w, y, sigma
+        // P: the Hessian's upper triangle, then empty columns.
+        let mut colptr = asm.col_ptr.clone();
+        let nnz = *colptr.last().unwrap();
+        colptr.extend(std::iter::repeat_n(nnz, 4 * nc));
+        let p = CscMatrix::new(nv, nv, colptr, asm.row_idx.clone(), asm.values.clone());
+        let mut lin = vec![0.0; nv];
+        lin[..n].copy_from_slice(&asm.grad);
+        for c in 0..nc {
+            lin[var(c, 3)] = h * self.normal[c];
+        }
+        // Constraints A x + s = b.
+        let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
+        let mut b = Vec::new();
+        let mut row = 0;
+        let push = |r: usize, c: usize, v: f64, ri: &mut Vec<usize>, ci: &mut Vec<usize>, vv: &mut Vec<f64>| {
+            ri.push(r);
+            ci.push(c);
+            vv.push(v);
+        };
+        // Zero cone: slip definitions (scaled by h: displacement units).
+        for c in 0..nc {
+            let k = dof::node(self.nodes[c]);
+            let x = [q[k], q[k + 1], q[k + 2]];
+            let d0 = f::sub(x, self.x_start[c]);
+            for (dir, sign_var) in [(self.forward[c], 0usize), (self.side[c], 2usize)] {
+                for a in 0..2 {
+                    if dir[a] != 0.0 {
+                        push(row, k + a, dir[a], &mut ri, &mut ci, &mut vv);
+                    }
+                }
+                if sign_var == 0 {
+                    push(row, var(c, 0), -h, &mut ri, &mut ci, &mut vv);
+                    push(row, var(c, 1), h, &mut ri, &mut ci, &mut vv);
+                } else {
+                    push(row, var(c, 2), -h, &mut ri, &mut ci, &mut vv);
+                }
+                b.push(-f::dot(d0, dir));
+                row += 1;
+            }
+        }
+        let n_zero = row;
+        // Nonnegative: gaps, then u, w >= 0.
+        for c in 0..nc {
+            let k = dof::node(self.nodes[c]);
+            push(row, k + 2, -1.0, &mut ri, &mut ci, &mut vv);
+            b.push(q[k + 2] - 0.5 * m.diameter);
+            row += 1;
+        }
+        for c in 0..nc {
+            for kk in 0..2 {
+                push(row, var(c, kk), -1.0, &mut ri, &mut ci, &mut vv);
+                b.push(0.0);
+                row += 1;
+            }
+        }
+        let n_nonneg = row - n_zero;
+        // Second-order cones (sigma, mu_f u, mu_b w, mu_s y).
+        for c in 0..nc {
+            for (kk, coef) in [(3usize, 1.0), (0, g.mu_f), (1, g.mu_b), (2, g.mu_s)] {
+                push(row, var(c, kk), -coef, &mut ri, &mut ci, &mut vv);
+                b.push(0.0);
+                row += 1;
+            }
+        }
+        let a = CscMatrix::new_from_triplets(row, nv, ri, ci, vv);
+        let mut cones = vec![SupportedConeT::ZeroConeT(n_zero), SupportedConeT::NonnegativeConeT(n_nonneg)];
+        cones.extend(std::iter::repeat_n(SupportedConeT::SecondOrderConeT(4), nc));
+        let settings = DefaultSettingsBuilder::default()
+            .verbose(false)
+            .tol_gap_abs(1e-12)
+            .tol_gap_rel(1e-11)
+            .tol_feas(1e-11)
+            .max_iter(100)
+            .direct_solve_method(self.direct_method.clone())
+            .build()
+            .map_err(|e| format!("Clarabel settings: {e:?}"))?;
+        let mut solver = DefaultSolver::new(&p, &lin, &a, &b, &cones, settings).map_err(|e| format!("Clarabel setup: {e:?}"))?;
+        solver.solve();
+        let sol = &solver.solution;
+        self.last_iterations = sol.iterations;
+        self.last_time = sol.solve_time;
+        if sol.status != SolverStatus::Solved {
+            return Err(format!("conic solve ended with status {:?} after {} iterations", sol.status, sol.iterations));
+        }
+        dq.copy_from_slice(&sol.x[..n]);
+        let mut change: f64 = 0.0;
+        for c in 0..nc {
+            let lam = sol.z[n_zero + c].max(0.0);
+            change = change.max((lam - self.normal[c]).abs());
+            self.pending[c] = lam;
+        }
+        let predicted_decrease = sol.obj_val - self.dissipation(g, q);
+        Ok(ConicStep { max_normal_change: change, predicted_decrease })
+    }
+}
