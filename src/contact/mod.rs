@@ -197,9 +197,9 @@ impl Contacts {
         cones.extend(std::iter::repeat_n(SupportedConeT::SecondOrderConeT(4), nc));
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
-            .tol_gap_abs(1e-12)
-            .tol_gap_rel(1e-11)
-            .tol_feas(1e-11)
+            .tol_gap_abs(1e-15)
+            .tol_gap_rel(1e-14)
+            .tol_feas(1e-13)
             .max_iter(100)
             .direct_solve_method(self.direct_method.clone())
             .build()

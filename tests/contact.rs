@@ -1,0 +1,155 @@
+//! Ground contact and anisotropic Coulomb friction against analytic results
+//! (issue: ground contact as a conic program).
+mod common;
+use common::model;
+use slither::integrator::{Integrator, Natural};
+use slither::model::Model;
+use slither::rod::vec3::f;
+use slither::state::State;
+
+const G: f64 = 9.81;
+const MU: [f64; 3] = [0.11, 0.14, 0.20];
+
+fn scene(heading: f64, velocity: [f64; 3], incline: f64, height: f64, duration: f64) -> Model {
+    model(&format!(
+        r#"
+[rod]
+length = 1.0
+diameter = 0.02
+elements = 20
+bending_stiffness = 1e-2
+[initial]
+heading_deg = {heading}
+velocity = [{}, {}, {}]
+height = {height}
+[ground]
+mu_forward = {}
+mu_backward = {}
+mu_sideways = {}
+incline_deg = {incline}
+[time]
+dt = 1e-3
+duration = {duration}
+"#,
+        velocity[0], velocity[1], velocity[2], MU[0], MU[1], MU[2]
+    ))
+}
+
+/// Step to the end, calling `each` after every step.
+fn simulate(m: &Model, mut each: impl FnMut(&State, &mut Integrator)) -> (State, Integrator<'_>) {
+    let mut integ = Integrator::new(m, Box::new(Natural));
+    let mut s = State::initial(m);
+    let steps = (m.duration / m.dt).round() as usize;
+    for _ in 0..steps {
+        integ.step(&mut s, m.dt).unwrap();
+        each(&s, &mut integ);
+    }
+    (s, integ)
+}
+
+fn max_height(m: &Model, s: &State) -> f64 {
+    m.real.clone().map(|i| s.node(i)[2]).fold(f64::MIN, f64::max)
+}
+
+#[test]
+fn rod_at_rest_stays_put_and_carries_its_weight() {
+    let m = scene(0.0, [0.0; 3], 0.0, 0.0, 1.0);
+    let c0 = State::initial(&m).centroid(&m);
+    let a = m.diameter;
+    let mut worst_pen: f64 = 0.0;
+    let (s, integ) = simulate(&m, |s, _| {
+        for i in m.real.clone() {
+            worst_pen = worst_pen.max(0.5 * a - s.node(i)[2]);
+        }
+    });
+    let drift = f::norm(f::sub(s.centroid(&m), c0));
+    let weight = m.total_mass() * G;
+    let n: f64 = integ.normal_forces().iter().sum();
+    println!("drift {drift:e} m, normal {n} N vs weight {weight} N, penetration {worst_pen:e} m");
+    assert!(drift < 1e-9);
+    assert!((n / weight - 1.0).abs() < 1e-6);
+    assert!(worst_pen < 1e-6 * a);
+    assert!(integ.stats.conic_solves as f64 / integ.stats.steps as f64 <= 1.5);
+}
+
+fn stop_distance(heading: f64, v: [f64; 3], mu: f64) {
+    let m = scene(heading, v, 0.0, 0.0, 1.1 * f::norm(v) / (mu * G));
+    let c0 = State::initial(&m).centroid(&m);
+    let ceiling = 0.5 * m.diameter * (1.0 + 2e-6);
+    let (s, integ) = simulate(&m, |s, _| {
+        let h = max_height(&m, s);
+        assert!(h <= ceiling, "rod rose to {h} at t = {}", s.t);
+    });
+    let d = f::norm(f::sub(s.centroid(&m), c0));
+    let expected = f::dot(v, v) / (2.0 * mu * G);
+    let speed = f::norm(s.node_velocity(m.real.start));
+    println!("heading {heading}: stopped after {d:.6} m (analytic {expected:.6} m), final speed {speed:e}, {:.2} conic solves/step", integ.stats.conic_solves as f64 / integ.stats.steps as f64);
+    assert!((d / expected - 1.0).abs() < 0.01);
+    assert!(speed < 1e-9, "still moving at {speed}");
+}
+
+#[test]
+fn sliding_forward_stops_after_v0_squared_over_two_mu_forward_g() {
+    stop_distance(0.0, [0.5, 0.0, 0.0], MU[0]);
+}
+
+#[test]
+fn sliding_backward_stops_after_v0_squared_over_two_mu_backward_g() {
+    stop_distance(0.0, [-0.5, 0.0, 0.0], MU[1]);
+}
+
+#[test]
+fn sliding_sideways_stops_after_v0_squared_over_two_mu_sideways_g() {
+    stop_distance(90.0, [0.5, 0.0, 0.0], MU[2]);
+}
+
+/// On an incline rising along +x the rod tends to slide toward -x: backward for heading 0
+/// (head up the slope), sideways for heading 90.
+fn incline(heading: f64, mu: f64) {
+    let critical = mu.atan().to_degrees();
+    // Below the threshold: stays put.
+    let below = critical - 2.0;
+    let m = scene(heading, [0.0; 3], below, 0.0, 1.0);
+    let c0 = State::initial(&m).centroid(&m);
+    let (s, _) = simulate(&m, |_, _| {});
+    let drift = f::norm(f::sub(s.centroid(&m), c0));
+    println!("heading {heading}: {below:.2} deg (threshold {critical:.2}): drift {drift:e} m");
+    assert!(drift < 1e-9, "crept by {drift} m below the threshold");
+    // Above: slides down with acceleration g (sin - mu cos).
+    let above = critical + 4.0;
+    let m = scene(heading, [0.0; 3], above, 0.0, 0.5);
+    let (s, _) = simulate(&m, |_, _| {});
+    let vx: f64 = m.real.clone().map(|i| s.node_velocity(i)[0]).sum::<f64>() / m.real.len() as f64;
+    let acc = -vx / s.t;
+    let b = above.to_radians();
+    let expected = G * (b.sin() - mu * b.cos());
+    println!("heading {heading}: {above:.2} deg: acceleration {acc:.6} (analytic {expected:.6})");
+    assert!((acc / expected - 1.0).abs() < 0.01);
+}
+
+#[test]
+fn incline_backward_sticks_below_and_slides_above_the_friction_angle() {
+    incline(0.0, MU[1]);
+}
+
+#[test]
+fn incline_sideways_sticks_below_and_slides_above_the_friction_angle() {
+    incline(90.0, MU[2]);
+}
+
+#[test]
+fn dropped_rod_comes_to_rest_without_gaining_energy() {
+    let m = scene(30.0, [0.1, 0.0, 0.0], 0.0, 0.05, 1.0);
+    let mut integ0 = Integrator::new(&m, Box::new(Natural));
+    let mut e_prev = integ0.energies(&State::initial(&m)).total;
+    let (s, mut integ) = simulate(&m, |s, integ| {
+        let e = integ.energies(s).total;
+        assert!(e <= e_prev + 1e-12 * e_prev.abs(), "energy rose at t = {}: {e_prev} -> {e}", s.t);
+        e_prev = e;
+    });
+    let ke = integ.energies(&s).kinetic;
+    let h = max_height(&m, &s);
+    println!("after the drop: kinetic {ke:e} J, height {h}");
+    assert!(ke < 1e-12);
+    assert!((h - 0.5 * m.diameter).abs() < 1e-9);
+}
