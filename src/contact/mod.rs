@@ -128,15 +128,30 @@ impl Contacts {
         let nc = self.nodes.len();
         let nv = n + 4 * nc;
         let var = |c: usize, k: usize| n + 4 * c + k; // u, w, y, sigma
+        // Scaling (the interior-point tolerances are absolute): displacements in units of
+        // `ls`, the larger of this step's largest node displacement and `g h^2`; slip variables
+        // as displacements (`h u / ls`, ...); the objective multiplied by `k` so that the
+        // Hessian's mean diagonal is one.
+        let mut disp: f64 = 0.0;
+        for c in 0..nc {
+            let kk = dof::node(self.nodes[c]);
+            disp = disp.max(f::norm(f::sub([q[kk], q[kk + 1], q[kk + 2]], self.x_start[c])));
+        }
+        let ls = disp.max(h * h * f::norm(m.gravity)).max(1e-9 * m.diameter);
+        let mean_diag = (0..n).map(|k| asm.h(k, k)).sum::<f64>() / n as f64;
+        let ks = 1.0 / (ls * ls * mean_diag);
         // P: the Hessian's upper triangle, then empty columns.
         let mut colptr = asm.col_ptr.clone();
         let nnz = *colptr.last().unwrap();
         colptr.extend(std::iter::repeat_n(nnz, 4 * nc));
-        let p = CscMatrix::new(nv, nv, colptr, asm.row_idx.clone(), asm.values.clone());
+        let pv: Vec<f64> = asm.values.iter().map(|v| v * ks * ls * ls).collect();
+        let p = CscMatrix::new(nv, nv, colptr, asm.row_idx.clone(), pv);
         let mut lin = vec![0.0; nv];
-        lin[..n].copy_from_slice(&asm.grad);
+        for k in 0..n {
+            lin[k] = asm.grad[k] * ks * ls;
+        }
         for c in 0..nc {
-            lin[var(c, 3)] = h * self.normal[c];
+            lin[var(c, 3)] = ks * ls * self.normal[c];
         }
         // Constraints A x + s = b.
         let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
@@ -147,7 +162,7 @@ impl Contacts {
             ci.push(c);
             vv.push(v);
         };
-        // Zero cone: slip definitions (scaled by h: displacement units).
+        // Zero cone: slip definitions (displacement units, scaled by `ls`).
         for c in 0..nc {
             let k = dof::node(self.nodes[c]);
             let x = [q[k], q[k + 1], q[k + 2]];
@@ -159,12 +174,12 @@ impl Contacts {
                     }
                 }
                 if sign_var == 0 {
-                    push(row, var(c, 0), -h, &mut ri, &mut ci, &mut vv);
-                    push(row, var(c, 1), h, &mut ri, &mut ci, &mut vv);
+                    push(row, var(c, 0), -1.0, &mut ri, &mut ci, &mut vv);
+                    push(row, var(c, 1), 1.0, &mut ri, &mut ci, &mut vv);
                 } else {
-                    push(row, var(c, 2), -h, &mut ri, &mut ci, &mut vv);
+                    push(row, var(c, 2), -1.0, &mut ri, &mut ci, &mut vv);
                 }
-                b.push(-f::dot(d0, dir));
+                b.push(-f::dot(d0, dir) / ls);
                 row += 1;
             }
         }
@@ -173,7 +188,7 @@ impl Contacts {
         for c in 0..nc {
             let k = dof::node(self.nodes[c]);
             push(row, k + 2, -1.0, &mut ri, &mut ci, &mut vv);
-            b.push(q[k + 2] - 0.5 * m.diameter);
+            b.push((q[k + 2] - 0.5 * m.diameter) / ls);
             row += 1;
         }
         for c in 0..nc {
@@ -197,9 +212,9 @@ impl Contacts {
         cones.extend(std::iter::repeat_n(SupportedConeT::SecondOrderConeT(4), nc));
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
-            .tol_gap_abs(1e-15)
-            .tol_gap_rel(1e-14)
-            .tol_feas(1e-13)
+            .tol_gap_abs(1e-10)
+            .tol_gap_rel(1e-10)
+            .tol_feas(1e-10)
             .max_iter(100)
             .direct_solve_method(self.direct_method.clone())
             .build()
@@ -212,14 +227,16 @@ impl Contacts {
         if sol.status != SolverStatus::Solved {
             return Err(format!("conic solve ended with status {:?} after {} iterations", sol.status, sol.iterations));
         }
-        dq.copy_from_slice(&sol.x[..n]);
+        for k in 0..n {
+            dq[k] = sol.x[k] * ls;
+        }
         let mut change: f64 = 0.0;
         for c in 0..nc {
-            let lam = sol.z[n_zero + c].max(0.0);
+            let lam = (sol.z[n_zero + c] / (ks * ls)).max(0.0);
             change = change.max((lam - self.normal[c]).abs());
             self.pending[c] = lam;
         }
-        let predicted_decrease = sol.obj_val - self.dissipation(g, q);
+        let predicted_decrease = sol.obj_val / ks - self.dissipation(g, q);
         Ok(ConicStep { max_normal_change: change, predicted_decrease })
     }
 }
