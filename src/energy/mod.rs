@@ -7,9 +7,11 @@
 //! * [`twist`]: `C/(2 l_i) (m_i - m0_i)^2` per interior node;
 //! * [`gravity`]: `-sum_i m_i g . x_i`.
 //!
-//! Bending and twist are written once, generically over the scalar, and differentiated
-//! exactly with hyper-dual numbers (`num-dual`) with respect to the 8 intrinsic coordinates
-//! `(e^{i-1}, e^i, theta^{i-1}, theta^i)` of the stencil; the chain rule to the 11 node
+//! Bending and twist are written once, generically over the scalar. Their exact gradient and
+//! Hessian in the 8 intrinsic coordinates `(e^{i-1}, e^i, theta^{i-1}, theta^i)` of the
+//! stencil come from staged second-order jets ([`autodiff::jet`]: each sub-expression is
+//! differentiated only over the coordinates it depends on), tested against `num-dual`
+//! hyper-dual numbers and against finite differences; the chain rule to the 11 node
 //! coordinates is linear. Stretching has a closed-form Hessian.
 
 pub mod autodiff;

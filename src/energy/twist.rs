@@ -5,6 +5,7 @@
 use super::autodiff::{self, StencilEnergy};
 use super::{Assembly, Ctx, Term};
 use crate::rod::{dof, frames, frames::StencilFrame, V3};
+use nalgebra::{SMatrix, SVector};
 use num_dual::DualNum;
 
 /// The twist term.
@@ -30,6 +31,31 @@ impl StencilEnergy for TwistStencil<'_> {
     }
 }
 
+impl TwistStencil<'_> {
+    /// Value, gradient and Hessian in the 8 intrinsic coordinates, by staged jets: each
+    /// edge's frame over its own 3 coordinates, the reference twist over the 6 positional
+    /// coordinates, and `m = theta^1 - theta^0 + r` over all 8. Equal to
+    /// [`autodiff::derivatives`] of [`StencilEnergy::eval`] up to round-off.
+    pub fn derivatives(&self, y: [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
+        use autodiff::jet::{cross, dot, edge_frame, embed, to_na, transport, Jet, JV};
+        let f = self.frame;
+        let (_, t0, a0, _) = edge_frame([y[0], y[1], y[2]], f.t_old[0], f.a1_old[0]);
+        let (_, t1, a1, _) = edge_frame([y[3], y[4], y[5]], f.t_old[1], f.a1_old[1]);
+        let (t0, a0): (JV<6>, JV<6>) = (embed(&t0, 0), embed(&a0, 0));
+        let (t1, a1): (JV<6>, JV<6>) = (embed(&t1, 3), embed(&a1, 3));
+        let u = transport(&t0, &t1, &a0);
+        let mut r = dot(&cross(&u, &a1), &t1).atan2(&dot(&u, &a1));
+        let two_pi = std::f64::consts::TAU;
+        let k = ((f.ref_twist_prev - r.v) / two_pi).round();
+        if k != 0.0 {
+            r = r + k * two_pi;
+        }
+        let m = Jet::<8>::var(y[7], 7) - Jet::<8>::var(y[6], 6) + Jet::embed(&r, 0);
+        let d = m - self.m0;
+        to_na(&(d * d * self.coef))
+    }
+}
+
 impl Term for Twist {
     fn name(&self) -> &'static str {
         "twist"
@@ -43,7 +69,7 @@ impl Term for Twist {
             match out.as_deref_mut() {
                 None => e += st.eval(&y),
                 Some(asm) => {
-                    let (v, g, mut h) = autodiff::derivatives(&st, y);
+                    let (v, g, mut h) = st.derivatives(y);
                     if project {
                         autodiff::project_psd(&mut h);
                     }
@@ -54,5 +80,30 @@ impl Term for Twist {
             }
         }
         e
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::energy::autodiff::testing::{rel_diff, stencil};
+
+    #[test]
+    fn staged_jets_match_num_dual() {
+        for seed in 1..=200 {
+            let (frame, y, mut r) = stencil(seed);
+            let st = TwistStencil { frame: &frame, m0: 0.5 * r.sym(), coef: 1.0 + r.sym() };
+            let (v, g, h) = st.derivatives(y);
+            let (v_ref, g_ref, h_ref) = autodiff::derivatives(&st, y);
+            assert!((v - v_ref).abs() <= 1e-12 * v_ref.abs(), "value {v} vs {v_ref} (seed {seed})");
+            let eg = rel_diff(g.as_slice(), g_ref.as_slice());
+            let eh = rel_diff(h.as_slice(), h_ref.as_slice());
+            assert!(eg < 1e-9 && eh < 1e-9, "gradient {eg:e}, Hessian {eh:e} (seed {seed})");
+            let (mut p, mut p_ref) = (h, h_ref);
+            autodiff::project_psd(&mut p);
+            autodiff::project_psd_nalgebra(&mut p_ref);
+            let ep = rel_diff(p.as_slice(), p_ref.as_slice());
+            assert!(ep < 1e-9, "projected Hessian {ep:e} (seed {seed})");
+        }
     }
 }

@@ -1,0 +1,83 @@
+//! Assembly of the energy, gradient and (projected) Hessian of all rod terms on a bent,
+//! twisted rod whose frozen frames belong to an earlier shape, at 50 and 200 elements.
+use criterion::{criterion_group, criterion_main, Criterion};
+use slither::energy::{self, Assembly, Ctx};
+use slither::model::Model;
+use slither::problem;
+use slither::rod::dof;
+use slither::state::State;
+use std::hint::black_box;
+use std::path::Path;
+
+struct Rng(u64);
+impl Rng {
+    fn sym(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+}
+
+fn setup(elements: usize) -> (Model, State, Vec<f64>, Vec<[f64; 2]>, Vec<f64>) {
+    let text = format!(
+        r#"
+[rod]
+length = 1.0
+diameter = 0.02
+elements = {elements}
+bending_stiffness = 1e-2
+twist_stiffness = 8e-3
+[time]
+dt = 1e-3
+duration = 1.0
+"#
+    );
+    let m = Model::new(&problem::parse(&text, Path::new("bench")).unwrap());
+    let mut r = Rng(0x9E3779B97F4A7C15);
+    let mut s = State::initial(&m);
+    let l0 = m.rest_len[0];
+    for k in 0..m.ndof {
+        s.q[k] += 0.3 * l0 * r.sym();
+    }
+    s.update_frames();
+    let mut q = s.q.clone();
+    for k in 0..m.ndof {
+        q[k] += 0.15 * l0 * r.sym();
+    }
+    for j in 0..m.nodes - 1 {
+        q[dof::edge(j)] = 2.0 * r.sym();
+    }
+    let kappa0 = (0..m.nodes).map(|_| [0.3 * r.sym(), 0.3 * r.sym()]).collect();
+    let m0 = (0..m.nodes).map(|_| 0.3 * r.sym()).collect();
+    (m, s, q, kappa0, m0)
+}
+
+fn bench_assembly(c: &mut Criterion) {
+    let mut g = c.benchmark_group("assembly");
+    let terms = energy::rod_terms();
+    for n in [50, 200] {
+        let (m, s, q, kappa0, m0) = setup(n);
+        let ctx = Ctx { model: &m, frames: &s.frames, kappa0: &kappa0, m0: &m0, gravity: [0.0, 0.0, -9.81] };
+        let mut asm = Assembly::new(m.ndof);
+        for project in [true, false] {
+            g.bench_function(format!("{n}_elements_project_{project}"), |b| {
+                b.iter(|| {
+                    asm.clear();
+                    black_box(energy::total(&terms, &ctx, black_box(&q), Some(&mut asm), project))
+                })
+            });
+        }
+        g.bench_function(format!("{n}_elements_energy_only"), |b| {
+            b.iter(|| black_box(energy::total(&terms, &ctx, black_box(&q), None, false)))
+        });
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(2)).warm_up_time(std::time::Duration::from_millis(500));
+    targets = bench_assembly
+}
+criterion_main!(benches);
