@@ -1,0 +1,45 @@
+//! Every bundled problem file loads and runs over a short horizon; solver statistics of the
+//! bundled scenes are pinned so that a silent slowdown (more Newton iterations or conic
+//! solves per step) fails here.
+use slither::integrator::Natural;
+use slither::model::Model;
+use slither::problem::{self, Mode};
+use slither::sim;
+use std::path::Path;
+
+#[test]
+fn every_bundled_problem_runs_over_a_short_horizon() {
+    let mut seen = 0;
+    for entry in std::fs::read_dir("problems").unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("toml") {
+            continue;
+        }
+        let p = problem::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let mut m = Model::new(&p);
+        if m.mode == Mode::Dynamic {
+            m.duration = m.duration.min(50.0 * m.dt);
+        }
+        let o = sim::run(&m, Box::new(Natural), &mut |_| {}, &mut |_| {});
+        assert!(o.error.is_none(), "{}: {:?}", path.display(), o.error);
+        assert!(o.max_strain < 1e-3, "{}: strain {}", path.display(), o.max_strain);
+        let newton = o.stats.newton_iterations as f64 / o.stats.steps as f64;
+        let conic = o.stats.conic_solves as f64 / o.stats.steps as f64;
+        println!("{}: {} steps, {newton:.2} Newton it/step, {conic:.2} conic solves/step, {} halvings", path.display(), o.stats.steps, o.stats.step_halvings);
+        assert_eq!(o.stats.step_halvings, 0, "{}", path.display());
+        if m.ground.is_some() {
+            // Pinned: straight sliding and inclined scenes need one conic solve per step.
+            assert!(conic <= 1.05, "{}: {conic} conic solves per step", path.display());
+        }
+        seen += 1;
+    }
+    assert!(seen >= 3);
+}
+
+#[test]
+fn static_cantilever_needs_few_newton_iterations() {
+    let p = problem::load(Path::new("problems/cantilever_sag.toml")).unwrap();
+    let m = Model::new(&p);
+    let o = sim::run(&m, Box::new(Natural), &mut |_| {}, &mut |_| {});
+    assert!(o.stats.newton_iterations <= 8, "{} Newton iterations", o.stats.newton_iterations);
+}
