@@ -125,6 +125,8 @@ pub struct Integrator<'m> {
     pub contacts: Option<crate::contact::Contacts>,
     normal_saved: Vec<f64>,
     pred_grad: Vec<f64>,
+    /// Print every Newton iteration to stderr (environment variable `SLITHER_DEBUG`).
+    trace: bool,
     /// Statistics so far.
     pub stats: Stats,
 }
@@ -152,6 +154,7 @@ impl<'m> Integrator<'m> {
             contacts: model.ground.as_ref().map(|_| crate::contact::Contacts::new(model, &model.q0)),
             normal_saved: Vec::new(),
             pred_grad: vec![0.0; n],
+            trace: std::env::var_os("SLITHER_DEBUG").is_some(),
             stats: Stats::default(),
         }
     }
@@ -369,7 +372,7 @@ impl<'m> Integrator<'m> {
                     std::mem::swap(&mut ct.normal, &mut ct.pending);
                 }
             }
-            if std::env::var_os("SLITHER_DEBUG").is_some() {
+            if self.trace {
                 eprintln!("  it {it}: alpha {alpha:.3e} dx {dx:.3e} dth {dth:.3e} normals_settled {normals_settled} slope {slope:.3e}");
             }
             if alpha == 1.0 && small && normals_settled {
