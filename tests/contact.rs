@@ -153,3 +153,13 @@ fn dropped_rod_comes_to_rest_without_gaining_energy() {
     assert!(ke < 1e-12);
     assert!((h - 0.5 * m.diameter).abs() < 1e-9);
 }
+
+#[test]
+fn bad_ground_keys_are_rejected_with_the_key_named() {
+    let base = "[rod]\nlength = 1.0\ndiameter = 0.02\nbending_stiffness = 1e-2\n[time]\ndt = 1e-3\nduration = 0.1\n[ground]\n";
+    for (line, key) in [("mu_forward = -0.1", "ground.mu_forward"), ("mu_sideways = nan", "ground.mu_sideways"), ("incline_deg = 90.0", "ground.incline_deg"), ("incline_deg = -95.0", "ground.incline_deg")] {
+        let text = format!("{base}{line}\n");
+        let err = slither::problem::parse(&text, std::path::Path::new("g.toml")).unwrap_err().to_string();
+        assert!(err.contains(key) && err.contains("g.toml:9:"), "{line}: {err}");
+    }
+}
