@@ -1,5 +1,6 @@
-//! One implicit step with ground contact and friction (one Clarabel SOCP per Newton iterate)
-//! at 50 and 200 elements; prints conic solves and iterations per step and Clarabel's share.
+//! One implicit step with ground contact and friction at 50 and 200 elements (active-set
+//! path, conic program as fallback); prints conic solves and iterations per step and
+//! Clarabel's share, also for the conic path alone.
 use criterion::{criterion_group, criterion_main, Criterion};
 use slither::integrator::{Integrator, Natural};
 use slither::model::Model;
@@ -37,22 +38,31 @@ fn bench(c: &mut Criterion) {
             integ.step(&mut s0, m.dt).unwrap();
         }
         g.bench_function(format!("{n}_elements"), |b| b.iter_batched_ref(|| s0.clone(), |s| integ.step(s, m.dt).unwrap(), criterion::BatchSize::SmallInput));
-        let mut integ = Integrator::new(&m, Box::new(Natural));
-        let mut s = s0.clone();
-        let t = std::time::Instant::now();
-        for _ in 0..200 {
-            integ.step(&mut s, m.dt).unwrap();
+        // The same 200 steps with the active-set path (default) and with a conic program at
+        // every Newton iterate (the fallback path alone), for comparison.
+        for active_set in [true, false] {
+            let mut integ = Integrator::new(&m, Box::new(Natural));
+            integ.active_set = active_set;
+            let mut s = s0.clone();
+            let t = std::time::Instant::now();
+            for _ in 0..200 {
+                integ.step(&mut s, m.dt).unwrap();
+            }
+            let wall = t.elapsed().as_secs_f64();
+            let st = &integ.stats;
+            println!(
+                "{n} elements, {}: {:.3} ms/step, {:.2} Newton it/step, {:.2} conic solves/step, {} active-set steps, {} fallbacks, {:.1} Clarabel iterations/solve, Clarabel {:.0}% of step time, assembly {:.0}%",
+                if active_set { "active set" } else { "conic only" },
+                1e3 * wall / st.steps as f64,
+                st.newton_iterations as f64 / st.steps as f64,
+                st.conic_solves as f64 / st.steps as f64,
+                st.active_set_steps,
+                st.active_set_fallbacks,
+                st.conic_iterations as f64 / st.conic_solves.max(1) as f64,
+                100.0 * st.conic_s / wall,
+                100.0 * st.assembly_s / wall
+            );
         }
-        let wall = t.elapsed().as_secs_f64();
-        let st = &integ.stats;
-        println!(
-            "{n} elements: {:.3} ms/step, {:.2} conic solves/step, {:.1} Clarabel iterations/solve, Clarabel {:.0}% of step time, assembly {:.0}%",
-            1e3 * wall / st.steps as f64,
-            st.conic_solves as f64 / st.steps as f64,
-            st.conic_iterations as f64 / st.conic_solves as f64,
-            100.0 * st.conic_s / wall,
-            100.0 * st.assembly_s / wall
-        );
     }
     g.finish();
 }

@@ -1,9 +1,8 @@
 //! The `slither` command line.
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use slither::integrator::Natural;
 use slither::model::Model;
-use slither::{output, problem, sim, topology};
+use slither::{gait, observe, output, problem, sim, topology};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -109,13 +108,16 @@ fn run(path: &Path, out: &Path, quiet: bool) -> ExitCode {
             b.set_position((frac * 1000.0) as u64);
         }
     };
-    let o = sim::run(&model, Box::new(Natural), &mut progress, &mut |_| {});
+    let o = sim::run(&model, Box::new(gait::Muscles { gait: model.gait.clone() }), &mut progress, &mut |_| {});
     if let Some(b) = bar.take() {
         b.finish_and_clear();
     }
-    let summary = output::Summary::new(path, &model, &o);
+    let mut summary = output::Summary::new(path, &model, &o);
+    let fields = observe::fields(&model, &o.frames);
+    summary.observables = Some(observe::observe(&model, &o.frames, &fields));
+    let extra = [("elevation", fields.elevation.clone()), ("slip_speed", fields.slip.clone()), ("lambda", fields.lambda.clone())];
     let written = output::write_final_csv(out, &model, &o)
-        .and_then(|_| output::write_trajectory(out, &model, &o.frames, &[]))
+        .and_then(|_| output::write_trajectory(out, &model, &o.frames, &extra))
         .and_then(|_| output::write_summary(out, &summary));
     if let Err(e) = written {
         eprintln!("error: {}: cannot write results: {e}", out.display());
@@ -126,13 +128,17 @@ fn run(path: &Path, out: &Path, quiet: bool) -> ExitCode {
         return ExitCode::from(3);
     }
     if !quiet {
+        let ob = summary.observables.as_ref().unwrap();
         eprintln!(
-            "{}: {} steps in {:.2} s, {:.2} Newton iterations/step, max strain {:.2e}; wrote {}",
+            "{}: {} steps in {:.2} s, {:.2} Newton iterations/step, max strain {:.2e}; v_s = {:.4} m/s (v_s/v_m = {:.3}), regime {}; wrote {}",
             path.display(),
             summary.steps,
             summary.wall_time_s,
             summary.newton_iterations_mean,
             summary.max_strain,
+            ob.v_s,
+            ob.v_s_over_v_m,
+            ob.regime,
             out.display()
         );
     }

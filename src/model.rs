@@ -74,6 +74,8 @@ pub struct Model {
     pub clamp: Clamp,
     /// Ground contact and friction, if any.
     pub ground: Option<crate::contact::Ground>,
+    /// Muscle activation.
+    pub gait: crate::gait::Gait,
 }
 
 /// Dimensionless groups of a model (MODEL.md section 6).
@@ -222,6 +224,7 @@ impl Model {
             a1_0,
             clamp: r.clamp,
             ground: p.ground.as_ref().map(|g| crate::contact::Ground { mu_f: g.mu_forward, mu_b: g.mu_backward, mu_s: g.mu_sideways }),
+            gait: crate::gait::Gait::new(&p.gait, r.length, a),
         }
     }
 

@@ -22,6 +22,8 @@ pub struct Frame {
     pub v: Vec<[f64; 3]>,
     /// Normal contact force on each real node (N).
     pub normal: Vec<f64>,
+    /// Material director `d1` of each real edge.
+    pub d1: Vec<[f64; 3]>,
 }
 
 impl Frame {
@@ -33,6 +35,7 @@ impl Frame {
             theta: m.real_edges().map(|j| s.q[dof::edge(j)]).collect(),
             v: m.real.clone().map(|i| s.node_velocity(i)).collect(),
             normal,
+            d1: m.real_edges().map(|j| s.directors(j).0).collect(),
         }
     }
 }

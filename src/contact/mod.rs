@@ -19,6 +19,15 @@
 //! forces `N_c`; they enter the next iterate's dissipation (a fixed point on the normal
 //! forces, converged together with Newton), so at convergence the contact forces satisfy
 //! exact Coulomb complementarity: stiction inside the cone, sliding on its boundary.
+//!
+//! The integrator solves most steps without this program: [`active`] keeps every contact's
+//! status (free, sticking, sliding) and solves the then smooth step problem by Newton,
+//! changing statuses that violate the Coulomb conditions and verifying them at convergence;
+//! the conic program runs only when that fails (and its solution resets the statuses).
+
+pub mod active;
+
+pub use active::Mode;
 
 use crate::energy::Assembly;
 use crate::model::Model;
@@ -53,6 +62,13 @@ pub struct Contacts {
     /// Clarabel solve time of the last solve (s).
     pub last_time: f64,
     direct_method: String,
+    /// Status of every contact for the active-set path (valid after a conic solve).
+    pub mode: Vec<Mode>,
+    /// Whether `mode` holds a status from a converged step.
+    pub modes_valid: bool,
+    pub(crate) react: Vec<f64>,
+    pub(crate) ratio: Vec<f64>,
+    pub(crate) slip_dir: Vec<[f64; 2]>,
 }
 
 /// Outcome of one conic solve.
@@ -82,7 +98,7 @@ impl Contacts {
             })
             .collect();
         let method = std::env::var("SLITHER_CLARABEL_METHOD").unwrap_or_else(|_| "qdldl".into());
-        Contacts { nodes, pending: normal.clone(), normal, forward: vec![[0.0; 3]; nc], side: vec![[0.0; 3]; nc], x_start: vec![[0.0; 3]; nc], last_iterations: 0, last_time: 0.0, direct_method: method }
+        Contacts { nodes, pending: normal.clone(), normal, forward: vec![[0.0; 3]; nc], side: vec![[0.0; 3]; nc], x_start: vec![[0.0; 3]; nc], last_iterations: 0, last_time: 0.0, direct_method: method, mode: vec![Mode::Free; nc], modes_valid: false, react: vec![0.0; nc], ratio: vec![0.0; nc], slip_dir: vec![[0.0; 2]; nc] }
     }
 
     /// Freeze the contact frames and start positions at the beginning of a step.
@@ -140,18 +156,31 @@ impl Contacts {
         let ls = disp.max(h * h * f::norm(m.gravity)).max(1e-9 * m.diameter);
         let mean_diag = (0..n).map(|k| asm.h(k, k)).sum::<f64>() / n as f64;
         let ks = 1.0 / (ls * ls * mean_diag);
+        // Jacobi scaling of the coordinates, `dq_k = d_k x_k`, so that every scaled Hessian
+        // diagonal is one (twist angles and positions differ by orders of magnitude).
+        let d: Vec<f64> = (0..n).map(|k| ls * (mean_diag / asm.h(k, k).max(1e-300 * mean_diag)).sqrt()).collect();
         // P: the Hessian's upper triangle, then empty columns.
         let mut colptr = asm.col_ptr.clone();
         let nnz = *colptr.last().unwrap();
         colptr.extend(std::iter::repeat_n(nnz, 4 * nc));
-        let pv: Vec<f64> = asm.values.iter().map(|v| v * ks * ls * ls).collect();
+        let mut pv = asm.values.clone();
+        for j in 0..n {
+            for idx in asm.col_ptr[j]..asm.col_ptr[j + 1] {
+                pv[idx] *= ks * d[asm.row_idx[idx]] * d[j];
+            }
+        }
         let p = CscMatrix::new(nv, nv, colptr, asm.row_idx.clone(), pv);
         let mut lin = vec![0.0; nv];
         for k in 0..n {
-            lin[k] = asm.grad[k] * ks * ls;
+            lin[k] = asm.grad[k] * ks * d[k];
         }
         for c in 0..nc {
-            lin[var(c, 3)] = ks * ls * self.normal[c];
+            // A tiny cost on sigma, u and w keeps the optimal set bounded where a contact
+            // carries no load (otherwise sigma and u = w could grow freely, which stalls the
+            // interior-point method); it changes forces by ~1e-9 of the scaled units.
+            lin[var(c, 3)] = ks * ls * self.normal[c] + 1e-9;
+            lin[var(c, 0)] = 1e-9;
+            lin[var(c, 1)] = 1e-9;
         }
         // Constraints A x + s = b.
         let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
@@ -170,7 +199,7 @@ impl Contacts {
             for (dir, sign_var) in [(self.forward[c], 0usize), (self.side[c], 2usize)] {
                 for a in 0..2 {
                     if dir[a] != 0.0 {
-                        push(row, k + a, dir[a], &mut ri, &mut ci, &mut vv);
+                        push(row, k + a, dir[a] * d[k + a] / ls, &mut ri, &mut ci, &mut vv);
                     }
                 }
                 if sign_var == 0 {
@@ -187,7 +216,7 @@ impl Contacts {
         // Nonnegative: gaps, then u, w >= 0.
         for c in 0..nc {
             let k = dof::node(self.nodes[c]);
-            push(row, k + 2, -1.0, &mut ri, &mut ci, &mut vv);
+            push(row, k + 2, -d[k + 2] / ls, &mut ri, &mut ci, &mut vv);
             b.push((q[k + 2] - 0.5 * m.diameter) / ls);
             row += 1;
         }
@@ -228,7 +257,7 @@ impl Contacts {
             return Err(format!("conic solve ended with status {:?} after {} iterations", sol.status, sol.iterations));
         }
         for k in 0..n {
-            dq[k] = sol.x[k] * ls;
+            dq[k] = sol.x[k] * d[k];
         }
         let mut change: f64 = 0.0;
         for c in 0..nc {

@@ -16,6 +16,11 @@
 //!
 //! Extension points: the rest strains at `t_{n+1}` come from an [`Actuation`] (muscles), and
 //! the linear solve of each Newton iterate is one call that a contact solver may replace.
+//!
+//! With ground contact a step first tries the active-set path (contact statuses held, exact
+//! Hessians, Coulomb conditions verified at convergence; `newton_active`); if its checks
+//! fail the step restarts from the same iterate with one conic program per Newton iterate
+//! (`newton`), whose failure rejects the step as above.
 
 pub mod linsolve;
 
@@ -73,6 +78,10 @@ pub struct Stats {
     pub conic_iterations: usize,
     /// Seconds in Clarabel (set-up and solve).
     pub conic_s: f64,
+    /// Contact steps solved by the active-set path (no conic solve).
+    pub active_set_steps: usize,
+    /// Contact steps where the active-set path failed its checks and the conic path ran.
+    pub active_set_fallbacks: usize,
 }
 
 /// A step that could not be completed.
@@ -121,10 +130,16 @@ pub struct Integrator<'m> {
     kappa0: Vec<[f64; 2]>,
     m0: Vec<f64>,
     load: f64,
+    /// Solve contact steps by the active-set path first ([`crate::contact::active`]), the
+    /// conic program only when its checks fail; off: a conic program every Newton iterate
+    /// (environment variable `SLITHER_CONTACT=conic`).
+    pub active_set: bool,
     /// Ground contacts, when the model has a ground.
     pub contacts: Option<crate::contact::Contacts>,
     normal_saved: Vec<f64>,
     pred_grad: Vec<f64>,
+    q_init: Vec<f64>,
+    held: Vec<bool>,
     /// Print every Newton iteration to stderr (environment variable `SLITHER_DEBUG`).
     trace: bool,
     /// Statistics so far.
@@ -151,9 +166,12 @@ impl<'m> Integrator<'m> {
             kappa0: vec![[0.0; 2]; model.nodes],
             m0: vec![0.0; model.nodes],
             load: 1.0,
+            active_set: std::env::var("SLITHER_CONTACT").map_or(true, |v| v != "conic"),
             contacts: model.ground.as_ref().map(|_| crate::contact::Contacts::new(model, &model.q0)),
             normal_saved: Vec::new(),
             pred_grad: vec![0.0; n],
+            q_init: vec![0.0; n],
+            held: vec![false; n],
             trace: std::env::var_os("SLITHER_DEBUG").is_some(),
             stats: Stats::default(),
         }
@@ -197,6 +215,17 @@ impl<'m> Integrator<'m> {
 
     /// Objective of the step problem at `q` (no derivatives).
     fn objective(&self, s: &State, q: &[f64], h: Option<f64>) -> f64 {
+        let mut f = self.phi(s, q, h);
+        if h.is_some() {
+            if let (Some(g), Some(c)) = (&self.model.ground, &self.contacts) {
+                f += c.dissipation(g, q);
+            }
+        }
+        f
+    }
+
+    /// Rod energy plus the inertial term (dynamic) at `q`, without friction.
+    fn phi(&self, s: &State, q: &[f64], h: Option<f64>) -> f64 {
         let ctx = Ctx { model: self.model, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
         let mut f = energy::total(&self.terms, &ctx, q, None, false);
         if let Some(h) = h {
@@ -204,11 +233,266 @@ impl<'m> Integrator<'m> {
             for k in 0..q.len() {
                 f += w * self.model.mass[k] * (q[k] - self.qhat[k]).powi(2);
             }
-            if let (Some(g), Some(c)) = (&self.model.ground, &self.contacts) {
-                f += c.dissipation(g, q);
-            }
         }
         f
+    }
+
+    /// Factorise the assembled Hessian, shifting the diagonal if it is only semi-definite.
+    fn factor_shifted(&mut self, it: usize) -> Result<(), String> {
+        if self.lin.factor(&self.asm).is_ok() {
+            return Ok(());
+        }
+        let n = self.model.ndof;
+        self.stats.shifted_factorizations += 1;
+        let dmax = (0..n).map(|k| self.asm.h(k, k).abs()).fold(0.0, f64::max).max(1e-300);
+        let mut shift = 1e-10 * dmax;
+        for _ in 0..12 {
+            for k in 0..n {
+                self.asm.add_h(k, k, shift);
+            }
+            if self.lin.factor(&self.asm).is_ok() {
+                return Ok(());
+            }
+            shift *= 10.0;
+        }
+        Err(format!("Hessian not positive definite even with a diagonal shift (iteration {it})"))
+    }
+
+    /// The active-set step (see [`crate::contact::active`]): Newton iterations with every
+    /// contact's status held from the last conic solve. `Err` means the status no longer
+    /// fits (or Newton failed); the caller then restores the iterate and solves the step
+    /// with the conic program.
+    fn newton_active(&mut self, s: &mut State, h: f64) -> Result<usize, String> {
+        let mut ct = self.contacts.take().expect("contacts");
+        let r = self.newton_active_with(s, h, &mut ct);
+        self.contacts = Some(ct);
+        r
+    }
+
+    fn newton_active_with(&mut self, s: &mut State, h: f64, ct: &mut crate::contact::Contacts) -> Result<usize, String> {
+        use crate::contact::Mode;
+        let m = self.model;
+        let n = m.ndof;
+        let a = m.diameter;
+        let nc = ct.nodes.len();
+        let ground = m.ground.as_ref().expect("ground");
+        let scale = (m.total_mass() * crate::rod::vec3::f::norm(m.gravity) / nc.max(1) as f64).max(1e-300);
+        self.held.copy_from_slice(&m.fixed);
+        ct.hold(m, &mut s.q, &mut self.held);
+        // Iterations (each one assembly) and status changes allowed before the conic
+        // program takes over.
+        let cap = m.max_iterations.min(20);
+        let switch_cap = nc + 8;
+        let mut switches = 0;
+        // Exact (unprojected) Hessians converge quadratically; the projected one is the
+        // fallback when the exact one is not positive definite.
+        let mut project = false;
+        let mut it = 0;
+        while it < cap {
+            it += 1;
+            let t0 = Instant::now();
+            self.asm.clear();
+            let mut f0 = {
+                let ctx = Ctx { model: m, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+                let mut f = energy::total(&self.terms, &ctx, &s.q, Some(&mut self.asm), project);
+                let w = 1.0 / (h * h);
+                for k in 0..n {
+                    let d = s.q[k] - self.qhat[k];
+                    f += 0.5 * w * m.mass[k] * d * d;
+                    self.asm.grad[k] += w * m.mass[k] * d;
+                    self.asm.add_h(k, k, w * m.mass[k]);
+                }
+                f
+            };
+            if !f0.is_finite() || self.asm.grad.iter().any(|g| !g.is_finite()) {
+                return Err(format!("non-finite objective or gradient at active-set iteration {it}"));
+            }
+            // Reactions at the held coordinates: normal forces (updating the lagged values
+            // of the sliding dissipation) and sticking friction forces.
+            let mut dn: f64 = 0.0;
+            let mut n_min = f64::INFINITY;
+            let mut worst_ratio: f64 = 0.0;
+            for c in 0..nc {
+                ct.react[c] = 0.0;
+                ct.ratio[c] = 0.0;
+                if ct.mode[c] == Mode::Free {
+                    continue;
+                }
+                let k = dof::node(ct.nodes[c]);
+                let nn = self.asm.grad[k + 2];
+                dn = dn.max((nn - ct.normal[c]).abs());
+                n_min = n_min.min(nn);
+                ct.react[c] = nn;
+                ct.normal[c] = nn.max(0.0);
+                if ct.mode[c] == Mode::Stick {
+                    let (r, mag, dir) = ct.stick_ratio(ground, c, [self.asm.grad[k], self.asm.grad[k + 1]], ct.normal[c]);
+                    if mag > 1e-9 * scale {
+                        ct.ratio[c] = r;
+                        ct.slip_dir[c] = dir;
+                        worst_ratio = worst_ratio.max(r);
+                    }
+                }
+            }
+            // Sliding dissipation; a contact whose slip vanished sticks.
+            let mut switched = 0;
+            for c in 0..nc {
+                if ct.mode[c] != Mode::Slide {
+                    continue;
+                }
+                let (g2, h3, slip) = ct.slide_derivatives(ground, c, &s.q);
+                let k = dof::node(ct.nodes[c]);
+                if slip <= 1e-9 * a {
+                    ct.set_mode(m, c, Mode::Stick, &mut s.q, &mut self.held);
+                    switched += 1;
+                    continue;
+                }
+                self.asm.grad[k] += g2[0];
+                self.asm.grad[k + 1] += g2[1];
+                self.asm.add_h(k, k, h3[0]);
+                self.asm.add_h(k, k + 1, h3[1]);
+                self.asm.add_h(k + 1, k + 1, h3[2]);
+            }
+            if switched > 0 {
+                switches += switched;
+                self.stats.assembly_s += t0.elapsed().as_secs_f64();
+                if switches > switch_cap {
+                    return Err(format!("too many contact status changes (active-set iteration {it})"));
+                }
+                continue;
+            }
+            f0 += ct.dissipation(ground, &s.q);
+            for k in 0..n {
+                if self.held[k] {
+                    self.asm.fix(k);
+                }
+            }
+            let t1 = Instant::now();
+            self.stats.assembly_s += (t1 - t0).as_secs_f64();
+            if project {
+                self.factor_shifted(it)?;
+            } else if self.lin.factor(&self.asm).is_err() {
+                // Indefinite: redo this iterate with the projected Hessian.
+                project = true;
+                it -= 1;
+                self.stats.factor_s += t1.elapsed().as_secs_f64();
+                continue;
+            }
+            let t2 = Instant::now();
+            self.stats.factor_s += (t2 - t1).as_secs_f64();
+            for k in 0..n {
+                self.dq[k] = -self.asm.grad[k];
+            }
+            self.lin.solve(&mut self.dq);
+            let t3 = Instant::now();
+            self.stats.solve_s += (t3 - t2).as_secs_f64();
+            if self.dq.iter().any(|d| !d.is_finite()) {
+                return Err(format!("non-finite Newton direction at active-set iteration {it}"));
+            }
+            let mut dx: f64 = 0.0;
+            let mut dth: f64 = 0.0;
+            for i in 0..m.nodes {
+                for c in 0..3 {
+                    dx = dx.max(self.dq[dof::node(i) + c].abs());
+                }
+                if i + 1 < m.nodes {
+                    dth = dth.max(self.dq[dof::edge(i)].abs());
+                }
+            }
+            let small = dx <= m.tolerance * a && dth <= m.tolerance;
+            let settled = dn <= 1e-6 * scale;
+            if self.trace {
+                eprintln!("  active it {it}: dx {dx:.3e} dth {dth:.3e} dN {dn:.3e} N_min {n_min:.3e} stick ratio {worst_ratio:.6} switches {switches}");
+            }
+            if small && settled {
+                // Exact Coulomb conditions at the converged point; a contact that violates
+                // them changes status (pulling: lifts off; friction outside the cone: slides
+                // in the direction its force dictates) and Newton continues.
+                let mut switched = 0;
+                for c in 0..nc {
+                    if ct.mode[c] != Mode::Free && ct.react[c] < -1e-9 * scale {
+                        ct.set_mode(m, c, Mode::Free, &mut s.q, &mut self.held);
+                        switched += 1;
+                    } else if ct.mode[c] == Mode::Stick && ct.ratio[c] > 1.0 + 1e-9 {
+                        ct.set_mode(m, c, Mode::Slide, &mut s.q, &mut self.held);
+                        switched += 1;
+                    }
+                }
+                if switched == 0 {
+                    for k in 0..n {
+                        s.q[k] += self.dq[k];
+                    }
+                    self.stats.line_search_s += t3.elapsed().as_secs_f64();
+                    return Ok(it);
+                }
+                switches += switched;
+                if switches > switch_cap {
+                    return Err(format!("too many contact status changes (active-set iteration {it})"));
+                }
+                continue;
+            }
+            // A sliding contact whose full step reverses its slip stops (sticks); a free
+            // contact that the full step takes below the ground lands.
+            let mut switched = 0;
+            for c in 0..nc {
+                let k = dof::node(ct.nodes[c]);
+                match ct.mode[c] {
+                    Mode::Slide => {
+                        let s0 = ct.slip(c, &s.q);
+                        for kk in 0..3 {
+                            self.trial[k + kk] = s.q[k + kk] + self.dq[k + kk];
+                        }
+                        let s1 = ct.slip(c, &self.trial);
+                        if s0[0] * s1[0] + s0[1] * s1[1] <= 0.0 {
+                            ct.set_mode(m, c, Mode::Stick, &mut s.q, &mut self.held);
+                            switched += 1;
+                        }
+                    }
+                    Mode::Free => {
+                        if s.q[k + 2] + self.dq[k + 2] < 0.5 * a {
+                            let sl = ct.slip(c, &s.q);
+                            let mode = if sl[0].hypot(sl[1]) > 1e-9 * a { Mode::Slide } else { Mode::Stick };
+                            ct.set_mode(m, c, mode, &mut s.q, &mut self.held);
+                            switched += 1;
+                        }
+                    }
+                    Mode::Stick => {}
+                }
+            }
+            if switched > 0 {
+                switches += switched;
+                self.stats.line_search_s += t3.elapsed().as_secs_f64();
+                if switches > switch_cap {
+                    return Err(format!("too many contact status changes (active-set iteration {it})"));
+                }
+                continue;
+            }
+            let slope: f64 = self.asm.grad.iter().zip(&self.dq).map(|(g, d)| g * d).sum();
+            let mut alpha = 1.0;
+            let noise = 1e-13 * f0.abs().max(1e-300);
+            let mut accepted = false;
+            for _ in 0..40 {
+                for k in 0..n {
+                    self.trial[k] = s.q[k] + alpha * self.dq[k];
+                }
+                if small {
+                    accepted = true;
+                    break;
+                }
+                let ft = self.phi(s, &self.trial, Some(h)) + ct.dissipation(ground, &self.trial);
+                if ft.is_finite() && ft <= f0 + 1e-4 * alpha * slope + noise {
+                    accepted = true;
+                    break;
+                }
+                alpha *= 0.5;
+                self.stats.backtracks += 1;
+            }
+            self.stats.line_search_s += t3.elapsed().as_secs_f64();
+            if !accepted {
+                return Err(format!("line search failed at active-set iteration {it} (slope {slope:.3e})"));
+            }
+            std::mem::swap(&mut s.q, &mut self.trial);
+        }
+        Err(format!("active-set Newton did not converge in {cap} iterations"))
     }
 
     /// Newton iterations on `s.q` (the iterate) for the dynamic step (`h = Some`) or the
@@ -276,25 +560,7 @@ impl<'m> Integrator<'m> {
                 conic = Some(r);
             } else {
                 // Factorise; shift the diagonal if the projected Hessian is only semi-definite.
-                if self.lin.factor(&self.asm).is_err() {
-                    self.stats.shifted_factorizations += 1;
-                    let dmax = (0..n).map(|k| self.asm.h(k, k).abs()).fold(0.0, f64::max).max(1e-300);
-                    let mut shift = 1e-10 * dmax;
-                    let mut ok = false;
-                    for _ in 0..12 {
-                        for k in 0..n {
-                            self.asm.add_h(k, k, shift);
-                        }
-                        if self.lin.factor(&self.asm).is_ok() {
-                            ok = true;
-                            break;
-                        }
-                        shift *= 10.0;
-                    }
-                    if !ok {
-                        return Err(format!("Hessian not positive definite even with a diagonal shift (iteration {it})"));
-                    }
-                }
+                self.factor_shifted(it)?;
                 let t2 = Instant::now();
                 self.stats.factor_s += (t2 - t1).as_secs_f64();
                 for k in 0..n {
@@ -336,6 +602,9 @@ impl<'m> Integrator<'m> {
                 let scale = m.total_mass() * crate::rod::vec3::f::norm(m.gravity) / ct.nodes.len().max(1) as f64;
                 normals_settled = c.max_normal_change <= 1e-6 * scale.max(1e-300);
             }
+            // With contact, a step whose predicted decrease is at round-off level is an
+            // accuracy-level correction of the conic solve: take it in full.
+            let negligible = conic.is_some() && -slope <= 1e-12 * f0.abs();
             let small = dx <= m.tolerance * a && dth <= m.tolerance;
             // Backtracking line search on the objective, tolerant of round-off near the minimum.
             let mut alpha = 1.0;
@@ -345,7 +614,7 @@ impl<'m> Integrator<'m> {
                 for k in 0..n {
                     self.trial[k] = s.q[k] + alpha * self.dq[k];
                 }
-                if small {
+                if small || negligible {
                     // The correction is below the tolerance: round-off (or the conic
                     // solver's accuracy) decides the merit, not the step.
                     accepted = true;
@@ -409,8 +678,40 @@ impl<'m> Integrator<'m> {
                 s.q[k] = s.q[k].max(0.5 * m.diameter);
             }
         }
+        if let Some(ct) = self.contacts.as_mut().filter(|_| self.active_set) {
+            if !ct.modes_valid {
+                ct.guess_modes(m, &self.q_prev, &self.v_prev, h);
+            }
+        }
+        if self.active_set && self.contacts.as_ref().is_some_and(|ct| ct.modes_valid) {
+            self.q_init.copy_from_slice(&s.q);
+            match self.newton_active(s, h) {
+                Ok(it) => {
+                    self.stats.active_set_steps += 1;
+                    for k in 0..m.ndof {
+                        s.v[k] = (s.q[k] - self.q_prev[k]) / h;
+                    }
+                    s.update_frames();
+                    s.t += h;
+                    return Ok(it);
+                }
+                Err(why) => {
+                    if self.trace {
+                        eprintln!("  active set rejected at t = {}: {why}", s.t);
+                    }
+                    self.stats.active_set_fallbacks += 1;
+                    s.q.copy_from_slice(&self.q_init);
+                    if let Some(ct) = self.contacts.as_mut() {
+                        ct.normal.clone_from(&self.normal_saved);
+                    }
+                }
+            }
+        }
         match self.newton(s, Some(h)) {
             Ok(it) => {
+                if let Some(ct) = self.contacts.as_mut() {
+                    ct.classify(m, &s.q);
+                }
                 for k in 0..m.ndof {
                     s.v[k] = (s.q[k] - self.q_prev[k]) / h;
                 }
@@ -442,6 +743,9 @@ impl<'m> Integrator<'m> {
                 Ok(())
             }
             Err(reason) => {
+                if self.trace {
+                    eprintln!("step of {h} s at t = {} failed: {reason}", s.t);
+                }
                 if level >= self.model.max_halvings {
                     return Err(StepError::Rejected { t: s.t, dt: h, halvings: level, reason });
                 }

@@ -3,6 +3,8 @@
 //! `trajectory.npz` (times, positions and twist angles at the output times, loadable by
 //! `numpy.load`).
 
+pub mod vtk;
+
 use crate::model::Model;
 use crate::rod::vec3::f;
 use crate::sim::{Frame, Outcome};
@@ -54,6 +56,9 @@ pub struct Summary {
     pub conic_iterations_mean: f64,
     /// Conic solves per accepted step.
     pub conic_solves_per_step: f64,
+    /// Gait observables and regime (present when the run has frames).
+    #[serde(flatten)]
+    pub observables: Option<crate::observe::Observables>,
     /// Tip (head) position at the end (m).
     pub head_final: [f64; 3],
     /// Tail position at the end (m).
@@ -85,6 +90,7 @@ impl Summary {
             normal_force_final: o.frames.last().map_or(0.0, |f| f.normal.iter().sum()),
             conic_iterations_mean: o.stats.conic_iterations as f64 / o.stats.conic_solves.max(1) as f64,
             conic_solves_per_step: o.stats.conic_solves as f64 / o.stats.steps.max(1) as f64,
+            observables: None,
             head_final: s.node(m.real.start),
             tail_final: s.node(m.real.end - 1),
         }

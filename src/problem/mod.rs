@@ -29,6 +29,9 @@ pub struct Problem {
     pub solver: SolverSpec,
     /// The ground; absent: no ground, no contact.
     pub ground: Option<GroundSpec>,
+    /// Muscle activation (gait). Default: none.
+    #[serde(default)]
+    pub gait: crate::gait::GaitSpec,
 }
 
 /// `[ground]`: a plane `z = 0` with anisotropic kinetic Coulomb friction.
@@ -465,6 +468,19 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             return Err(c.fail("time", "mode", "\"static\"".into(), "\"dynamic\" when a [ground] is present (friction needs time)"));
         }
     }
+    let g = &p.gait;
+    if !(g.stress.is_finite() && g.stress >= 0.0) {
+        return Err(c.fail("gait", "stress", format!("{}", g.stress), "a finite number >= 0 (Pa)"));
+    }
+    c.range("gait", "sigma", g.sigma, 0.0, 1.0, "fraction of rod.length")?;
+    c.positive("gait", "speed", g.speed, "m/s")?;
+    c.finite("gait", "centers", &g.centers, "fractions of rod.length")?;
+    c.finite("gait", "scales", &g.scales, "dimensionless")?;
+    c.positive("gait", "period", g.period, "s")?;
+    if !(g.ramp.is_finite() && (0.0..=1.0).contains(&g.ramp)) {
+        return Err(c.fail("gait", "ramp", format!("{}", g.ramp), "in [0, 1] (fraction of L / v_m)"));
+    }
+    c.positive("gait", "wavelength", g.wavelength, "fraction of rod.length")?;
     if let Some(iv) = p.output.interval {
         c.positive("output", "interval", iv, "s")?;
     }

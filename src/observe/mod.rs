@@ -1,0 +1,231 @@
+//! What is measured (MODEL section 5): forward speed, kymographs of elevation, slip speed and
+//! local link density, topology over time, contact patches, and the regime classification.
+//!
+//! Regimes, as applied by [`classify`]:
+//! * **U** (inertially unstable): the body rises above `L/4` (flailing), or it lifts off
+//!   (`>= a/2`) while the link-density pulse is incoherent (fit `R^2 < 0.5`);
+//! * **S** (S-start): forward motion `v_s/v_m > 0.02`, two separate arcs lifted at least `a/2`
+//!   at some instant, and a coherent `lambda` pulse (linear fit of its peak position against
+//!   time with `R^2 >= 0.8` and speed within 30 % of `v_m`);
+//! * **N** (no net motion): `|v_s / v_m| < 0.01`;
+//! * **F** (friction dominates): everything else (no lift-off, backward or uncoiling motion).
+
+use crate::model::Model;
+use crate::rod::vec3::f;
+use crate::sim::Frame;
+use crate::topology::{self, FramedCurve};
+use serde::Serialize;
+
+/// Space-time fields for kymographs and plots.
+#[derive(Clone, Debug, Default)]
+pub struct Fields {
+    /// Arc length of each node (m).
+    pub s: Vec<f64>,
+    /// Arc length of the centre of each `lambda` window (m).
+    pub s_window: Vec<f64>,
+    /// Frame times (s).
+    pub t: Vec<f64>,
+    /// Elevation `z - a/2` (m), frames x nodes.
+    pub elevation: Vec<Vec<f64>>,
+    /// Horizontal slip speed (m/s), frames x nodes.
+    pub slip: Vec<Vec<f64>>,
+    /// Local link density `lambda` (turns/m), frames x windows.
+    pub lambda: Vec<Vec<f64>>,
+    /// Total twist per frame (turns).
+    pub tw: Vec<f64>,
+    /// Writhe per frame (turns).
+    pub wr: Vec<f64>,
+    /// Link `Tw + Wr` per frame (turns).
+    pub lk: Vec<f64>,
+}
+
+/// Scalar observables reported in `summary.json`.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Observables {
+    /// Mean forward speed of the centroid along the initial tail-to-head direction (m/s).
+    pub v_s: f64,
+    /// `v_s / v_m` (`NaN` without a gait).
+    pub v_s_over_v_m: f64,
+    /// Centroid displacement (forward along the initial head direction, lateral) (m).
+    pub displacement: [f64; 2],
+    /// Angle of the net displacement from the initial head direction (degrees, 0..180).
+    pub displacement_angle_deg: f64,
+    /// Largest |writhe| over the frames (turns).
+    pub writhe_max: f64,
+    /// Mean writhe over the frames (turns).
+    pub writhe_mean: f64,
+    /// Largest |link| over the frames (turns).
+    pub link_max: f64,
+    /// Speed of the `lambda` peak along the body (m/s), from a linear fit.
+    pub lambda_pulse_speed: f64,
+    /// `R^2` of that fit.
+    pub lambda_pulse_r2: f64,
+    /// `(max - min) / max` of the peak |lambda| over the fitted frames.
+    pub lambda_amplitude_variation: f64,
+    /// Largest elevation over `a`.
+    pub max_elevation_over_a: f64,
+    /// Most separate arcs lifted at least `a/2` at one instant.
+    pub lifted_arcs_max: usize,
+    /// Median slip speed of contact nodes within one `sigma` of couple b, over `v_m`.
+    pub middle_slip_over_v_m: f64,
+    /// Fraction of frames with at least two separate contact patches.
+    pub two_patch_fraction: f64,
+    /// Median slip speed of contact nodes over `v_m`.
+    pub contact_slip_over_v_m: f64,
+    /// Regime: "S", "F", "N" or "U" (criteria in the module documentation and README).
+    pub regime: String,
+}
+
+fn runs(mask: impl Iterator<Item = bool>) -> usize {
+    let mut n = 0;
+    let mut prev = false;
+    for m in mask {
+        if m && !prev {
+            n += 1;
+        }
+        prev = m;
+    }
+    n
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+/// Fields of every frame.
+pub fn fields(m: &Model, frames: &[Frame]) -> Fields {
+    let a = m.diameter;
+    let delta = m.length / 10.0;
+    let mut out = Fields { s: m.real.clone().map(|i| m.arc_length(i)).collect(), ..Default::default() };
+    for fr in frames {
+        out.t.push(fr.t);
+        out.elevation.push(fr.x.iter().map(|x| x[2] - 0.5 * a).collect());
+        out.slip.push(fr.v.iter().map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt()).collect());
+        let c = FramedCurve { nodes: fr.x.clone(), d1: fr.d1.clone(), closed: false };
+        let top = topology::topology(&c);
+        out.tw.push(top.tw);
+        out.wr.push(top.wr);
+        out.lk.push(top.lk);
+        let d = topology::densities(&c, delta);
+        if out.s_window.is_empty() {
+            out.s_window = d.s.iter().map(|s| s + 0.5 * delta).collect();
+        }
+        // The number of windows that fit follows the (slightly stretched) arc length: keep the
+        // first frame's windows, NaN where a window does not fit.
+        let mut row = d.lambda;
+        row.resize(out.s_window.len(), f64::NAN);
+        out.lambda.push(row);
+    }
+    out
+}
+
+/// Scalar observables from the frames and fields.
+pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
+    let mut o = Observables::default();
+    let (Some(first), Some(last)) = (frames.first(), frames.last()) else { return o };
+    let centroid = |fr: &Frame| {
+        let mut c = [0.0; 3];
+        for x in &fr.x {
+            c = f::add(c, *x);
+        }
+        f::scale(c, 1.0 / fr.x.len() as f64)
+    };
+    let xh = {
+        let d = f::sub(first.x[0], *first.x.last().unwrap());
+        f::unit([d[0], d[1], 0.0])
+    };
+    let side = f::cross([0.0, 0.0, 1.0], xh);
+    let disp = f::sub(centroid(last), centroid(first));
+    let t_end = last.t - first.t;
+    o.displacement = [f::dot(disp, xh), f::dot(disp, side)];
+    o.displacement_angle_deg = o.displacement[1].abs().atan2(o.displacement[0]).to_degrees();
+    o.v_s = if t_end > 0.0 { o.displacement[0] / t_end } else { 0.0 };
+    let g = &m.gait;
+    let has_gait = g.kind != crate::gait::Kind::None && g.couple > 0.0;
+    let vm = g.speed;
+    o.v_s_over_v_m = if has_gait { o.v_s / vm } else { f64::NAN };
+    o.writhe_max = fl.wr.iter().fold(0.0, |a: f64, w| a.max(w.abs()));
+    o.writhe_mean = fl.wr.iter().sum::<f64>() / fl.wr.len() as f64;
+    o.link_max = fl.lk.iter().fold(0.0, |a: f64, w| a.max(w.abs()));
+    let a = m.diameter;
+    o.max_elevation_over_a = fl.elevation.iter().flatten().fold(0.0, |x: f64, &e| x.max(e)) / a;
+    o.lifted_arcs_max = fl.elevation.iter().map(|row| runs(row.iter().map(|&e| e >= 0.5 * a))).max().unwrap_or(0);
+    // Contact: nodes carrying more than a millionth of their weight.
+    let w_node = m.total_mass() * f::norm(m.gravity) / m.elements() as f64;
+    let in_contact = |n: f64| n > 1e-6 * w_node;
+    if m.ground.is_some() {
+        let mut two = 0;
+        let mut slips = Vec::new();
+        for (k, fr) in frames.iter().enumerate() {
+            if runs(fr.normal.iter().map(|&n| in_contact(n))) >= 2 {
+                two += 1;
+            }
+            for (i, &n) in fr.normal.iter().enumerate() {
+                if in_contact(n) && k > 0 {
+                    slips.push(fl.slip[k][i]);
+                }
+            }
+        }
+        o.two_patch_fraction = two as f64 / frames.len() as f64;
+        o.contact_slip_over_v_m = median(slips) / vm;
+    }
+    // The lambda pulse and the middle segment, while the pulse is inside the body.
+    let period = g.pulse_time(m.length);
+    let (mut ts, mut ss, mut amps, mut mids) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (k, fr) in frames.iter().enumerate() {
+        if !has_gait || fr.t < 0.15 * period || fr.t > 0.85 * period {
+            continue;
+        }
+        let row = &fl.lambda[k];
+        if let Some((j, amp)) = row.iter().enumerate().map(|(j, l)| (j, l.abs())).max_by(|a, b| a.1.total_cmp(&b.1)) {
+            ts.push(fr.t);
+            ss.push(fl.s_window[j]);
+            amps.push(amp);
+        }
+        let sb = g.centers[1] + vm * fr.t;
+        let v: Vec<f64> = (0..fr.x.len()).filter(|&i| (fl.s[i] - sb).abs() <= g.sigma && in_contact(fr.normal[i])).map(|i| fl.slip[k][i]).collect();
+        if !v.is_empty() {
+            mids.push(v.iter().sum::<f64>() / v.len() as f64);
+        }
+    }
+    if ts.len() >= 3 {
+        let n = ts.len() as f64;
+        let mt = ts.iter().sum::<f64>() / n;
+        let ms = ss.iter().sum::<f64>() / n;
+        let stt: f64 = ts.iter().map(|t| (t - mt).powi(2)).sum();
+        let sts: f64 = ts.iter().zip(&ss).map(|(t, s)| (t - mt) * (s - ms)).sum();
+        let sss: f64 = ss.iter().map(|s| (s - ms).powi(2)).sum();
+        o.lambda_pulse_speed = sts / stt;
+        o.lambda_pulse_r2 = if sss > 0.0 { sts * sts / (stt * sss) } else { 0.0 };
+        let amax = amps.iter().fold(0.0, |a: f64, &b| a.max(b));
+        let amin = amps.iter().fold(f64::INFINITY, |a: f64, &b| a.min(b));
+        o.lambda_amplitude_variation = (amax - amin) / amax;
+    } else {
+        o.lambda_pulse_speed = f64::NAN;
+        o.lambda_pulse_r2 = f64::NAN;
+        o.lambda_amplitude_variation = f64::NAN;
+    }
+    o.middle_slip_over_v_m = median(mids) / vm;
+    o.regime = classify(m, &o).to_string();
+    o
+}
+
+/// The regime of a run (criteria in the module documentation).
+pub fn classify(m: &Model, o: &Observables) -> &'static str {
+    let a = m.diameter;
+    let lifted = o.max_elevation_over_a >= 0.5;
+    let coherent = o.lambda_pulse_r2 >= 0.8 && (o.lambda_pulse_speed / m.gait.speed - 1.0).abs() <= 0.3;
+    if o.max_elevation_over_a * a > 0.25 * m.length || (lifted && !(o.lambda_pulse_r2 >= 0.5)) {
+        "U"
+    } else if o.v_s_over_v_m > 0.02 && o.lifted_arcs_max >= 2 && coherent {
+        "S"
+    } else if o.v_s_over_v_m.abs() < 0.01 || o.v_s_over_v_m.is_nan() {
+        "N"
+    } else {
+        "F"
+    }
+}
