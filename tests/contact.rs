@@ -36,8 +36,15 @@ duration = {duration}
 }
 
 /// Step to the end, calling `each` after every step.
-fn simulate(m: &Model, mut each: impl FnMut(&State, &mut Integrator)) -> (State, Integrator<'_>) {
+fn simulate(m: &Model, each: impl FnMut(&State, &mut Integrator)) -> (State, Integrator<'_>) {
+    simulate_path(m, true, each)
+}
+
+/// Step with the active-set contact Newton (`active = true`, the default) or with one conic
+/// solve per Newton iterate (`false`), so that both paths stay tested.
+fn simulate_path(m: &Model, active: bool, mut each: impl FnMut(&State, &mut Integrator)) -> (State, Integrator<'_>) {
     let mut integ = Integrator::new(m, Box::new(Natural));
+    integ.active_set = active;
     let mut s = State::initial(m);
     let steps = (m.duration / m.dt).round() as usize;
     for _ in 0..steps {
@@ -73,10 +80,14 @@ fn rod_at_rest_stays_put_and_carries_its_weight() {
 }
 
 fn stop_distance(heading: f64, v: [f64; 3], mu: f64) {
+    stop_distance_path(heading, v, mu, true);
+}
+
+fn stop_distance_path(heading: f64, v: [f64; 3], mu: f64, active: bool) {
     let m = scene(heading, v, 0.0, 0.0, 1.1 * f::norm(v) / (mu * G));
     let c0 = State::initial(&m).centroid(&m);
     let ceiling = 0.5 * m.diameter * (1.0 + 2e-6);
-    let (s, integ) = simulate(&m, |s, _| {
+    let (s, integ) = simulate_path(&m, active, |s, _| {
         let h = max_height(&m, s);
         assert!(h <= ceiling, "rod rose to {h} at t = {}", s.t);
     });
@@ -106,19 +117,23 @@ fn sliding_sideways_stops_after_v0_squared_over_two_mu_sideways_g() {
 /// On an incline rising along +x the rod tends to slide toward -x: backward for heading 0
 /// (head up the slope), sideways for heading 90.
 fn incline(heading: f64, mu: f64) {
+    incline_path(heading, mu, true);
+}
+
+fn incline_path(heading: f64, mu: f64, active: bool) {
     let critical = mu.atan().to_degrees();
     // Below the threshold: stays put.
     let below = critical - 2.0;
     let m = scene(heading, [0.0; 3], below, 0.0, 1.0);
     let c0 = State::initial(&m).centroid(&m);
-    let (s, _) = simulate(&m, |_, _| {});
+    let (s, _) = simulate_path(&m, active, |_, _| {});
     let drift = f::norm(f::sub(s.centroid(&m), c0));
     println!("heading {heading}: {below:.2} deg (threshold {critical:.2}): drift {drift:e} m");
     assert!(drift < 1e-9, "crept by {drift} m below the threshold");
     // Above: slides down with acceleration g (sin - mu cos).
     let above = critical + 4.0;
     let m = scene(heading, [0.0; 3], above, 0.0, 0.5);
-    let (s, _) = simulate(&m, |_, _| {});
+    let (s, _) = simulate_path(&m, active, |_, _| {});
     let vx: f64 = m.real.clone().map(|i| s.node_velocity(i)[0]).sum::<f64>() / m.real.len() as f64;
     let acc = -vx / s.t;
     let b = above.to_radians();
@@ -162,4 +177,12 @@ fn bad_ground_keys_are_rejected_with_the_key_named() {
         let err = slither::problem::parse(&text, std::path::Path::new("g.toml")).unwrap_err().to_string();
         assert!(err.contains(key) && err.contains("g.toml:9:"), "{line}: {err}");
     }
+}
+
+#[test]
+fn conic_path_alone_stops_and_sticks_and_slides_correctly() {
+    // One conic (Clarabel) solve per Newton iterate, no active set: the fallback path.
+    stop_distance_path(0.0, [0.5, 0.0, 0.0], MU[0], false);
+    stop_distance_path(90.0, [0.5, 0.0, 0.0], MU[2], false);
+    incline_path(0.0, MU[1], false);
 }
