@@ -27,6 +27,9 @@ enum Cmd {
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Skip the PNG figures and the ParaView export.
+        #[arg(long)]
+        no_plots: bool,
     },
     /// Twist, writhe and link of a framed curve given as CSV (x,y,z,d1x,d1y,d1z).
     Topology {
@@ -41,7 +44,7 @@ enum Cmd {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.cmd {
-        Cmd::Run { problem, out, quiet } => run(&problem, &out, quiet),
+        Cmd::Run { problem, out, quiet, no_plots } => run(&problem, &out, quiet, no_plots),
         Cmd::Topology { curve, closed } => topo(&curve, closed),
     }
 }
@@ -77,7 +80,7 @@ fn topo(path: &Path, closed: bool) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-fn run(path: &Path, out: &Path, quiet: bool) -> ExitCode {
+fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
     let p = match problem::load(path) {
         Ok(p) => p,
         Err(e) => {
@@ -122,6 +125,12 @@ fn run(path: &Path, out: &Path, quiet: bool) -> ExitCode {
     if let Err(e) = written {
         eprintln!("error: {}: cannot write results: {e}", out.display());
         return ExitCode::from(1);
+    }
+    if !no_plots {
+        if let Err(e) = output::write_figures(out, &model, &o.frames, &fields) {
+            eprintln!("error: {}: cannot write figures: {e}", out.display());
+            return ExitCode::from(1);
+        }
     }
     if let Some(e) = &o.error {
         eprintln!("error: {}: {e}; results up to t = {} s written to {}", path.display(), o.state.t, out.display());

@@ -66,7 +66,8 @@ pub struct Observables {
     pub max_elevation_over_a: f64,
     /// Most separate arcs lifted at least `a/2` at one instant.
     pub lifted_arcs_max: usize,
-    /// Median slip speed of contact nodes within one `sigma` of couple b, over `v_m`.
+    /// Median (over frames) of the mean slip speed of contact nodes within one `sigma` of
+    /// couple b, over `v_m`.
     pub middle_slip_over_v_m: f64,
     /// Fraction of frames with at least two separate contact patches.
     pub two_patch_fraction: f64,
@@ -173,15 +174,33 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         o.two_patch_fraction = two as f64 / frames.len() as f64;
         o.contact_slip_over_v_m = median(slips) / vm;
     }
-    // The lambda pulse and the middle segment, while the pulse is inside the body.
+    // The lambda pulse and the middle segment, while the whole triplet is inside the body
+    // (after the ramp, before couple c's centre is within 2 sigma of the tail). The pulse is
+    // the lobe of lambda with the sign of its largest magnitude over that interval; its peak
+    // is tracked frame by frame.
     let period = g.pulse_time(m.length);
+    let t_lo = g.ramp_time + 0.05 * period;
+    let t_hi = ((m.length - g.centers.iter().fold(0.0f64, |a, &c| a.max(c)) - 2.0 * g.sigma) / vm).min(period);
+    let window = |t: f64| has_gait && t >= t_lo && t <= t_hi;
+    let mut sign = 0.0;
+    let mut best = 0.0;
+    for (k, fr) in frames.iter().enumerate() {
+        if window(fr.t) {
+            for &l in &fl.lambda[k] {
+                if l.is_finite() && l.abs() > best {
+                    best = l.abs();
+                    sign = l.signum();
+                }
+            }
+        }
+    }
     let (mut ts, mut ss, mut amps, mut mids) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (k, fr) in frames.iter().enumerate() {
-        if !has_gait || fr.t < 0.15 * period || fr.t > 0.85 * period {
+        if !window(fr.t) {
             continue;
         }
         let row = &fl.lambda[k];
-        if let Some((j, amp)) = row.iter().enumerate().map(|(j, l)| (j, l.abs())).max_by(|a, b| a.1.total_cmp(&b.1)) {
+        if let Some((j, amp)) = row.iter().enumerate().filter(|(_, l)| l.is_finite()).map(|(j, l)| (j, sign * l)).max_by(|a, b| a.1.total_cmp(&b.1)) {
             ts.push(fr.t);
             ss.push(fl.s_window[j]);
             amps.push(amp);

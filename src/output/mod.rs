@@ -166,3 +166,46 @@ pub fn centroid_displacement(frames: &[Frame]) -> [f64; 3] {
         _ => [0.0; 3],
     }
 }
+
+/// Figures and ParaView files of a run: kymographs of elevation, slip speed and local link
+/// density over s and t/T, top and side snapshots, Tw/Wr/Lk over time (PNG), and `vtk/`.
+pub fn write_figures(dir: &Path, m: &Model, frames: &[Frame], fl: &crate::observe::Fields) -> Result<(), String> {
+    use crate::plot;
+    if frames.len() < 2 {
+        return Ok(());
+    }
+    let period = if m.gait.kind != crate::gait::Kind::None { m.gait.pulse_time(m.length) } else { fl.t.last().copied().unwrap_or(1.0).max(1e-300) };
+    let t_over: Vec<f64> = fl.t.iter().map(|t| t / period).collect();
+    let err = |e: plot::PlotError| e.to_string();
+    let a = m.diameter;
+    let elev_a: Vec<Vec<f64>> = fl.elevation.iter().map(|r| r.iter().map(|e| e / a).collect()).collect();
+    plot::kymograph(&dir.join("kymograph_elevation.png"), "Elevation", "(z - a/2) / a", &fl.s, &t_over, &elev_a, false).map_err(err)?;
+    plot::kymograph(&dir.join("kymograph_slip.png"), "Slip speed", "|v| (m/s)", &fl.s, &t_over, &fl.slip, false).map_err(err)?;
+    if !fl.s_window.is_empty() {
+        plot::kymograph(&dir.join("kymograph_lambda.png"), "Local link density (window L/10)", "lambda (turns/m)", &fl.s_window, &t_over, &fl.lambda, true).map_err(err)?;
+    }
+    let picks: Vec<usize> = {
+        let n = frames.len();
+        let k = 6.min(n);
+        (0..k).map(|j| j * (n - 1) / (k - 1).max(1)).collect()
+    };
+    let snaps: Vec<(f64, Vec<[f64; 3]>)> = picks.iter().map(|&j| (frames[j].t, frames[j].x.clone())).collect();
+    plot::snapshots(&dir.join("snapshots.png"), "Body: top and side views", &snaps).map_err(err)?;
+    plot::series(&dir.join("topology.png"), "Twist, writhe and link of the ribbon (r, d1)", "turns", &fl.t, &[("Tw", fl.tw.clone()), ("Wr", fl.wr.clone()), ("Lk = Tw + Wr", fl.lk.clone())]).map_err(err)?;
+    // ParaView: elevation, slip speed and lambda interpolated to the nodes.
+    let lambda_nodes: Vec<Vec<f64>> = fl
+        .lambda
+        .iter()
+        .map(|row| {
+            fl.s.iter()
+                .map(|&s| {
+                    // nearest window centre
+                    let j = fl.s_window.iter().enumerate().min_by(|x, y| (x.1 - s).abs().total_cmp(&(y.1 - s).abs())).map(|(j, _)| j).unwrap_or(0);
+                    row.get(j).copied().unwrap_or(f64::NAN)
+                })
+                .collect()
+        })
+        .collect();
+    let positions: Vec<Vec<[f64; 3]>> = frames.iter().map(|f| f.x.clone()).collect();
+    vtk::write_vtk(dir, &fl.t, &positions, &[("elevation", fl.elevation.clone()), ("slip_speed", fl.slip.clone()), ("lambda", lambda_nodes)]).map_err(|e| e.to_string())
+}
