@@ -212,3 +212,48 @@ impl Actuation for Muscles {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(kind: Kind) -> GaitSpec {
+        GaitSpec { kind, stress: 1000.0, sigma: 0.05, speed: 0.5, centers: [0.2, 0.3, 0.4], scales: [1.0, 0.5, 2.0], period: 0.4, ramp: 0.0, wavelength: 0.5 }
+    }
+
+    #[test]
+    fn s_start_couples_are_gaussians_travelling_at_v_m() {
+        let g = Gait::new(&spec(Kind::SStart), 2.0, 0.02);
+        let gamma = 1000.0 * 0.02f64.powi(3);
+        let t = 0.3;
+        // Peak of a (in-plane, +) at 0.4 m + 0.15 m; of c (in-plane, -, scale 2) at 0.8 + 0.15.
+        let at_a = g.couple_at(0.55, t);
+        let at_c = g.couple_at(0.95, t);
+        let at_b = g.couple_at(0.75, t);
+        assert!((at_a[1] / gamma - 1.0).abs() < 1e-3, "{at_a:?}");
+        assert!((at_c[1] / gamma + 2.0).abs() < 1e-3, "{at_c:?}");
+        assert!((at_b[0] / gamma - 0.5).abs() < 1e-12, "{at_b:?}");
+        // One sigma (0.1 m) away: exp(-1/2).
+        assert!((g.couple_at(0.65, t)[0] / gamma - 0.5 * (-0.5f64).exp()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn sidewinding_launches_a_new_triplet_every_period() {
+        let g = Gait::new(&spec(Kind::Sidewinding), 2.0, 0.02);
+        let one = Gait::new(&spec(Kind::SStart), 2.0, 0.02);
+        // At t = 0.5 two triplets are out: the first moved 0.25 m, the second 0.05 m.
+        let s = 0.45;
+        let both = g.couple_at(s, 0.5);
+        let sum = [one.couple_at(s, 0.5)[0] + one.couple_at(s, 0.1)[0], one.couple_at(s, 0.5)[1] + one.couple_at(s, 0.1)[1]];
+        assert!((both[0] - sum[0]).abs() < 1e-15 && (both[1] - sum[1]).abs() < 1e-15);
+    }
+
+    #[test]
+    fn serpenoid_is_a_travelling_sine() {
+        let g = Gait::new(&spec(Kind::Serpenoid), 1.0, 0.02);
+        let gamma = 1000.0 * 0.02f64.powi(3);
+        // lambda = 0.5 m; at t = 0.1 s the wave moved 0.05 m: peak at s = 0.125 + 0.05.
+        assert!((g.couple_at(0.175, 0.1)[1] / gamma - 1.0).abs() < 1e-12);
+        assert_eq!(g.couple_at(0.3, 0.2)[0], 0.0);
+    }
+}
