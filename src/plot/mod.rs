@@ -374,6 +374,13 @@ pub fn kymograph(
         .set_label_area_size(LabelAreaPosition::Right, 120)
         .build_cartesian_2d(0.0..1.0, lo..hi)
         .map_err(draw_err)?;
+    // The bar first, then the axis and tick labels, so no label is painted over.
+    cbar.draw_series((0..nbar).map(|k| {
+        let a = lo + (hi - lo) * k as f64 / nbar as f64;
+        let b = lo + (hi - lo) * (k + 1) as f64 / nbar as f64;
+        Rectangle::new([(0.0, a), (1.0, b)], cmap((k as f64 + 0.5) / nbar as f64).filled())
+    }))
+    .map_err(draw_err)?;
     let fmt = |v: &f64| tick_label(*v, hi - lo);
     cbar.configure_mesh()
         .disable_mesh()
@@ -381,17 +388,13 @@ pub fn kymograph(
         .x_labels(0)
         .y_labels(9)
         .y_label_formatter(&fmt)
+        .set_tick_mark_size(LabelAreaPosition::Right, 6)
+        .y_label_offset(0)
         .y_desc(label)
         .axis_desc_style((FONT, DESC_PX))
         .label_style((FONT, TICK_PX))
         .draw()
         .map_err(draw_err)?;
-    cbar.draw_series((0..nbar).map(|k| {
-        let a = lo + (hi - lo) * k as f64 / nbar as f64;
-        let b = lo + (hi - lo) * (k + 1) as f64 / nbar as f64;
-        Rectangle::new([(0.0, a), (1.0, b)], cmap((k as f64 + 0.5) / nbar as f64).filled())
-    }))
-    .map_err(draw_err)?;
     frame_plot(&mut cbar)?;
     root.present().map_err(draw_err)
 }
