@@ -1,4 +1,25 @@
 //! slither: a simulator and gait designer for snake locomotion.
+//!
+//! The snake is a Discrete Elastic Rod (Bergou et al. 2008, time-parallel frames of Bergou et
+//! al. 2010) on the ground. Every step solves the variational implicit Euler problem
+//!
+//! ```text
+//! q_{n+1} = argmin_q 1/(2h^2) (q - qhat)^T M (q - qhat) + E(q, t_{n+1}) + h D(v; N)
+//!           subject to z_i - a/2 >= 0,          qhat = q_n + h v_n,  v_{n+1} = (q_{n+1} - q_n)/h
+//! ```
+//!
+//! by Newton's method on faer's sparse Cholesky, with anisotropic Coulomb friction `D` as a
+//! second-order-cone program (Clarabel) or, when the contact modes are settled, as an
+//! active-set Newton iteration checked against the Coulomb conditions.
+//!
+//! Module map: [`problem`] (TOML schema and validation) -> [`model`] (immutable model) and
+//! [`state`]; [`rod`] (dof layout, frames, strains); [`energy`] (stretch, bend, twist,
+//! gravity); [`gait`] (muscles as moving natural curvature); [`contact`] (gaps, friction,
+//! conic program, active set); [`integrator`] (the step, halving, static solve); [`sim`]
+//! (the run loop); [`topology`] (twist, writhe, link, densities); [`observe`] (speeds,
+//! kymograph fields, regimes); [`output`] and [`plot`] (files and figures); [`fd`] (the
+//! finite-difference checker used by the tests).
+#![warn(missing_docs)]
 pub mod contact;
 pub mod energy;
 pub mod fd;
