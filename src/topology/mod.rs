@@ -592,6 +592,8 @@ pub fn parse_curve_csv(text: &str, closed: bool) -> Result<FramedCurve, CsvError
     let mut d1: Vec<V3> = Vec::new();
     let mut row_lines: Vec<usize> = Vec::new();
     let mut last_line = 0;
+    // A leading `s` column (as in `slither run`'s final.csv: s,x,y,z,d1x,d1y,d1z) is skipped.
+    let mut skip = 0;
     for (idx, raw) in text.lines().enumerate() {
         let line_no = idx + 1;
         last_line = line_no;
@@ -606,12 +608,15 @@ pub fn parse_curve_csv(text: &str, closed: bool) -> Result<FramedCurve, CsvError
                         .to_string(),
                 });
             }
+            if fields.len() == 7 && fields[0] == "s" {
+                skip = 1;
+            }
             continue;
         }
         if line.is_empty() {
             continue;
         }
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        let fields: Vec<&str> = line.split(',').map(str::trim).skip(skip).collect();
         if fields.len() != 6 {
             return Err(CsvError {
                 line: line_no,
