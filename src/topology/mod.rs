@@ -580,7 +580,8 @@ pub fn densities(c: &FramedCurve, delta: f64) -> Densities {
 /// Parse CSV text: a header row, then rows `x,y,z,d1x,d1y,d1z` (row `i`'s
 /// `d1` is the director of the edge starting at node `i`; for an open curve
 /// the last row's `d1` is ignored). Blank lines are skipped; fields may be
-/// surrounded by whitespace.
+/// surrounded by whitespace. A header `s,x,y,z,d1x,d1y,d1z` (the `final.csv` of
+/// `slither run`) marks a leading arc-length column, which is skipped.
 ///
 /// Errors carry the 1-based line number and say what is wrong: wrong field
 /// count, a field that is not a number, a non-finite value, a zero director
