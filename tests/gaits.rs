@@ -29,9 +29,9 @@ fn juvenile_s_starts_forward() {
     assert!(ob.lifted_arcs_max >= 2 && ob.max_elevation_over_a >= 0.5);
     assert!((ob.lambda_pulse_speed / m.gait.speed - 1.0).abs() <= 0.15, "pulse speed {}", ob.lambda_pulse_speed);
     assert!(ob.lambda_pulse_r2 >= 0.8);
-    // Issue target: amplitude kept within 30 %. Not met by the bundled parameters (35 %, see
+    // Issue target: amplitude kept within 30 %. Not met by the bundled parameters (30.8 %, see
     // the problem file); this bound only guards against regressions.
-    assert!(ob.lambda_amplitude_variation <= 0.4, "amplitude variation {}", ob.lambda_amplitude_variation);
+    assert!(ob.lambda_amplitude_variation <= 0.32, "amplitude variation {}", ob.lambda_amplitude_variation);
     assert_eq!(ob.regime, "S");
 }
 
