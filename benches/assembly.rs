@@ -48,7 +48,9 @@ duration = 1.0
     for j in 0..m.nodes - 1 {
         q[dof::edge(j)] = 2.0 * r.sym();
     }
-    let kappa0 = (0..m.nodes).map(|_| [0.3 * r.sym(), 0.3 * r.sym()]).collect();
+    let kappa0 = (0..m.nodes)
+        .map(|_| [0.3 * r.sym(), 0.3 * r.sym()])
+        .collect();
     let m0 = (0..m.nodes).map(|_| 0.3 * r.sym()).collect();
     (m, s, q, kappa0, m0)
 }
@@ -58,13 +60,25 @@ fn bench_assembly(c: &mut Criterion) {
     let terms = energy::rod_terms();
     for n in [50, 200] {
         let (m, s, q, kappa0, m0) = setup(n);
-        let ctx = Ctx { model: &m, frames: &s.frames, kappa0: &kappa0, m0: &m0, gravity: [0.0, 0.0, -9.81] };
+        let ctx = Ctx {
+            model: &m,
+            frames: &s.frames,
+            kappa0: &kappa0,
+            m0: &m0,
+            gravity: [0.0, 0.0, -9.81],
+        };
         let mut asm = Assembly::new(m.ndof);
         for project in [true, false] {
             g.bench_function(format!("{n}_elements_project_{project}"), |b| {
                 b.iter(|| {
                     asm.clear();
-                    black_box(energy::total(&terms, &ctx, black_box(&q), Some(&mut asm), project))
+                    black_box(energy::total(
+                        &terms,
+                        &ctx,
+                        black_box(&q),
+                        Some(&mut asm),
+                        project,
+                    ))
                 })
             });
         }

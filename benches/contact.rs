@@ -37,7 +37,13 @@ fn bench(c: &mut Criterion) {
         for _ in 0..20 {
             integ.step(&mut s0, m.dt).unwrap();
         }
-        g.bench_function(format!("{n}_elements"), |b| b.iter_batched_ref(|| s0.clone(), |s| integ.step(s, m.dt).unwrap(), criterion::BatchSize::SmallInput));
+        g.bench_function(format!("{n}_elements"), |b| {
+            b.iter_batched_ref(
+                || s0.clone(),
+                |s| integ.step(s, m.dt).unwrap(),
+                criterion::BatchSize::SmallInput,
+            )
+        });
         // The same 200 steps with the active-set path (default) and with a conic program at
         // every Newton iterate (the fallback path alone), for comparison.
         for active_set in [true, false] {

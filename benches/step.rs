@@ -39,7 +39,11 @@ fn bench_step(c: &mut Criterion) {
             integ.step(&mut s0, m.dt).unwrap();
         }
         g.bench_function(format!("{n}_elements"), |b| {
-            b.iter_batched_ref(|| s0.clone(), |s| integ.step(s, m.dt).unwrap(), criterion::BatchSize::SmallInput)
+            b.iter_batched_ref(
+                || s0.clone(),
+                |s| integ.step(s, m.dt).unwrap(),
+                criterion::BatchSize::SmallInput,
+            )
         });
         // Time split per Newton iteration over 200 steps.
         let mut integ = Integrator::new(&m, Box::new(Natural));

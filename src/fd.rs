@@ -30,15 +30,27 @@ pub fn jacobian(g: &mut dyn FnMut(&[f64]) -> Vec<f64>, x: &[f64], eps: f64) -> V
         y[k] = x[k] - h;
         let gm = g(&y);
         y[k] = x[k];
-        cols.push(gp.iter().zip(&gm).map(|(a, b)| (a - b) / (2.0 * h)).collect::<Vec<f64>>());
+        cols.push(
+            gp.iter()
+                .zip(&gm)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect::<Vec<f64>>(),
+        );
     }
     let m = cols.first().map_or(0, |c| c.len());
-    (0..m).map(|r| (0..n).map(|c| cols[c][r]).collect()).collect()
+    (0..m)
+        .map(|r| (0..n).map(|c| cols[c][r]).collect())
+        .collect()
 }
 
 /// Relative error `|a - b| / max(|b|, floor)` in the Euclidean norm.
 pub fn rel_error(a: &[f64], b: &[f64], floor: f64) -> f64 {
-    let d: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    let d: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt();
     let nb: f64 = b.iter().map(|y| y * y).sum::<f64>().sqrt();
     d / nb.max(floor)
 }

@@ -9,7 +9,11 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 #[derive(Parser)]
-#[command(name = "slither", version, about = "Snake locomotion: discrete elastic rods, implicit Euler, conic friction")]
+#[command(
+    name = "slither",
+    version,
+    about = "Snake locomotion: discrete elastic rods, implicit Euler, conic friction"
+)]
 struct Cli {
     #[command(subcommand)]
     cmd: Cmd,
@@ -44,7 +48,12 @@ enum Cmd {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.cmd {
-        Cmd::Run { problem, out, quiet, no_plots } => run(&problem, &out, quiet, no_plots),
+        Cmd::Run {
+            problem,
+            out,
+            quiet,
+            no_plots,
+        } => run(&problem, &out, quiet, no_plots),
         Cmd::Topology { curve, closed } => topo(&curve, closed),
     }
 }
@@ -90,7 +99,10 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
     };
     let model = Model::new(&p);
     if let Err(e) = std::fs::create_dir_all(out) {
-        eprintln!("error: {}: cannot create output directory: {e}", out.display());
+        eprintln!(
+            "error: {}: cannot create output directory: {e}",
+            out.display()
+        );
         return ExitCode::from(1);
     }
     // Remove a previous run's summary first so a crash never leaves a stale "finished" run.
@@ -104,21 +116,35 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
         }
         if bar.is_none() && start.elapsed() > Duration::from_secs(1) {
             let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
-            b.set_style(ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {percent}% eta {eta}").unwrap());
+            b.set_style(
+                ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {percent}% eta {eta}")
+                    .unwrap(),
+            );
             bar = Some(b);
         }
         if let Some(b) = &bar {
             b.set_position((frac * 1000.0) as u64);
         }
     };
-    let o = sim::run(&model, Box::new(gait::Muscles { gait: model.gait.clone() }), &mut progress, &mut |_| {});
+    let o = sim::run(
+        &model,
+        Box::new(gait::Muscles {
+            gait: model.gait.clone(),
+        }),
+        &mut progress,
+        &mut |_| {},
+    );
     if let Some(b) = bar.take() {
         b.finish_and_clear();
     }
     let mut summary = output::Summary::new(path, &model, &o);
     let fields = observe::fields(&model, &o.frames);
     summary.observables = Some(observe::observe(&model, &o.frames, &fields));
-    let extra = [("elevation", fields.elevation.clone()), ("slip_speed", fields.slip.clone()), ("lambda", fields.lambda.clone())];
+    let extra = [
+        ("elevation", fields.elevation.clone()),
+        ("slip_speed", fields.slip.clone()),
+        ("lambda", fields.lambda.clone()),
+    ];
     let written = output::write_final_csv(out, &model, &o)
         .and_then(|_| output::write_trajectory(out, &model, &o.frames, &extra))
         .and_then(|_| output::write_summary(out, &summary));
@@ -133,7 +159,12 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
         }
     }
     if let Some(e) = &o.error {
-        eprintln!("error: {}: {e}; results up to t = {} s written to {}", path.display(), o.state.t, out.display());
+        eprintln!(
+            "error: {}: {e}; results up to t = {} s written to {}",
+            path.display(),
+            o.state.t,
+            out.display()
+        );
         return ExitCode::from(3);
     }
     if !quiet {

@@ -200,13 +200,18 @@ impl Model {
             density: r.density,
             bend: r.bending_stiffness,
             twist: r.twist_stiffness.unwrap_or(2.0 * r.bending_stiffness / 3.0),
-            stretch: r.stretch_stiffness.unwrap_or(16.0 * r.bending_stiffness / (a * a)),
+            stretch: r
+                .stretch_stiffness
+                .unwrap_or(16.0 * r.bending_stiffness / (a * a)),
             rest_len,
             voronoi,
             mass,
             fixed,
             gravity: {
-                let beta = p.ground.as_ref().map_or(0.0, |g| g.incline_deg.to_radians());
+                let beta = p
+                    .ground
+                    .as_ref()
+                    .map_or(0.0, |g| g.incline_deg.to_radians());
                 [-p.gravity.g * beta.sin(), 0.0, -p.gravity.g * beta.cos()]
             },
             natural_curvature: r.natural_curvature,
@@ -223,7 +228,11 @@ impl Model {
             v0,
             a1_0,
             clamp: r.clamp,
-            ground: p.ground.as_ref().map(|g| crate::contact::Ground { mu_f: g.mu_forward, mu_b: g.mu_backward, mu_s: g.mu_sideways }),
+            ground: p.ground.as_ref().map(|g| crate::contact::Ground {
+                mu_f: g.mu_forward,
+                mu_b: g.mu_backward,
+                mu_s: g.mu_sideways,
+            }),
             gait: crate::gait::Gait::new(&p.gait, r.length, a),
         }
     }
@@ -257,7 +266,8 @@ impl Model {
     pub fn dimensionless(&self) -> Dimensionless {
         let g = f::norm(self.gravity);
         Dimensionless {
-            scaled_weight: self.density * g * self.diameter.powi(2) * self.length.powi(3) / self.bend,
+            scaled_weight: self.density * g * self.diameter.powi(2) * self.length.powi(3)
+                / self.bend,
             aspect_ratio: self.length / self.diameter,
         }
     }

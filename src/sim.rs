@@ -66,7 +66,12 @@ pub struct Outcome {
 pub type Progress<'a> = &'a mut dyn FnMut(f64);
 
 /// Run a model to the end (or to the first unrecoverable failure).
-pub fn run(model: &Model, actuation: Box<dyn Actuation>, progress: Progress, on_step: &mut dyn FnMut(&State)) -> Outcome {
+pub fn run(
+    model: &Model,
+    actuation: Box<dyn Actuation>,
+    progress: Progress,
+    on_step: &mut dyn FnMut(&State),
+) -> Outcome {
     let start = Instant::now();
     let mut integ = Integrator::new(model, actuation);
     let mut s = State::initial(model);

@@ -29,9 +29,18 @@ impl State {
         let ne = m.nodes - 1;
         let tangent: Vec<[f64; 3]> = (0..ne).map(|j| f::unit(edge_vec(&m.q0, j))).collect();
         let a1 = m.a1_0.clone();
-        let mut s = State { t: 0.0, q: m.q0.clone(), v: m.v0.clone(), tangent, a1, frames: Vec::new() };
+        let mut s = State {
+            t: 0.0,
+            q: m.q0.clone(),
+            v: m.v0.clone(),
+            tangent,
+            a1,
+            frames: Vec::new(),
+        };
         s.frames = (1..ne).map(|i| s.stencil(i, 0.0)).collect();
-        let tw: Vec<f64> = (1..ne).map(|i| frames::ref_twist(edge_vec(&s.q, i - 1), edge_vec(&s.q, i), &s.frames[i - 1])).collect();
+        let tw: Vec<f64> = (1..ne)
+            .map(|i| frames::ref_twist(edge_vec(&s.q, i - 1), edge_vec(&s.q, i), &s.frames[i - 1]))
+            .collect();
         for (k, r) in tw.into_iter().enumerate() {
             s.frames[k].ref_twist_prev = r;
         }
@@ -39,14 +48,26 @@ impl State {
     }
 
     fn stencil(&self, i: usize, ref_twist_prev: f64) -> StencilFrame {
-        StencilFrame { t_old: [self.tangent[i - 1], self.tangent[i]], a1_old: [self.a1[i - 1], self.a1[i]], ref_twist_prev }
+        StencilFrame {
+            t_old: [self.tangent[i - 1], self.tangent[i]],
+            a1_old: [self.a1[i - 1], self.a1[i]],
+            ref_twist_prev,
+        }
     }
 
     /// Carry the reference frames to the current `q` (parallel transport in time) and store
     /// the new reference twists. The material frames are unchanged by this re-basing.
     pub fn update_frames(&mut self) {
         let ne = self.tangent.len();
-        let tw: Vec<f64> = (1..ne).map(|i| frames::ref_twist(edge_vec(&self.q, i - 1), edge_vec(&self.q, i), &self.frames[i - 1])).collect();
+        let tw: Vec<f64> = (1..ne)
+            .map(|i| {
+                frames::ref_twist(
+                    edge_vec(&self.q, i - 1),
+                    edge_vec(&self.q, i),
+                    &self.frames[i - 1],
+                )
+            })
+            .collect();
         for j in 0..ne {
             let t = f::unit(edge_vec(&self.q, j));
             let a = f::transport(self.tangent[j], t, self.a1[j]);
@@ -82,12 +103,19 @@ impl State {
 
     /// Largest |strain| `|e|/l0 - 1` over the real edges.
     pub fn max_strain(&self, m: &Model) -> f64 {
-        m.real_edges().map(|j| (f::norm(edge_vec(&self.q, j)) / m.rest_len[j] - 1.0).abs()).fold(0.0, f64::max)
+        m.real_edges()
+            .map(|j| (f::norm(edge_vec(&self.q, j)) / m.rest_len[j] - 1.0).abs())
+            .fold(0.0, f64::max)
     }
 
     /// Kinetic energy `1/2 v^T M v` (J).
     pub fn kinetic_energy(&self, m: &Model) -> f64 {
-        0.5 * self.v.iter().zip(&m.mass).map(|(v, mm)| mm * v * v).sum::<f64>()
+        0.5 * self
+            .v
+            .iter()
+            .zip(&m.mass)
+            .map(|(v, mm)| mm * v * v)
+            .sum::<f64>()
     }
 
     /// Linear momentum of the nodes (kg m/s).

@@ -63,7 +63,10 @@ fn edit_text(text: &str, old: &str, new: &str) -> String {
 
 /// 1-based number of the first line that starts with `prefix` (after leading blanks).
 fn line_of(text: &str, prefix: &str) -> usize {
-    text.lines().position(|l| l.trim_start().starts_with(prefix)).map(|i| i + 1).unwrap_or_else(|| panic!("{prefix:?} not in text"))
+    text.lines()
+        .position(|l| l.trim_start().starts_with(prefix))
+        .map(|i| i + 1)
+        .unwrap_or_else(|| panic!("{prefix:?} not in text"))
 }
 
 struct Run {
@@ -94,8 +97,20 @@ fn run_problem(name: &str, text: &str) -> Run {
     let problem = dir.join("problem.toml");
     std::fs::write(&problem, text).unwrap();
     let out = dir.join("out");
-    let output = Command::new(BIN).arg("run").arg(&problem).arg("--out").arg(&out).arg("--quiet").output().expect("run slither");
-    Run { dir, problem, out, output }
+    let output = Command::new(BIN)
+        .arg("run")
+        .arg(&problem)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .expect("run slither");
+    Run {
+        dir,
+        problem,
+        out,
+        output,
+    }
 }
 
 /// What a rejected problem file's message must contain.
@@ -117,23 +132,49 @@ fn rejected(name: &str, text: &str, e: Expect) -> String {
     assert_eq!(r.code(), Some(2), "exit code; {ctx}");
     assert!(r.stdout().is_empty(), "nothing on stdout; {ctx}");
     assert!(err.starts_with("error: "), "one `error:` message; {ctx}");
-    assert_eq!(err.matches("error:").count(), 1, "exactly one message; {ctx}");
+    assert_eq!(
+        err.matches("error:").count(),
+        1,
+        "exactly one message; {ctx}"
+    );
     let file = r.problem.display().to_string();
     assert!(err.contains(&file), "message names the file {file}; {ctx}");
-    assert!(err.contains(&format!("`{}`", e.key)), "message names the key `{}`; {ctx}", e.key);
+    assert!(
+        err.contains(&format!("`{}`", e.key)),
+        "message names the key `{}`; {ctx}",
+        e.key
+    );
     let bare = e.key.rsplit('.').next().unwrap();
-    assert!(err.contains(bare), "message names the key name {bare}; {ctx}");
+    assert!(
+        err.contains(bare),
+        "message names the key name {bare}; {ctx}"
+    );
     if let Some(allowed) = e.allowed {
         // A range error: one line, `file:line: `key` = value is not allowed: must be ...`.
         assert_eq!(err.trim_end().lines().count(), 1, "one line; {ctx}");
         let line = e.line.expect("range errors name a line");
-        assert!(err.contains(&format!("{file}:{line}: ")), "message names line {line}; {ctx}");
-        assert!(err.contains("must be"), "message states the allowed range; {ctx}");
-        assert!(err.contains(allowed), "message states the allowed range {allowed:?}; {ctx}");
+        assert!(
+            err.contains(&format!("{file}:{line}: ")),
+            "message names line {line}; {ctx}"
+        );
+        assert!(
+            err.contains("must be"),
+            "message states the allowed range; {ctx}"
+        );
+        assert!(
+            err.contains(allowed),
+            "message states the allowed range {allowed:?}; {ctx}"
+        );
     } else if let Some(line) = e.line {
-        assert!(err.contains(&format!("line {line}")), "message names line {line}; {ctx}");
+        assert!(
+            err.contains(&format!("line {line}")),
+            "message names line {line}; {ctx}"
+        );
     }
-    assert!(!r.out.join("summary.json").exists(), "no summary.json written; {ctx}");
+    assert!(
+        !r.out.join("summary.json").exists(),
+        "no summary.json written; {ctx}"
+    );
     r.cleanup();
     err
 }
@@ -141,7 +182,15 @@ fn rejected(name: &str, text: &str, e: Expect) -> String {
 /// A range error on `key` (dotted), reported at the line starting with `line_prefix`.
 fn range_error(name: &str, text: &str, key: &str, line_prefix: &str, allowed: &str) -> String {
     let line = line_of(text, line_prefix);
-    rejected(name, text, Expect { key, line: Some(line), allowed: Some(allowed) })
+    rejected(
+        name,
+        text,
+        Expect {
+            key,
+            line: Some(line),
+            allowed: Some(allowed),
+        },
+    )
 }
 
 const POSITIVE: &str = "a finite number > 0";
@@ -155,7 +204,8 @@ fn valid_minimal_problem_runs_and_writes_completed_summary() {
     let r = run_problem("valid", BASE);
     let err = r.stderr();
     assert_eq!(r.code(), Some(0), "stderr:\n{err}");
-    let summary = std::fs::read_to_string(r.out.join("summary.json")).expect("summary.json written");
+    let summary =
+        std::fs::read_to_string(r.out.join("summary.json")).expect("summary.json written");
     let v: serde_json::Value = serde_json::from_str(&summary).expect("summary.json is JSON");
     assert_eq!(v["status"], "completed", "summary:\n{summary}");
     assert!(v["t_final"].as_f64().unwrap() > 0.0, "summary:\n{summary}");
@@ -169,14 +219,30 @@ fn valid_minimal_problem_runs_and_writes_completed_summary() {
 #[test]
 fn unknown_top_level_key() {
     let text = format!("colour = \"green\"\n{BASE}");
-    rejected("unknown_top_key", &text, Expect { key: "colour", line: Some(1), allowed: None });
+    rejected(
+        "unknown_top_key",
+        &text,
+        Expect {
+            key: "colour",
+            line: Some(1),
+            allowed: None,
+        },
+    );
 }
 
 #[test]
 fn unknown_top_level_table() {
     let text = format!("{BASE}\n[frction]\nmu = 0.1\n");
     let line = line_of(&text, "[frction]");
-    let err = rejected("unknown_table", &text, Expect { key: "frction", line: Some(line), allowed: None });
+    let err = rejected(
+        "unknown_table",
+        &text,
+        Expect {
+            key: "frction",
+            line: Some(line),
+            allowed: None,
+        },
+    );
     assert!(err.contains("unknown field"), "{err}");
 }
 
@@ -184,7 +250,15 @@ fn unknown_top_level_table() {
 fn unknown_key_in_rod() {
     let text = edit("elements = 4", "elements = 4\npoisson = 0.5");
     let line = line_of(&text, "poisson");
-    let err = rejected("unknown_rod_key", &text, Expect { key: "rod.poisson", line: Some(line), allowed: None });
+    let err = rejected(
+        "unknown_rod_key",
+        &text,
+        Expect {
+            key: "rod.poisson",
+            line: Some(line),
+            allowed: None,
+        },
+    );
     // toml lists the accepted keys.
     assert!(err.contains("bending_stiffness"), "{err}");
 }
@@ -197,7 +271,15 @@ fn unknown_key_in_rod() {
 fn wrong_type_string_for_length() {
     let text = edit("length = 1.0", "length = \"one\"");
     let line = line_of(&text, "length");
-    let err = rejected("wrong_type_length", &text, Expect { key: "rod.length", line: Some(line), allowed: None });
+    let err = rejected(
+        "wrong_type_length",
+        &text,
+        Expect {
+            key: "rod.length",
+            line: Some(line),
+            allowed: None,
+        },
+    );
     assert!(err.contains("invalid type"), "{err}");
 }
 
@@ -205,14 +287,33 @@ fn wrong_type_string_for_length() {
 fn wrong_type_float_for_elements() {
     let text = edit("elements = 4", "elements = 4.5");
     let line = line_of(&text, "elements");
-    rejected("wrong_type_elements", &text, Expect { key: "rod.elements", line: Some(line), allowed: None });
+    rejected(
+        "wrong_type_elements",
+        &text,
+        Expect {
+            key: "rod.elements",
+            line: Some(line),
+            allowed: None,
+        },
+    );
 }
 
 #[test]
 fn wrong_type_in_multiline_array_names_its_key() {
-    let text = edit("elements = 4", "elements = 4\nnatural_curvature = [\n  1.0,\n  \"x\",\n]");
+    let text = edit(
+        "elements = 4",
+        "elements = 4\nnatural_curvature = [\n  1.0,\n  \"x\",\n]",
+    );
     let line = line_of(&text, "\"x\"");
-    rejected("wrong_type_array", &text, Expect { key: "rod.natural_curvature", line: Some(line), allowed: None });
+    rejected(
+        "wrong_type_array",
+        &text,
+        Expect {
+            key: "rod.natural_curvature",
+            line: Some(line),
+            allowed: None,
+        },
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -222,31 +323,69 @@ fn wrong_type_in_multiline_array_names_its_key() {
 #[test]
 fn missing_rod_length() {
     let text = edit("length = 1.0", "");
-    let err = rejected("missing_length", &text, Expect { key: "rod.length", line: None, allowed: None });
+    let err = rejected(
+        "missing_length",
+        &text,
+        Expect {
+            key: "rod.length",
+            line: None,
+            allowed: None,
+        },
+    );
     assert!(err.contains("missing"), "{err}");
 }
 
 #[test]
 fn missing_rod_diameter() {
     let text = edit("diameter = 0.02", "");
-    let err = rejected("missing_diameter", &text, Expect { key: "rod.diameter", line: None, allowed: None });
+    let err = rejected(
+        "missing_diameter",
+        &text,
+        Expect {
+            key: "rod.diameter",
+            line: None,
+            allowed: None,
+        },
+    );
     assert!(err.contains("missing"), "{err}");
 }
 
 #[test]
 fn missing_rod_bending_stiffness() {
     let text = edit("bending_stiffness = 1.0", "");
-    let err = rejected("missing_bending", &text, Expect { key: "rod.bending_stiffness", line: None, allowed: None });
+    let err = rejected(
+        "missing_bending",
+        &text,
+        Expect {
+            key: "rod.bending_stiffness",
+            line: None,
+            allowed: None,
+        },
+    );
     assert!(err.contains("missing"), "{err}");
 }
 
 #[test]
 fn missing_rod_table() {
     let mut text = BASE.to_string();
-    for l in ["[rod]", "length = 1.0", "diameter = 0.02", "elements = 4", "bending_stiffness = 1.0"] {
+    for l in [
+        "[rod]",
+        "length = 1.0",
+        "diameter = 0.02",
+        "elements = 4",
+        "bending_stiffness = 1.0",
+    ] {
         text = edit_text(&text, l, "");
     }
-    let err = rejected("missing_rod", &text, Expect { key: "rod", line: None, allowed: None });
+    let err = rejected(
+        "missing_rod",
+        &text,
+        Expect {
+            key: "rod",
+            line: None,
+            allowed: None,
+        },
+    );
     assert!(err.contains("missing"), "{err}");
 }
 
@@ -261,7 +400,13 @@ fn missing_time_dt_in_dynamic_mode() {
 #[test]
 fn missing_time_dt_with_explicit_dynamic_mode() {
     let text = edit("dt = 0.005", "mode = \"dynamic\"");
-    range_error("missing_dt_explicit", &text, "time.dt", "[time]", "dynamic mode");
+    range_error(
+        "missing_dt_explicit",
+        &text,
+        "time.dt",
+        "[time]",
+        "dynamic mode",
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -289,43 +434,91 @@ fn zero_rod_diameter() {
 #[test]
 fn negative_rod_diameter() {
     let text = edit("diameter = 0.02", "diameter = -0.02");
-    range_error("negative_diameter", &text, "rod.diameter", "diameter", POSITIVE);
+    range_error(
+        "negative_diameter",
+        &text,
+        "rod.diameter",
+        "diameter",
+        POSITIVE,
+    );
 }
 
 #[test]
 fn zero_rod_bending_stiffness() {
     let text = edit("bending_stiffness = 1.0", "bending_stiffness = 0.0");
-    range_error("zero_bending", &text, "rod.bending_stiffness", "bending_stiffness", POSITIVE);
+    range_error(
+        "zero_bending",
+        &text,
+        "rod.bending_stiffness",
+        "bending_stiffness",
+        POSITIVE,
+    );
 }
 
 #[test]
 fn negative_rod_bending_stiffness() {
     let text = edit("bending_stiffness = 1.0", "bending_stiffness = -2.0");
-    range_error("negative_bending", &text, "rod.bending_stiffness", "bending_stiffness", POSITIVE);
+    range_error(
+        "negative_bending",
+        &text,
+        "rod.bending_stiffness",
+        "bending_stiffness",
+        POSITIVE,
+    );
 }
 
 #[test]
 fn zero_rod_twist_stiffness() {
-    let text = edit("bending_stiffness = 1.0", "bending_stiffness = 1.0\ntwist_stiffness = 0.0");
-    range_error("zero_twist", &text, "rod.twist_stiffness", "twist_stiffness", POSITIVE);
+    let text = edit(
+        "bending_stiffness = 1.0",
+        "bending_stiffness = 1.0\ntwist_stiffness = 0.0",
+    );
+    range_error(
+        "zero_twist",
+        &text,
+        "rod.twist_stiffness",
+        "twist_stiffness",
+        POSITIVE,
+    );
 }
 
 #[test]
 fn negative_rod_twist_stiffness() {
-    let text = edit("bending_stiffness = 1.0", "bending_stiffness = 1.0\ntwist_stiffness = -0.5");
-    range_error("negative_twist", &text, "rod.twist_stiffness", "twist_stiffness", POSITIVE);
+    let text = edit(
+        "bending_stiffness = 1.0",
+        "bending_stiffness = 1.0\ntwist_stiffness = -0.5",
+    );
+    range_error(
+        "negative_twist",
+        &text,
+        "rod.twist_stiffness",
+        "twist_stiffness",
+        POSITIVE,
+    );
 }
 
 #[test]
 fn zero_rod_elements() {
     let text = edit("elements = 4", "elements = 0");
-    range_error("zero_elements", &text, "rod.elements", "elements", "[2, 100000]");
+    range_error(
+        "zero_elements",
+        &text,
+        "rod.elements",
+        "elements",
+        "[2, 100000]",
+    );
 }
 
 #[test]
 fn one_rod_element() {
     let text = edit("elements = 4", "elements = 1");
-    range_error("one_element", &text, "rod.elements", "elements", "[2, 100000]");
+    range_error(
+        "one_element",
+        &text,
+        "rod.elements",
+        "elements",
+        "[2, 100000]",
+    );
 }
 
 #[test]
@@ -333,7 +526,15 @@ fn negative_rod_elements() {
     // Not a usize: a toml type error naming the key.
     let text = edit("elements = 4", "elements = -3");
     let line = line_of(&text, "elements");
-    rejected("negative_elements", &text, Expect { key: "rod.elements", line: Some(line), allowed: None });
+    rejected(
+        "negative_elements",
+        &text,
+        Expect {
+            key: "rod.elements",
+            line: Some(line),
+            allowed: None,
+        },
+    );
 }
 
 #[test]
@@ -351,13 +552,25 @@ fn negative_time_dt() {
 #[test]
 fn zero_time_duration() {
     let text = edit("duration = 0.01", "duration = 0.0");
-    range_error("zero_duration", &text, "time.duration", "duration", POSITIVE);
+    range_error(
+        "zero_duration",
+        &text,
+        "time.duration",
+        "duration",
+        POSITIVE,
+    );
 }
 
 #[test]
 fn negative_time_duration() {
     let text = edit("duration = 0.01", "duration = -1.0");
-    range_error("negative_duration", &text, "time.duration", "duration", POSITIVE);
+    range_error(
+        "negative_duration",
+        &text,
+        "time.duration",
+        "duration",
+        POSITIVE,
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -431,7 +644,10 @@ fn topology_rejects(name: &str, csv: &str, line: usize) -> String {
     assert!(out.stdout.is_empty(), "no JSON on stdout; {ctx}");
     assert!(err.starts_with("error: "), "{ctx}");
     assert_eq!(err.trim_end().lines().count(), 1, "one line; {ctx}");
-    assert!(err.contains(&format!("{}:{line}: ", path.display())), "message names the file and line {line}; {ctx}");
+    assert!(
+        err.contains(&format!("{}:{line}: ", path.display())),
+        "message names the file and line {line}; {ctx}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
     err
 }
@@ -460,10 +676,14 @@ fn topology_planar_square_ring() {
     let err = String::from_utf8_lossy(&out.stderr);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "stderr:\n{err}");
-    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap_or_else(|e| panic!("stdout is JSON ({e}):\n{stdout}"));
+    let v: serde_json::Value = serde_json::from_str(stdout.trim())
+        .unwrap_or_else(|e| panic!("stdout is JSON ({e}):\n{stdout}"));
     let wr = v["wr"].as_f64().expect("wr");
     let lk_gauss = v["lk_gauss"].as_f64().expect("lk_gauss with --closed");
     assert!(wr.abs() <= 1e-12, "wr = {wr}; {stdout}");
-    assert!((lk_gauss - lk_gauss.round()).abs() <= 1e-6, "lk_gauss = {lk_gauss} is not an integer; {stdout}");
+    assert!(
+        (lk_gauss - lk_gauss.round()).abs() <= 1e-6,
+        "lk_gauss = {lk_gauss} is not an integer; {stdout}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -21,11 +21,27 @@ fn failing_run_keeps_what_it_computed_and_names_time_step_and_reason() {
     )
     .unwrap();
     let out = d.join("out");
-    let r = Command::new(env!("CARGO_BIN_EXE_slither")).args(["run", p.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]).output().unwrap();
+    let r = Command::new(env!("CARGO_BIN_EXE_slither"))
+        .args([
+            "run",
+            p.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
     let err = String::from_utf8_lossy(&r.stderr);
     assert_eq!(r.status.code(), Some(3), "stderr: {err}");
-    assert!(err.contains("t = ") && err.contains("dt = ") && err.contains("halvings") && err.contains("Newton"), "{err}");
-    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert!(
+        err.contains("t = ")
+            && err.contains("dt = ")
+            && err.contains("halvings")
+            && err.contains("Newton"),
+        "{err}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["status"], "failed");
     assert!(summary["error"].as_str().unwrap().contains("Newton"));
     assert!(out.join("trajectory.npz").exists() && out.join("final.csv").exists());
@@ -36,9 +52,28 @@ fn failing_run_keeps_what_it_computed_and_names_time_step_and_reason() {
 fn good_run_writes_summary_csv_npz_figures_and_vtk() {
     let d = dir("good");
     let out = d.join("out");
-    let r = Command::new(env!("CARGO_BIN_EXE_slither")).args(["run", "problems/slide.toml", "--out", out.to_str().unwrap(), "--quiet"]).output().unwrap();
+    let r = Command::new(env!("CARGO_BIN_EXE_slither"))
+        .args([
+            "run",
+            "problems/slide.toml",
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    for f in ["summary.json", "final.csv", "trajectory.npz", "kymograph_elevation.png", "kymograph_slip.png", "kymograph_lambda.png", "snapshots.png", "topology.png", "vtk/frames.pvd"] {
+    for f in [
+        "summary.json",
+        "final.csv",
+        "trajectory.npz",
+        "kymograph_elevation.png",
+        "kymograph_slip.png",
+        "kymograph_lambda.png",
+        "snapshots.png",
+        "topology.png",
+        "vtk/frames.pvd",
+    ] {
         assert!(out.join(f).exists(), "missing {f}");
     }
     let csv = std::fs::read_to_string(out.join("final.csv")).unwrap();
@@ -46,9 +81,15 @@ fn good_run_writes_summary_csv_npz_figures_and_vtk() {
     assert_eq!(lines.next(), Some("s,x,y,z,d1x,d1y,d1z"));
     assert_eq!(lines.count(), 51);
     // final.csv is a valid input of `slither topology`.
-    let t = Command::new(env!("CARGO_BIN_EXE_slither")).args(["topology", out.join("final.csv").to_str().unwrap()]).output().unwrap();
+    let t = Command::new(env!("CARGO_BIN_EXE_slither"))
+        .args(["topology", out.join("final.csv").to_str().unwrap()])
+        .output()
+        .unwrap();
     assert!(t.status.success());
     let v: serde_json::Value = serde_json::from_slice(&t.stdout).unwrap();
-    assert!(v["wr"].as_f64().unwrap().abs() < 1e-9, "a straight rod has no writhe: {v}");
+    assert!(
+        v["wr"].as_f64().unwrap().abs() < 1e-9,
+        "a straight rod has no writhe: {v}"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -42,7 +42,11 @@ fn simulate(m: &Model, each: impl FnMut(&State, &mut Integrator)) -> (State, Int
 
 /// Step with the active-set contact Newton (`active = true`, the default) or with one conic
 /// solve per Newton iterate (`false`), so that both paths stay tested.
-fn simulate_path(m: &Model, active: bool, mut each: impl FnMut(&State, &mut Integrator)) -> (State, Integrator<'_>) {
+fn simulate_path(
+    m: &Model,
+    active: bool,
+    mut each: impl FnMut(&State, &mut Integrator),
+) -> (State, Integrator<'_>) {
     let mut integ = Integrator::new(m, Box::new(Natural));
     integ.active_set = active;
     let mut s = State::initial(m);
@@ -55,7 +59,10 @@ fn simulate_path(m: &Model, active: bool, mut each: impl FnMut(&State, &mut Inte
 }
 
 fn max_height(m: &Model, s: &State) -> f64 {
-    m.real.clone().map(|i| s.node(i)[2]).fold(f64::MIN, f64::max)
+    m.real
+        .clone()
+        .map(|i| s.node(i)[2])
+        .fold(f64::MIN, f64::max)
 }
 
 #[test]
@@ -159,7 +166,11 @@ fn dropped_rod_comes_to_rest_without_gaining_energy() {
     let mut e_prev = integ0.energies(&State::initial(&m)).total;
     let (s, mut integ) = simulate(&m, |s, integ| {
         let e = integ.energies(s).total;
-        assert!(e <= e_prev + 1e-12 * e_prev.abs(), "energy rose at t = {}: {e_prev} -> {e}", s.t);
+        assert!(
+            e <= e_prev + 1e-12 * e_prev.abs(),
+            "energy rose at t = {}: {e_prev} -> {e}",
+            s.t
+        );
         e_prev = e;
     });
     let ke = integ.energies(&s).kinetic;
@@ -172,10 +183,20 @@ fn dropped_rod_comes_to_rest_without_gaining_energy() {
 #[test]
 fn bad_ground_keys_are_rejected_with_the_key_named() {
     let base = "[rod]\nlength = 1.0\ndiameter = 0.02\nbending_stiffness = 1e-2\n[time]\ndt = 1e-3\nduration = 0.1\n[ground]\n";
-    for (line, key) in [("mu_forward = -0.1", "ground.mu_forward"), ("mu_sideways = nan", "ground.mu_sideways"), ("incline_deg = 90.0", "ground.incline_deg"), ("incline_deg = -95.0", "ground.incline_deg")] {
+    for (line, key) in [
+        ("mu_forward = -0.1", "ground.mu_forward"),
+        ("mu_sideways = nan", "ground.mu_sideways"),
+        ("incline_deg = 90.0", "ground.incline_deg"),
+        ("incline_deg = -95.0", "ground.incline_deg"),
+    ] {
         let text = format!("{base}{line}\n");
-        let err = slither::problem::parse(&text, std::path::Path::new("g.toml")).unwrap_err().to_string();
-        assert!(err.contains(key) && err.contains("g.toml:9:"), "{line}: {err}");
+        let err = slither::problem::parse(&text, std::path::Path::new("g.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(key) && err.contains("g.toml:9:"),
+            "{line}: {err}"
+        );
     }
 }
 

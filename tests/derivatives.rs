@@ -39,22 +39,38 @@ fn random_setup(seed: u64) -> (Model, State, Vec<f64>, Vec<[f64; 2]>, Vec<f64>) 
     for j in 0..m.nodes - 1 {
         q[dof::edge(j)] = 2.0 * r.sym();
     }
-    let kappa0 = (0..m.nodes).map(|_| [0.3 * r.sym(), 0.3 * r.sym()]).collect();
+    let kappa0 = (0..m.nodes)
+        .map(|_| [0.3 * r.sym(), 0.3 * r.sym()])
+        .collect();
     let m0 = (0..m.nodes).map(|_| 0.3 * r.sym()).collect();
     (m, s, q, kappa0, m0)
 }
 
 fn check_term(term: &dyn Term, seed: u64) {
     let (m, s, q, kappa0, m0) = random_setup(seed);
-    let ctx = Ctx { model: &m, frames: &s.frames, kappa0: &kappa0, m0: &m0, gravity: [0.3, -0.2, -9.81] };
+    let ctx = Ctx {
+        model: &m,
+        frames: &s.frames,
+        kappa0: &kappa0,
+        m0: &m0,
+        gravity: [0.3, -0.2, -9.81],
+    };
     let mut asm = Assembly::new(m.ndof);
     let e = term.eval(&ctx, &q, Some(&mut asm), false);
     let e_plain = term.eval(&ctx, &q, None, false);
-    assert!((e - e_plain).abs() <= 1e-12 * e.abs().max(1e-30), "{}: value paths differ", term.name());
+    assert!(
+        (e - e_plain).abs() <= 1e-12 * e.abs().max(1e-30),
+        "{}: value paths differ",
+        term.name()
+    );
     let mut f = |x: &[f64]| term.eval(&ctx, x, None, false);
     let g_fd = fd::gradient(&mut f, &q, 1e-6);
     let err_g = fd::rel_error(&asm.grad, &g_fd, 1e-12);
-    assert!(err_g < 1e-6, "{} gradient: relative error {err_g:e} (seed {seed})", term.name());
+    assert!(
+        err_g < 1e-6,
+        "{} gradient: relative error {err_g:e} (seed {seed})",
+        term.name()
+    );
     // The finite-difference path really differs from the analytic one.
     assert!(asm.grad.iter().zip(&g_fd).any(|(a, b)| a != b));
     let mut grad = |x: &[f64]| {
@@ -67,7 +83,11 @@ fn check_term(term: &dyn Term, seed: u64) {
     let h_an: Vec<f64> = (0..n * n).map(|k| asm.h(k / n, k % n)).collect();
     let h_num: Vec<f64> = h_fd.iter().flatten().copied().collect();
     let err_h = fd::rel_error(&h_an, &h_num, 1e-12);
-    assert!(err_h < 1e-6, "{} Hessian: relative error {err_h:e} (seed {seed})", term.name());
+    assert!(
+        err_h < 1e-6,
+        "{} Hessian: relative error {err_h:e} (seed {seed})",
+        term.name()
+    );
 }
 
 #[test]
@@ -85,14 +105,23 @@ fn every_term_matches_finite_differences() {
 #[test]
 fn projected_hessian_is_positive_semidefinite() {
     let (m, s, q, kappa0, m0) = random_setup(7);
-    let ctx = Ctx { model: &m, frames: &s.frames, kappa0: &kappa0, m0: &m0, gravity: [0.0; 3] };
+    let ctx = Ctx {
+        model: &m,
+        frames: &s.frames,
+        kappa0: &kappa0,
+        m0: &m0,
+        gravity: [0.0; 3],
+    };
     let mut asm = Assembly::new(m.ndof);
     energy::total(&energy::rod_terms(), &ctx, &q, Some(&mut asm), true);
     let n = m.ndof;
     let h = nalgebra::DMatrix::from_fn(n, n, |i, j| asm.h(i, j));
     let min = h.symmetric_eigenvalues().min();
     let max = h.symmetric_eigenvalues().max();
-    assert!(min > -1e-9 * max, "projected Hessian has eigenvalue {min} (max {max})");
+    assert!(
+        min > -1e-9 * max,
+        "projected Hessian has eigenvalue {min} (max {max})"
+    );
     // Unprojected it is indefinite for this strongly perturbed rod.
     let mut raw = Assembly::new(m.ndof);
     energy::total(&energy::rod_terms(), &ctx, &q, Some(&mut raw), false);
@@ -126,15 +155,31 @@ fn energies_are_invariant_under_rigid_motions() {
                 fr.a1_old[e] = rotate(&rm, fr.a1_old[e]);
             }
         }
-        let ctx = Ctx { model: &m, frames: &s.frames, kappa0: &kappa0, m0: &m0, gravity: [0.0; 3] };
-        let ctx2 = Ctx { model: &m, frames: &frames2, kappa0: &kappa0, m0: &m0, gravity: [0.0; 3] };
+        let ctx = Ctx {
+            model: &m,
+            frames: &s.frames,
+            kappa0: &kappa0,
+            m0: &m0,
+            gravity: [0.0; 3],
+        };
+        let ctx2 = Ctx {
+            model: &m,
+            frames: &frames2,
+            kappa0: &kappa0,
+            m0: &m0,
+            gravity: [0.0; 3],
+        };
         for term in energy::rod_terms() {
             if term.name() == "gravity" {
                 continue;
             }
             let e1 = term.eval(&ctx, &q, None, false);
             let e2 = term.eval(&ctx2, &q2, None, false);
-            assert!((e1 - e2).abs() <= 1e-10 * e1.abs(), "{}: {e1} vs {e2}", term.name());
+            assert!(
+                (e1 - e2).abs() <= 1e-10 * e1.abs(),
+                "{}: {e1} vs {e2}",
+                term.name()
+            );
             assert!(e1 > 0.0);
         }
     }

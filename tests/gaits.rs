@@ -10,7 +10,14 @@ use std::path::Path;
 fn run(path: &str) -> (Model, Observables, sim::Outcome) {
     let p = problem::load(Path::new(path)).unwrap();
     let m = Model::new(&p);
-    let o = sim::run(&m, Box::new(Muscles { gait: m.gait.clone() }), &mut |_| {}, &mut |_| {});
+    let o = sim::run(
+        &m,
+        Box::new(Muscles {
+            gait: m.gait.clone(),
+        }),
+        &mut |_| {},
+        &mut |_| {},
+    );
     assert!(o.error.is_none(), "{path}: {:?}", o.error);
     let fl = observe::fields(&m, &o.frames);
     let ob = observe::observe(&m, &o.frames, &fl);
@@ -24,14 +31,30 @@ fn juvenile_s_starts_forward() {
     assert!(o.max_strain < 1e-3, "strain {}", o.max_strain);
     assert!(o.max_penetration < 1e-6 * m.diameter);
     assert!(ob.v_s_over_v_m > 0.05, "v_s/v_m {}", ob.v_s_over_v_m);
-    assert!(ob.displacement_angle_deg <= 30.0, "moved {} degrees off the head direction", ob.displacement_angle_deg);
-    assert!(ob.middle_slip_over_v_m < 0.1, "middle slips at {} v_m", ob.middle_slip_over_v_m);
+    assert!(
+        ob.displacement_angle_deg <= 30.0,
+        "moved {} degrees off the head direction",
+        ob.displacement_angle_deg
+    );
+    assert!(
+        ob.middle_slip_over_v_m < 0.1,
+        "middle slips at {} v_m",
+        ob.middle_slip_over_v_m
+    );
     assert!(ob.lifted_arcs_max >= 2 && ob.max_elevation_over_a >= 0.5);
-    assert!((ob.lambda_pulse_speed / m.gait.speed - 1.0).abs() <= 0.15, "pulse speed {}", ob.lambda_pulse_speed);
+    assert!(
+        (ob.lambda_pulse_speed / m.gait.speed - 1.0).abs() <= 0.15,
+        "pulse speed {}",
+        ob.lambda_pulse_speed
+    );
     assert!(ob.lambda_pulse_r2 >= 0.8);
     // Issue target: amplitude kept within 30 %. Not met by the bundled parameters (30.8 %, see
     // the problem file); this bound only guards against regressions.
-    assert!(ob.lambda_amplitude_variation <= 0.32, "amplitude variation {}", ob.lambda_amplitude_variation);
+    assert!(
+        ob.lambda_amplitude_variation <= 0.32,
+        "amplitude variation {}",
+        ob.lambda_amplitude_variation
+    );
     assert_eq!(ob.regime, "S");
 }
 
@@ -40,15 +63,31 @@ fn heavy_adult_cannot_s_start() {
     let (_, ob, _) = run("problems/s_start_heavy.toml");
     assert!(ob.v_s_over_v_m.abs() < 0.01, "v_s/v_m {}", ob.v_s_over_v_m);
     assert!(ob.regime == "F" || ob.regime == "N", "regime {}", ob.regime);
-    assert!(ob.max_elevation_over_a < 0.5, "lifted to {} a", ob.max_elevation_over_a);
+    assert!(
+        ob.max_elevation_over_a < 0.5,
+        "lifted to {} a",
+        ob.max_elevation_over_a
+    );
 }
 
 #[test]
 fn periodic_s_starts_sidewind() {
     let (_, ob, _) = run("problems/sidewinding.toml");
-    assert!(ob.displacement_angle_deg >= 60.0, "moved {} degrees off the body axis", ob.displacement_angle_deg);
-    assert!(ob.two_patch_fraction > 0.5, "two contact patches in {} of the frames", ob.two_patch_fraction);
-    assert!(ob.contact_slip_over_v_m < 0.1, "contacts slip at {} v_m", ob.contact_slip_over_v_m);
+    assert!(
+        ob.displacement_angle_deg >= 60.0,
+        "moved {} degrees off the body axis",
+        ob.displacement_angle_deg
+    );
+    assert!(
+        ob.two_patch_fraction > 0.5,
+        "two contact patches in {} of the frames",
+        ob.two_patch_fraction
+    );
+    assert!(
+        ob.contact_slip_over_v_m < 0.1,
+        "contacts slip at {} v_m",
+        ob.contact_slip_over_v_m
+    );
 }
 
 #[test]

@@ -22,14 +22,28 @@ fn every_bundled_problem_runs_over_a_short_horizon() {
         }
         let o = sim::run(&m, Box::new(Natural), &mut |_| {}, &mut |_| {});
         assert!(o.error.is_none(), "{}: {:?}", path.display(), o.error);
-        assert!(o.max_strain < 1e-3, "{}: strain {}", path.display(), o.max_strain);
+        assert!(
+            o.max_strain < 1e-3,
+            "{}: strain {}",
+            path.display(),
+            o.max_strain
+        );
         let newton = o.stats.newton_iterations as f64 / o.stats.steps as f64;
         let conic = o.stats.conic_solves as f64 / o.stats.steps as f64;
-        println!("{}: {} steps, {newton:.2} Newton it/step, {conic:.2} conic solves/step, {} halvings", path.display(), o.stats.steps, o.stats.step_halvings);
+        println!(
+            "{}: {} steps, {newton:.2} Newton it/step, {conic:.2} conic solves/step, {} halvings",
+            path.display(),
+            o.stats.steps,
+            o.stats.step_halvings
+        );
         assert_eq!(o.stats.step_halvings, 0, "{}", path.display());
         if m.ground.is_some() {
             // Pinned: straight sliding and inclined scenes need one conic solve per step.
-            assert!(conic <= 1.05, "{}: {conic} conic solves per step", path.display());
+            assert!(
+                conic <= 1.05,
+                "{}: {conic} conic solves per step",
+                path.display()
+            );
         }
         seen += 1;
     }
@@ -41,5 +55,9 @@ fn static_cantilever_needs_few_newton_iterations() {
     let p = problem::load(Path::new("problems/cantilever_sag.toml")).unwrap();
     let m = Model::new(&p);
     let o = sim::run(&m, Box::new(Natural), &mut |_| {}, &mut |_| {});
-    assert!(o.stats.newton_iterations <= 8, "{} Newton iterations", o.stats.newton_iterations);
+    assert!(
+        o.stats.newton_iterations <= 8,
+        "{} Newton iterations",
+        o.stats.newton_iterations
+    );
 }

@@ -34,7 +34,10 @@ fn cantilever_small_deflection_matches_beam_theory_static_and_dynamic() {
     let exact = q * m.length.powi(4) / (8.0 * m.bend);
     let o = run(&m);
     let sag = head_sag(&m, &o);
-    println!("static sag {sag:.6e} m, beam theory {exact:.6e} m, rel {:.2e}", sag / exact - 1.0);
+    println!(
+        "static sag {sag:.6e} m, beam theory {exact:.6e} m, rel {:.2e}",
+        sag / exact - 1.0
+    );
     assert!((sag / exact - 1.0).abs() < 0.01);
     assert!(o.max_strain < 1e-3);
     // The dynamic run of the same rod settles to the same shape.
@@ -43,7 +46,10 @@ fn cantilever_small_deflection_matches_beam_theory_static_and_dynamic() {
     let od = run(&md);
     let sag_d = head_sag(&md, &od);
     println!("dynamic sag after {} s: {sag_d:.6e} m", md.duration);
-    assert!((sag_d / sag - 1.0).abs() < 1e-3, "dynamic {sag_d} vs static {sag}");
+    assert!(
+        (sag_d / sag - 1.0).abs() < 1e-3,
+        "dynamic {sag_d} vs static {sag}"
+    );
     for i in md.real.clone() {
         let d = f::norm(f::sub(od.state.node(i), o.state.node(i)));
         assert!(d < 1e-3 * sag, "node {i} differs by {d} m");
@@ -58,7 +64,9 @@ fn elastica_tip(b: f64, q: f64, l: f64) -> (f64, f64) {
     let integrate = |k0: f64| -> (f64, f64, f64) {
         let h = l / n as f64;
         let (mut th, mut k, mut x, mut y) = (0.0f64, k0, 0.0, 0.0);
-        let rhs = |s: f64, th: f64, k: f64| -> [f64; 4] { [k, -q * (l - s) * th.cos() / b, th.cos(), th.sin()] };
+        let rhs = |s: f64, th: f64, k: f64| -> [f64; 4] {
+            [k, -q * (l - s) * th.cos() / b, th.cos(), th.sin()]
+        };
         for i in 0..n {
             let s = i as f64 * h;
             let k1 = rhs(s, th, k);
@@ -110,8 +118,14 @@ load_steps = 4
     let (xe, ye) = elastica_tip(m.bend, q, m.length);
     println!("DER drop {drop:.6} reach {reach:.6}; elastica drop {ye:.6} reach {xe:.6}");
     assert!(drop > 0.3 * m.length, "not a large deflection: {drop}");
-    assert!((drop / ye - 1.0).abs() < 0.01, "drop {drop} vs elastica {ye}");
-    assert!((reach / xe - 1.0).abs() < 0.01, "reach {reach} vs elastica {xe}");
+    assert!(
+        (drop / ye - 1.0).abs() < 0.01,
+        "drop {drop} vs elastica {ye}"
+    );
+    assert!(
+        (reach / xe - 1.0).abs() < 0.01,
+        "reach {reach} vs elastica {xe}"
+    );
 }
 
 #[test]
@@ -145,9 +159,18 @@ duration = 0.4
     for _ in 0..steps {
         integ.step(&mut s, m.dt).unwrap();
         let p = s.momentum(&m);
-        assert!(f::norm(f::sub(p, p0)) <= 1e-9 * np0, "momentum drift {:?} vs {:?}", p, p0);
+        assert!(
+            f::norm(f::sub(p, p0)) <= 1e-9 * np0,
+            "momentum drift {:?} vs {:?}",
+            p,
+            p0
+        );
         let e = integ.energies(&s).total;
-        assert!(e <= e_prev * (1.0 + 1e-12), "energy increased at t = {}: {e_prev} -> {e}", s.t);
+        assert!(
+            e <= e_prev * (1.0 + 1e-12),
+            "energy increased at t = {}: {e_prev} -> {e}",
+            s.t
+        );
         dissipated += e_prev - e;
         e_prev = e;
     }
@@ -220,7 +243,10 @@ load_steps = 10
     let kb: Vec<[f64; 3]> = (1..edges.len())
         .map(|i| {
             let (e0, e1) = (edges[i - 1], edges[i]);
-            f::scale(f::cross(e0, e1), 2.0 / (f::norm(e0) * f::norm(e1) + f::dot(e0, e1)))
+            f::scale(
+                f::cross(e0, e1),
+                2.0 / (f::norm(e0) * f::norm(e1) + f::dot(e0, e1)),
+            )
         })
         .collect();
     for i in 5..kb.len() - 1 {
@@ -229,8 +255,14 @@ load_steps = 10
         let t_mid = f::unit(edges[i]);
         let psi = f::dot(f::cross(b0, b1), t_mid).atan2(f::dot(b0, b1));
         let torsion = psi / l0;
-        assert!((k / kappa - 1.0).abs() < 1e-3, "node {i}: curvature {k} vs {kappa}");
-        assert!((torsion / tau - 1.0).abs() < 1e-2, "node {i}: torsion {torsion} vs {tau}");
+        assert!(
+            (k / kappa - 1.0).abs() < 1e-3,
+            "node {i}: curvature {k} vs {kappa}"
+        );
+        assert!(
+            (torsion / tau - 1.0).abs() < 1e-2,
+            "node {i}: torsion {torsion} vs {tau}"
+        );
     }
     println!("helix: curvature {} torsion {}", f::norm(kb[10]) / l0, tau);
 }

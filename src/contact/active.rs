@@ -116,7 +116,13 @@ impl Contacts {
     /// gradient `grad`) is inside its anisotropic friction set with normal force `n`: below 1
     /// inside, 1 on the boundary. Also returns the force's magnitude and the unit slip
     /// direction in `(x, y)` that this force would drive if it left the set.
-    pub(crate) fn stick_ratio(&self, g: &Ground, c: usize, grad: [f64; 2], n: f64) -> (f64, f64, [f64; 2]) {
+    pub(crate) fn stick_ratio(
+        &self,
+        g: &Ground,
+        c: usize,
+        grad: [f64; 2],
+        n: f64,
+    ) -> (f64, f64, [f64; 2]) {
         let fw = self.forward[c];
         let sd = self.side[c];
         // The dissipation's subgradient at zero slip balancing the rest of the objective.
@@ -130,15 +136,36 @@ impl Contacts {
         let (vf, vs) = (sf / (mu * mu), ss / (g.mu_s * g.mu_s));
         let d = [vf * fw[0] + vs * sd[0], vf * fw[1] + vs * sd[1]];
         let dl = d[0].hypot(d[1]);
-        let dir = if dl > 0.0 { [d[0] / dl, d[1] / dl] } else { [0.0; 2] };
-        (if n > 0.0 { r / n } else if r == 0.0 { 0.0 } else { f64::INFINITY }, mag, dir)
+        let dir = if dl > 0.0 {
+            [d[0] / dl, d[1] / dl]
+        } else {
+            [0.0; 2]
+        };
+        (
+            if n > 0.0 {
+                r / n
+            } else if r == 0.0 {
+                0.0
+            } else {
+                f64::INFINITY
+            },
+            mag,
+            dir,
+        )
     }
 
     /// Change contact `c`'s status within the active-set iteration, moving its held
     /// coordinates of `q` onto the new constraints: sticking at the start position; sliding
     /// from a small slip along the direction of its last friction force (from a stick) or
     /// from where it is; free with no force.
-    pub(crate) fn set_mode(&mut self, m: &Model, c: usize, mode: Mode, q: &mut [f64], held: &mut [bool]) {
+    pub(crate) fn set_mode(
+        &mut self,
+        m: &Model,
+        c: usize,
+        mode: Mode,
+        q: &mut [f64],
+        held: &mut [bool],
+    ) {
         let a = m.diameter;
         let k = dof::node(self.nodes[c]);
         let old = self.mode[c];
@@ -175,7 +202,12 @@ impl Contacts {
 
     /// Gradient (x, y) and Hessian (xx, xy, yy) of the sliding contact `c`'s dissipation at
     /// `q` with its current normal force, and the slip magnitude (zero: not differentiable).
-    pub(crate) fn slide_derivatives(&self, g: &Ground, c: usize, q: &[f64]) -> ([f64; 2], [f64; 3], f64) {
+    pub(crate) fn slide_derivatives(
+        &self,
+        g: &Ground,
+        c: usize,
+        q: &[f64],
+    ) -> ([f64; 2], [f64; 3], f64) {
         let [vf, vs] = self.slip(c, q);
         let mu = if vf > 0.0 { g.mu_f } else { g.mu_b };
         let (pa, pb) = (mu * vf, g.mu_s * vs);
@@ -194,7 +226,9 @@ impl Contacts {
         // Chain rule to (x, y): v_f = f . dx, v_s = s . dx.
         let (fw, sd) = (self.forward[c], self.side[c]);
         let grad = [gl[0] * fw[0] + gl[1] * sd[0], gl[0] * fw[1] + gl[1] * sd[1]];
-        let hx = |i: usize, j: usize| hff * fw[i] * fw[j] + hfs * (fw[i] * sd[j] + sd[i] * fw[j]) + hss * sd[i] * sd[j];
+        let hx = |i: usize, j: usize| {
+            hff * fw[i] * fw[j] + hfs * (fw[i] * sd[j] + sd[i] * fw[j]) + hss * sd[i] * sd[j]
+        };
         (grad, [hx(0, 0), hx(0, 1), hx(1, 1)], f::norm([vf, vs, 0.0]))
     }
 }

@@ -33,7 +33,9 @@ use crate::energy::Assembly;
 use crate::model::Model;
 use crate::rod::{dof, vec3::f};
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+use clarabel::solver::{
+    DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+};
 
 /// Ground parameters.
 #[derive(Clone, Debug)]
@@ -82,7 +84,11 @@ pub struct ConicStep {
 impl Contacts {
     /// Contact candidates of a model (real, not clamped nodes).
     pub fn new(m: &Model, q: &[f64]) -> Self {
-        let nodes: Vec<usize> = m.real.clone().filter(|&i| !m.fixed[dof::node(i) + 2]).collect();
+        let nodes: Vec<usize> = m
+            .real
+            .clone()
+            .filter(|&i| !m.fixed[dof::node(i) + 2])
+            .collect();
         let nc = nodes.len();
         // Initial normal forces: each node's weight share if it touches the ground.
         let g = f::norm(m.gravity);
@@ -98,7 +104,22 @@ impl Contacts {
             })
             .collect();
         let method = std::env::var("SLITHER_CLARABEL_METHOD").unwrap_or_else(|_| "qdldl".into());
-        Contacts { nodes, pending: normal.clone(), normal, forward: vec![[0.0; 3]; nc], side: vec![[0.0; 3]; nc], x_start: vec![[0.0; 3]; nc], last_iterations: 0, last_time: 0.0, direct_method: method, mode: vec![Mode::Free; nc], modes_valid: false, react: vec![0.0; nc], ratio: vec![0.0; nc], slip_dir: vec![[0.0; 2]; nc] }
+        Contacts {
+            nodes,
+            pending: normal.clone(),
+            normal,
+            forward: vec![[0.0; 3]; nc],
+            side: vec![[0.0; 3]; nc],
+            x_start: vec![[0.0; 3]; nc],
+            last_iterations: 0,
+            last_time: 0.0,
+            direct_method: method,
+            mode: vec![Mode::Free; nc],
+            modes_valid: false,
+            react: vec![0.0; nc],
+            ratio: vec![0.0; nc],
+            slip_dir: vec![[0.0; 2]; nc],
+        }
     }
 
     /// Freeze the contact frames and start positions at the beginning of a step.
@@ -139,26 +160,39 @@ impl Contacts {
 
     /// Solve the conic subproblem at the iterate `q`: writes the step into `dq` and updates the
     /// normal forces.
-    pub fn solve(&mut self, m: &Model, g: &Ground, asm: &Assembly, q: &[f64], h: f64, dq: &mut [f64]) -> Result<ConicStep, String> {
+    pub fn solve(
+        &mut self,
+        m: &Model,
+        g: &Ground,
+        asm: &Assembly,
+        q: &[f64],
+        h: f64,
+        dq: &mut [f64],
+    ) -> Result<ConicStep, String> {
         let n = asm.n();
         let nc = self.nodes.len();
         let nv = n + 4 * nc;
         let var = |c: usize, k: usize| n + 4 * c + k; // u, w, y, sigma
-        // Scaling (the interior-point tolerances are absolute): displacements in units of
-        // `ls`, the larger of this step's largest node displacement and `g h^2`; slip variables
-        // as displacements (`h u / ls`, ...); the objective multiplied by `k` so that the
-        // Hessian's mean diagonal is one.
+                                                      // Scaling (the interior-point tolerances are absolute): displacements in units of
+                                                      // `ls`, the larger of this step's largest node displacement and `g h^2`; slip variables
+                                                      // as displacements (`h u / ls`, ...); the objective multiplied by `k` so that the
+                                                      // Hessian's mean diagonal is one.
         let mut disp: f64 = 0.0;
         for c in 0..nc {
             let kk = dof::node(self.nodes[c]);
-            disp = disp.max(f::norm(f::sub([q[kk], q[kk + 1], q[kk + 2]], self.x_start[c])));
+            disp = disp.max(f::norm(f::sub(
+                [q[kk], q[kk + 1], q[kk + 2]],
+                self.x_start[c],
+            )));
         }
         let ls = disp.max(h * h * f::norm(m.gravity)).max(1e-9 * m.diameter);
         let mean_diag = (0..n).map(|k| asm.h(k, k)).sum::<f64>() / n as f64;
         let ks = 1.0 / (ls * ls * mean_diag);
         // Jacobi scaling of the coordinates, `dq_k = d_k x_k`, so that every scaled Hessian
         // diagonal is one (twist angles and positions differ by orders of magnitude).
-        let d: Vec<f64> = (0..n).map(|k| ls * (mean_diag / asm.h(k, k).max(1e-300 * mean_diag)).sqrt()).collect();
+        let d: Vec<f64> = (0..n)
+            .map(|k| ls * (mean_diag / asm.h(k, k).max(1e-300 * mean_diag)).sqrt())
+            .collect();
         // P: the Hessian's upper triangle, then empty columns.
         let mut colptr = asm.col_ptr.clone();
         let nnz = *colptr.last().unwrap();
@@ -186,7 +220,12 @@ impl Contacts {
         let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
         let mut b = Vec::new();
         let mut row = 0;
-        let push = |r: usize, c: usize, v: f64, ri: &mut Vec<usize>, ci: &mut Vec<usize>, vv: &mut Vec<f64>| {
+        let push = |r: usize,
+                    c: usize,
+                    v: f64,
+                    ri: &mut Vec<usize>,
+                    ci: &mut Vec<usize>,
+                    vv: &mut Vec<f64>| {
             ri.push(r);
             ci.push(c);
             vv.push(v);
@@ -199,7 +238,14 @@ impl Contacts {
             for (dir, sign_var) in [(self.forward[c], 0usize), (self.side[c], 2usize)] {
                 for a in 0..2 {
                     if dir[a] != 0.0 {
-                        push(row, k + a, dir[a] * d[k + a] / ls, &mut ri, &mut ci, &mut vv);
+                        push(
+                            row,
+                            k + a,
+                            dir[a] * d[k + a] / ls,
+                            &mut ri,
+                            &mut ci,
+                            &mut vv,
+                        );
                     }
                 }
                 if sign_var == 0 {
@@ -237,7 +283,10 @@ impl Contacts {
             }
         }
         let a = CscMatrix::new_from_triplets(row, nv, ri, ci, vv);
-        let mut cones = vec![SupportedConeT::ZeroConeT(n_zero), SupportedConeT::NonnegativeConeT(n_nonneg)];
+        let mut cones = vec![
+            SupportedConeT::ZeroConeT(n_zero),
+            SupportedConeT::NonnegativeConeT(n_nonneg),
+        ];
         cones.extend(std::iter::repeat_n(SupportedConeT::SecondOrderConeT(4), nc));
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
@@ -248,13 +297,17 @@ impl Contacts {
             .direct_solve_method(self.direct_method.clone())
             .build()
             .map_err(|e| format!("Clarabel settings: {e:?}"))?;
-        let mut solver = DefaultSolver::new(&p, &lin, &a, &b, &cones, settings).map_err(|e| format!("Clarabel setup: {e:?}"))?;
+        let mut solver = DefaultSolver::new(&p, &lin, &a, &b, &cones, settings)
+            .map_err(|e| format!("Clarabel setup: {e:?}"))?;
         solver.solve();
         let sol = &solver.solution;
         self.last_iterations = sol.iterations;
         self.last_time = sol.solve_time;
         if sol.status != SolverStatus::Solved {
-            return Err(format!("conic solve ended with status {:?} after {} iterations", sol.status, sol.iterations));
+            return Err(format!(
+                "conic solve ended with status {:?} after {} iterations",
+                sol.status, sol.iterations
+            ));
         }
         for k in 0..n {
             dq[k] = sol.x[k] * d[k];
@@ -266,6 +319,9 @@ impl Contacts {
             self.pending[c] = lam;
         }
         let predicted_decrease = sol.obj_val / ks - self.dissipation(g, q);
-        Ok(ConicStep { max_normal_change: change, predicted_decrease })
+        Ok(ConicStep {
+            max_normal_change: change,
+            predicted_decrease,
+        })
     }
 }

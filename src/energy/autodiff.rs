@@ -30,7 +30,10 @@ pub fn intrinsic(q: &[f64], i: usize) -> [f64; 8] {
 }
 
 /// Value, gradient and Hessian in intrinsic coordinates.
-pub fn derivatives<E: StencilEnergy>(e: &E, y: [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
+pub fn derivatives<E: StencilEnergy>(
+    e: &E,
+    y: [f64; 8],
+) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
     hessian(
         |v: SVector<Dual2SVec64<8>, 8>| {
             let arr: [Dual2SVec64<8>; 8] = std::array::from_fn(|k| v[k].clone());
@@ -70,7 +73,8 @@ pub fn project_psd_nalgebra(h: &mut SMatrix<f64, 8, 8>) {
     for l in lam.iter_mut() {
         *l = l.max(0.0);
     }
-    *h = eig.eigenvectors * SMatrix::<f64, 8, 8>::from_diagonal(&lam) * eig.eigenvectors.transpose();
+    *h =
+        eig.eigenvectors * SMatrix::<f64, 8, 8>::from_diagonal(&lam) * eig.eigenvectors.transpose();
 }
 
 /// Eigenvalues and eigenvectors (rows of the second array) of a symmetric 8x8 matrix by
@@ -313,7 +317,11 @@ pub mod jet {
         /// A constant.
         #[inline(always)]
         pub fn cst(v: f64) -> Self {
-            Jet { v, g: [0.0; N], h: [[0.0; N]; N] }
+            Jet {
+                v,
+                g: [0.0; N],
+                h: [[0.0; N]; N],
+            }
         }
         /// Variable `k` with value `v`.
         #[inline(always)]
@@ -470,7 +478,8 @@ pub mod jet {
             for i in 0..N {
                 let (a, b) = (self.g[i], o.g[i]);
                 for j in 0..N {
-                    r.h[i][j] = self.v * o.h[i][j] + o.v * self.h[i][j] + a * o.g[j] + b * self.g[j];
+                    r.h[i][j] =
+                        self.v * o.h[i][j] + o.v * self.h[i][j] + a * o.g[j] + b * self.g[j];
                 }
             }
             r
@@ -493,7 +502,11 @@ pub mod jet {
     /// Cross product.
     #[inline(always)]
     pub fn cross<const N: usize>(a: &JV<N>, b: &JV<N>) -> JV<N> {
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
     }
     /// Sum.
     #[inline(always)]
@@ -508,7 +521,11 @@ pub mod jet {
     /// Embed every component (see [`Jet::embed`]).
     #[inline(always)]
     pub fn embed<const M: usize, const N: usize>(a: &JV<M>, off: usize) -> JV<N> {
-        [Jet::embed(&a[0], off), Jet::embed(&a[1], off), Jet::embed(&a[2], off)]
+        [
+            Jet::embed(&a[0], off),
+            Jet::embed(&a[1], off),
+            Jet::embed(&a[2], off),
+        ]
     }
     /// Parallel transport of `u` from `t1` to `t2` (as [`crate::rod::vec3::transport`]).
     #[inline(always)]
@@ -523,7 +540,11 @@ pub mod jet {
     /// Frame of one edge as jets of its 3 edge-vector coordinates: length, unit tangent,
     /// reference director `a1` (transported from the frozen frame) and `a2 = t x a1`.
     #[inline(always)]
-    pub fn edge_frame(e: [f64; 3], t_old: [f64; 3], a1_old: [f64; 3]) -> (Jet<3>, JV<3>, JV<3>, JV<3>) {
+    pub fn edge_frame(
+        e: [f64; 3],
+        t_old: [f64; 3],
+        a1_old: [f64; 3],
+    ) -> (Jet<3>, JV<3>, JV<3>, JV<3>) {
         let ev: JV<3> = [Jet::var(e[0], 0), Jet::var(e[1], 1), Jet::var(e[2], 2)];
         let n = dot(&ev, &ev).sqrt();
         let t = scale(&ev, &n.recip());
@@ -534,7 +555,11 @@ pub mod jet {
 
     /// Value, gradient and Hessian as nalgebra types.
     pub fn to_na(j: &Jet<8>) -> (f64, nalgebra::SVector<f64, 8>, nalgebra::SMatrix<f64, 8, 8>) {
-        (j.v, nalgebra::SVector::from(j.g), nalgebra::SMatrix::from_fn(|a, b| j.h[a][b]))
+        (
+            j.v,
+            nalgebra::SVector::from(j.g),
+            nalgebra::SMatrix::from_fn(|a, b| j.h[a][b]),
+        )
     }
 }
 
@@ -552,7 +577,10 @@ mod tests {
             let mut a = b + b.transpose();
             if case % 3 == 1 {
                 let q = nalgebra::SymmetricEigen::new(a).eigenvectors;
-                let lam = SVector::<f64, 8>::from_fn(|k, _| if k < 3 { 0.0 } else { (k as f64 - 5.0) * 1e-3 });
+                let lam =
+                    SVector::<f64, 8>::from_fn(
+                        |k, _| if k < 3 { 0.0 } else { (k as f64 - 5.0) * 1e-3 },
+                    );
                 a = q * SMatrix::from_diagonal(&lam) * q.transpose();
             }
             let arr: [[f64; 8]; 8] = std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)]));
@@ -560,12 +588,23 @@ mod tests {
             let vm = SMatrix::<f64, 8, 8>::from_fn(|i, j| v[j][i]);
             let rec = vm * SMatrix::from_diagonal(&SVector::from(lam)) * vm.transpose();
             let scale = a.abs().max();
-            assert!((rec - a).abs().max() < 1e-13 * scale, "reconstruction (case {case})");
-            assert!((vm.transpose() * vm - SMatrix::<f64, 8, 8>::identity()).abs().max() < 1e-13);
+            assert!(
+                (rec - a).abs().max() < 1e-13 * scale,
+                "reconstruction (case {case})"
+            );
+            assert!(
+                (vm.transpose() * vm - SMatrix::<f64, 8, 8>::identity())
+                    .abs()
+                    .max()
+                    < 1e-13
+            );
             let (mut p1, mut p2) = (a, a);
             project_psd(&mut p1);
             project_psd_nalgebra(&mut p2);
-            assert!((p1 - p2).abs().max() < 1e-13 * scale, "projection (case {case})");
+            assert!(
+                (p1 - p2).abs().max() < 1e-13 * scale,
+                "projection (case {case})"
+            );
         }
     }
 }
@@ -602,15 +641,37 @@ pub(crate) mod testing {
             t_old[k] = f::unit(f::add(f::unit(e), f::scale(r.v3(), 0.3)));
             a1_old[k] = f::unit(f::cross(t_old[k], r.v3()));
         }
-        let mut p = StencilFrame { t_old, a1_old, ref_twist_prev: 0.0 };
-        p.ref_twist_prev = crate::rod::frames::ref_twist(e0, e1, &p) + 0.1 * r.sym() + 2.0 * std::f64::consts::TAU * r.sym().round();
-        let y = [e0[0], e0[1], e0[2], e1[0], e1[1], e1[2], 3.0 * r.sym(), 3.0 * r.sym()];
+        let mut p = StencilFrame {
+            t_old,
+            a1_old,
+            ref_twist_prev: 0.0,
+        };
+        p.ref_twist_prev = crate::rod::frames::ref_twist(e0, e1, &p)
+            + 0.1 * r.sym()
+            + 2.0 * std::f64::consts::TAU * r.sym().round();
+        let y = [
+            e0[0],
+            e0[1],
+            e0[2],
+            e1[0],
+            e1[1],
+            e1[2],
+            3.0 * r.sym(),
+            3.0 * r.sym(),
+        ];
         (p, y, r)
     }
 
     /// Largest difference relative to the largest entry.
     pub fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
-        let scale = a.iter().chain(b).fold(0.0f64, |m, x| m.max(x.abs())).max(1e-300);
-        a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / scale
+        let scale = a
+            .iter()
+            .chain(b)
+            .fold(0.0f64, |m, x| m.max(x.abs()))
+            .max(1e-300);
+        a.iter()
+            .zip(b)
+            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+            / scale
     }
 }

@@ -74,7 +74,11 @@ impl Term for Bend {
         let m = ctx.model;
         let mut e = 0.0;
         for i in 1..m.nodes - 1 {
-            let st = BendStencil { frame: &ctx.frames[i - 1], kappa0: ctx.kappa0[i], coef: m.bend / (2.0 * m.voronoi[i]) };
+            let st = BendStencil {
+                frame: &ctx.frames[i - 1],
+                kappa0: ctx.kappa0[i],
+                coef: m.bend / (2.0 * m.voronoi[i]),
+            };
             let y = autodiff::intrinsic(q, i);
             match out.as_deref_mut() {
                 None => e += st.eval(&y),
@@ -102,13 +106,23 @@ mod tests {
     fn staged_jets_match_num_dual() {
         for seed in 1..=200 {
             let (frame, y, mut r) = stencil(seed);
-            let st = BendStencil { frame: &frame, kappa0: [0.5 * r.sym(), 0.5 * r.sym()], coef: 1.0 + r.sym() };
+            let st = BendStencil {
+                frame: &frame,
+                kappa0: [0.5 * r.sym(), 0.5 * r.sym()],
+                coef: 1.0 + r.sym(),
+            };
             let (v, g, h) = st.derivatives(y);
             let (v_ref, g_ref, h_ref) = autodiff::derivatives(&st, y);
-            assert!((v - v_ref).abs() <= 1e-12 * v_ref.abs(), "value {v} vs {v_ref} (seed {seed})");
+            assert!(
+                (v - v_ref).abs() <= 1e-12 * v_ref.abs(),
+                "value {v} vs {v_ref} (seed {seed})"
+            );
             let eg = rel_diff(g.as_slice(), g_ref.as_slice());
             let eh = rel_diff(h.as_slice(), h_ref.as_slice());
-            assert!(eg < 1e-9 && eh < 1e-9, "gradient {eg:e}, Hessian {eh:e} (seed {seed})");
+            assert!(
+                eg < 1e-9 && eh < 1e-9,
+                "gradient {eg:e}, Hessian {eh:e} (seed {seed})"
+            );
             let (mut p, mut p_ref) = (h, h_ref);
             autodiff::project_psd(&mut p);
             autodiff::project_psd_nalgebra(&mut p_ref);

@@ -21,8 +21,8 @@ pub mod stretch;
 pub mod twist;
 
 use crate::model::Model;
-use crate::rod::frames::StencilFrame;
 use crate::rod::dof;
+use crate::rod::frames::StencilFrame;
 
 /// Everything besides `q` that an energy evaluation depends on.
 pub struct Ctx<'a> {
@@ -49,7 +49,12 @@ pub trait Term: Send + Sync {
 
 /// All elastic and gravitational terms of the rod.
 pub fn rod_terms() -> Vec<Box<dyn Term>> {
-    vec![Box::new(stretch::Stretch), Box::new(bend::Bend), Box::new(twist::Twist), Box::new(gravity::Gravity)]
+    vec![
+        Box::new(stretch::Stretch),
+        Box::new(bend::Bend),
+        Box::new(twist::Twist),
+        Box::new(gravity::Gravity),
+    ]
 }
 
 /// Gradient and upper-triangular banded Hessian in compressed-column form, with a pattern
@@ -82,7 +87,13 @@ impl Assembly {
             col_ptr.push(row_idx.len());
         }
         let values = vec![0.0; row_idx.len()];
-        Assembly { grad: vec![0.0; n], col_ptr, row_idx, values, w }
+        Assembly {
+            grad: vec![0.0; n],
+            col_ptr,
+            row_idx,
+            values,
+            w,
+        }
     }
     /// Dimension.
     pub fn n(&self) -> usize {
@@ -151,7 +162,13 @@ impl Assembly {
 }
 
 /// Total of all terms at `q`; with `out`, also gradient and Hessian.
-pub fn total(terms: &[Box<dyn Term>], ctx: &Ctx, q: &[f64], mut out: Option<&mut Assembly>, project: bool) -> f64 {
+pub fn total(
+    terms: &[Box<dyn Term>],
+    ctx: &Ctx,
+    q: &[f64],
+    mut out: Option<&mut Assembly>,
+    project: bool,
+) -> f64 {
     let mut e = 0.0;
     for t in terms {
         e += t.eval(ctx, q, out.as_deref_mut(), project);

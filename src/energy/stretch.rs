@@ -25,7 +25,9 @@ impl Term for Stretch {
             let l0 = m.rest_len[j];
             let k = m.stretch / l0;
             e += 0.5 * k * (len - l0).powi(2);
-            let Some(asm) = out.as_deref_mut() else { continue };
+            let Some(asm) = out.as_deref_mut() else {
+                continue;
+            };
             let t = [ev[0] / len, ev[1] / len, ev[2] / len];
             let mut c = 1.0 - l0 / len;
             if project {

@@ -165,7 +165,10 @@ impl Gait {
         let triplet = |shift: f64| -> [f64; 2] {
             let [a, b, c] = self.centers;
             let [ka, kb, kc] = self.scales;
-            [kb * gauss(b + shift), ka * gauss(a + shift) - kc * gauss(c + shift)]
+            [
+                kb * gauss(b + shift),
+                ka * gauss(a + shift) - kc * gauss(c + shift),
+            ]
         };
         let m = match self.kind {
             Kind::None => [0.0, 0.0],
@@ -207,7 +210,10 @@ impl Actuation for Muscles {
         for i in 1..m.nodes - 1 {
             let l = m.voronoi[i];
             let mm = self.gait.couple_at(m.arc_length(i), t);
-            kappa0[i] = [(m.natural_curvature[0] - mm[0] / m.bend) * l, (m.natural_curvature[1] - mm[1] / m.bend) * l];
+            kappa0[i] = [
+                (m.natural_curvature[0] - mm[0] / m.bend) * l,
+                (m.natural_curvature[1] - mm[1] / m.bend) * l,
+            ];
             m0[i] = m.natural_twist * l;
         }
     }
@@ -218,7 +224,17 @@ mod tests {
     use super::*;
 
     fn spec(kind: Kind) -> GaitSpec {
-        GaitSpec { kind, stress: 1000.0, sigma: 0.05, speed: 0.5, centers: [0.2, 0.3, 0.4], scales: [1.0, 0.5, 2.0], period: 0.4, ramp: 0.0, wavelength: 0.5 }
+        GaitSpec {
+            kind,
+            stress: 1000.0,
+            sigma: 0.05,
+            speed: 0.5,
+            centers: [0.2, 0.3, 0.4],
+            scales: [1.0, 0.5, 2.0],
+            period: 0.4,
+            ramp: 0.0,
+            wavelength: 0.5,
+        }
     }
 
     #[test]
@@ -244,7 +260,10 @@ mod tests {
         // At t = 0.5 two triplets are out: the first moved 0.25 m, the second 0.05 m.
         let s = 0.45;
         let both = g.couple_at(s, 0.5);
-        let sum = [one.couple_at(s, 0.5)[0] + one.couple_at(s, 0.1)[0], one.couple_at(s, 0.5)[1] + one.couple_at(s, 0.1)[1]];
+        let sum = [
+            one.couple_at(s, 0.5)[0] + one.couple_at(s, 0.1)[0],
+            one.couple_at(s, 0.5)[1] + one.couple_at(s, 0.1)[1],
+        ];
         assert!((both[0] - sum[0]).abs() < 1e-15 && (both[1] - sum[1]).abs() < 1e-15);
     }
 

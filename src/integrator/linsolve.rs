@@ -4,7 +4,9 @@
 
 use crate::energy::Assembly;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
@@ -25,14 +27,24 @@ impl LinSolver {
     pub fn new(asm: &Assembly) -> Self {
         let n = asm.n();
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &asm.col_ptr, None, &asm.row_idx);
-        let symbolic = factorize_symbolic_cholesky(sym, Side::Upper, SymmetricOrdering::Identity, CholeskySymbolicParams::default())
-            .expect("symbolic Cholesky of a banded pattern");
+        let symbolic = factorize_symbolic_cholesky(
+            sym,
+            Side::Upper,
+            SymmetricOrdering::Identity,
+            CholeskySymbolicParams::default(),
+        )
+        .expect("symbolic Cholesky of a banded pattern");
         let l_values = vec![0.0; symbolic.len_val()];
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
             symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
         ]);
-        LinSolver { symbolic, l_values, mem: MemBuffer::new(req), factored: false }
+        LinSolver {
+            symbolic,
+            l_values,
+            mem: MemBuffer::new(req),
+            factored: false,
+        }
     }
 
     /// Numeric factorisation of the matrix in `asm`.
@@ -43,7 +55,15 @@ impl LinSolver {
         let stack = MemStack::new(&mut self.mem);
         self.factored = false;
         self.symbolic
-            .factorize_numeric_llt::<f64>(&mut self.l_values, a, Side::Upper, Default::default(), Par::Seq, stack, Default::default())
+            .factorize_numeric_llt::<f64>(
+                &mut self.l_values,
+                a,
+                Side::Upper,
+                Default::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
             .map_err(|_| NotPositiveDefinite)?;
         self.factored = true;
         Ok(())
@@ -53,7 +73,10 @@ impl LinSolver {
     pub fn solve(&mut self, b: &mut [f64]) {
         assert!(self.factored, "solve before a successful factor");
         let n = b.len();
-        let llt = faer::sparse::linalg::cholesky::LltRef::<'_, usize, f64>::new(&self.symbolic, &self.l_values);
+        let llt = faer::sparse::linalg::cholesky::LltRef::<'_, usize, f64>::new(
+            &self.symbolic,
+            &self.l_values,
+        );
         let stack = MemStack::new(&mut self.mem);
         let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
         llt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, stack);

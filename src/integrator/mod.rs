@@ -167,7 +167,10 @@ impl<'m> Integrator<'m> {
             m0: vec![0.0; model.nodes],
             load: 1.0,
             active_set: std::env::var("SLITHER_CONTACT").map_or(true, |v| v != "conic"),
-            contacts: model.ground.as_ref().map(|_| crate::contact::Contacts::new(model, &model.q0)),
+            contacts: model
+                .ground
+                .as_ref()
+                .map(|_| crate::contact::Contacts::new(model, &model.q0)),
             normal_saved: Vec::new(),
             pred_grad: vec![0.0; n],
             q_init: vec![0.0; n],
@@ -178,7 +181,8 @@ impl<'m> Integrator<'m> {
     }
 
     fn set_time(&mut self, t: f64) {
-        self.actuation.rest_strains(t, self.model, &mut self.kappa0, &mut self.m0);
+        self.actuation
+            .rest_strains(t, self.model, &mut self.kappa0, &mut self.m0);
         if self.load != 1.0 {
             for k in self.kappa0.iter_mut() {
                 k[0] *= self.load;
@@ -198,7 +202,13 @@ impl<'m> Integrator<'m> {
     /// Energies of `s` with the rest strains at `s.t`.
     pub fn energies(&mut self, s: &State) -> Energies {
         self.set_time(s.t);
-        let ctx = Ctx { model: self.model, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+        let ctx = Ctx {
+            model: self.model,
+            frames: &s.frames,
+            kappa0: &self.kappa0,
+            m0: &self.m0,
+            gravity: self.gravity(),
+        };
         let mut elastic = 0.0;
         let mut gravity = 0.0;
         for t in &self.terms {
@@ -210,7 +220,12 @@ impl<'m> Integrator<'m> {
             }
         }
         let kinetic = s.kinetic_energy(self.model);
-        Energies { kinetic, elastic, gravity, total: kinetic + elastic + gravity }
+        Energies {
+            kinetic,
+            elastic,
+            gravity,
+            total: kinetic + elastic + gravity,
+        }
     }
 
     /// Objective of the step problem at `q` (no derivatives).
@@ -226,7 +241,13 @@ impl<'m> Integrator<'m> {
 
     /// Rod energy plus the inertial term (dynamic) at `q`, without friction.
     fn phi(&self, s: &State, q: &[f64], h: Option<f64>) -> f64 {
-        let ctx = Ctx { model: self.model, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+        let ctx = Ctx {
+            model: self.model,
+            frames: &s.frames,
+            kappa0: &self.kappa0,
+            m0: &self.m0,
+            gravity: self.gravity(),
+        };
         let mut f = energy::total(&self.terms, &ctx, q, None, false);
         if let Some(h) = h {
             let w = 0.5 / (h * h);
@@ -244,7 +265,10 @@ impl<'m> Integrator<'m> {
         }
         let n = self.model.ndof;
         self.stats.shifted_factorizations += 1;
-        let dmax = (0..n).map(|k| self.asm.h(k, k).abs()).fold(0.0, f64::max).max(1e-300);
+        let dmax = (0..n)
+            .map(|k| self.asm.h(k, k).abs())
+            .fold(0.0, f64::max)
+            .max(1e-300);
         let mut shift = 1e-10 * dmax;
         for _ in 0..12 {
             for k in 0..n {
@@ -255,7 +279,9 @@ impl<'m> Integrator<'m> {
             }
             shift *= 10.0;
         }
-        Err(format!("Hessian not positive definite even with a diagonal shift (iteration {it})"))
+        Err(format!(
+            "Hessian not positive definite even with a diagonal shift (iteration {it})"
+        ))
     }
 
     /// The active-set step (see [`crate::contact::active`]): Newton iterations with every
@@ -269,14 +295,20 @@ impl<'m> Integrator<'m> {
         r
     }
 
-    fn newton_active_with(&mut self, s: &mut State, h: f64, ct: &mut crate::contact::Contacts) -> Result<usize, String> {
+    fn newton_active_with(
+        &mut self,
+        s: &mut State,
+        h: f64,
+        ct: &mut crate::contact::Contacts,
+    ) -> Result<usize, String> {
         use crate::contact::Mode;
         let m = self.model;
         let n = m.ndof;
         let a = m.diameter;
         let nc = ct.nodes.len();
         let ground = m.ground.as_ref().expect("ground");
-        let scale = (m.total_mass() * crate::rod::vec3::f::norm(m.gravity) / nc.max(1) as f64).max(1e-300);
+        let scale =
+            (m.total_mass() * crate::rod::vec3::f::norm(m.gravity) / nc.max(1) as f64).max(1e-300);
         self.held.copy_from_slice(&m.fixed);
         ct.hold(m, &mut s.q, &mut self.held);
         // Iterations (each one assembly) and status changes allowed before the conic
@@ -293,7 +325,13 @@ impl<'m> Integrator<'m> {
             let t0 = Instant::now();
             self.asm.clear();
             let mut f0 = {
-                let ctx = Ctx { model: m, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+                let ctx = Ctx {
+                    model: m,
+                    frames: &s.frames,
+                    kappa0: &self.kappa0,
+                    m0: &self.m0,
+                    gravity: self.gravity(),
+                };
                 let mut f = energy::total(&self.terms, &ctx, &s.q, Some(&mut self.asm), project);
                 let w = 1.0 / (h * h);
                 for k in 0..n {
@@ -305,7 +343,9 @@ impl<'m> Integrator<'m> {
                 f
             };
             if !f0.is_finite() || self.asm.grad.iter().any(|g| !g.is_finite()) {
-                return Err(format!("non-finite objective or gradient at active-set iteration {it}"));
+                return Err(format!(
+                    "non-finite objective or gradient at active-set iteration {it}"
+                ));
             }
             // Reactions at the held coordinates: normal forces (updating the lagged values
             // of the sliding dissipation) and sticking friction forces.
@@ -325,7 +365,12 @@ impl<'m> Integrator<'m> {
                 ct.react[c] = nn;
                 ct.normal[c] = nn.max(0.0);
                 if ct.mode[c] == Mode::Stick {
-                    let (r, mag, dir) = ct.stick_ratio(ground, c, [self.asm.grad[k], self.asm.grad[k + 1]], ct.normal[c]);
+                    let (r, mag, dir) = ct.stick_ratio(
+                        ground,
+                        c,
+                        [self.asm.grad[k], self.asm.grad[k + 1]],
+                        ct.normal[c],
+                    );
                     if mag > 1e-9 * scale {
                         ct.ratio[c] = r;
                         ct.slip_dir[c] = dir;
@@ -356,7 +401,9 @@ impl<'m> Integrator<'m> {
                 switches += switched;
                 self.stats.assembly_s += t0.elapsed().as_secs_f64();
                 if switches > switch_cap {
-                    return Err(format!("too many contact status changes (active-set iteration {it})"));
+                    return Err(format!(
+                        "too many contact status changes (active-set iteration {it})"
+                    ));
                 }
                 continue;
             }
@@ -386,7 +433,9 @@ impl<'m> Integrator<'m> {
             let t3 = Instant::now();
             self.stats.solve_s += (t3 - t2).as_secs_f64();
             if self.dq.iter().any(|d| !d.is_finite()) {
-                return Err(format!("non-finite Newton direction at active-set iteration {it}"));
+                return Err(format!(
+                    "non-finite Newton direction at active-set iteration {it}"
+                ));
             }
             let mut dx: f64 = 0.0;
             let mut dth: f64 = 0.0;
@@ -426,7 +475,9 @@ impl<'m> Integrator<'m> {
                 }
                 switches += switched;
                 if switches > switch_cap {
-                    return Err(format!("too many contact status changes (active-set iteration {it})"));
+                    return Err(format!(
+                        "too many contact status changes (active-set iteration {it})"
+                    ));
                 }
                 continue;
             }
@@ -450,7 +501,11 @@ impl<'m> Integrator<'m> {
                     Mode::Free => {
                         if s.q[k + 2] + self.dq[k + 2] < 0.5 * a {
                             let sl = ct.slip(c, &s.q);
-                            let mode = if sl[0].hypot(sl[1]) > 1e-9 * a { Mode::Slide } else { Mode::Stick };
+                            let mode = if sl[0].hypot(sl[1]) > 1e-9 * a {
+                                Mode::Slide
+                            } else {
+                                Mode::Stick
+                            };
                             ct.set_mode(m, c, mode, &mut s.q, &mut self.held);
                             switched += 1;
                         }
@@ -462,7 +517,9 @@ impl<'m> Integrator<'m> {
                 switches += switched;
                 self.stats.line_search_s += t3.elapsed().as_secs_f64();
                 if switches > switch_cap {
-                    return Err(format!("too many contact status changes (active-set iteration {it})"));
+                    return Err(format!(
+                        "too many contact status changes (active-set iteration {it})"
+                    ));
                 }
                 continue;
             }
@@ -488,11 +545,15 @@ impl<'m> Integrator<'m> {
             }
             self.stats.line_search_s += t3.elapsed().as_secs_f64();
             if !accepted {
-                return Err(format!("line search failed at active-set iteration {it} (slope {slope:.3e})"));
+                return Err(format!(
+                    "line search failed at active-set iteration {it} (slope {slope:.3e})"
+                ));
             }
             std::mem::swap(&mut s.q, &mut self.trial);
         }
-        Err(format!("active-set Newton did not converge in {cap} iterations"))
+        Err(format!(
+            "active-set Newton did not converge in {cap} iterations"
+        ))
     }
 
     /// Newton iterations on `s.q` (the iterate) for the dynamic step (`h = Some`) or the
@@ -509,7 +570,13 @@ impl<'m> Integrator<'m> {
             let t0 = Instant::now();
             self.asm.clear();
             let f0 = {
-                let ctx = Ctx { model: m, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+                let ctx = Ctx {
+                    model: m,
+                    frames: &s.frames,
+                    kappa0: &self.kappa0,
+                    m0: &self.m0,
+                    gravity: self.gravity(),
+                };
                 let mut f = energy::total(&self.terms, &ctx, &s.q, Some(&mut self.asm), true);
                 if let Some(h) = h {
                     let w = 1.0 / (h * h);
@@ -528,7 +595,9 @@ impl<'m> Integrator<'m> {
                 }
             }
             if !f0.is_finite() || self.asm.grad.iter().any(|g| !g.is_finite()) {
-                return Err(format!("non-finite objective or gradient at Newton iteration {it}"));
+                return Err(format!(
+                    "non-finite objective or gradient at Newton iteration {it}"
+                ));
             }
             if have_pred {
                 // The conic model was exact up to the tolerance: the true gradient at the new
@@ -552,7 +621,9 @@ impl<'m> Integrator<'m> {
             self.stats.assembly_s += (t1 - t0).as_secs_f64();
             let mut conic: Option<crate::contact::ConicStep> = None;
             if let (Some(hh), Some(ground), Some(ct)) = (h, &m.ground, self.contacts.as_mut()) {
-                let r = ct.solve(m, ground, &self.asm, &s.q, hh, &mut self.dq).map_err(|e| format!("{e} (Newton iteration {it})"))?;
+                let r = ct
+                    .solve(m, ground, &self.asm, &s.q, hh, &mut self.dq)
+                    .map_err(|e| format!("{e} (Newton iteration {it})"))?;
                 self.stats.conic_solves += 1;
                 self.stats.conic_iterations += ct.last_iterations as usize;
                 let t2 = Instant::now();
@@ -599,7 +670,8 @@ impl<'m> Integrator<'m> {
             }
             let mut normals_settled = true;
             if let (Some(c), Some(ct)) = (&conic, self.contacts.as_ref()) {
-                let scale = m.total_mass() * crate::rod::vec3::f::norm(m.gravity) / ct.nodes.len().max(1) as f64;
+                let scale = m.total_mass() * crate::rod::vec3::f::norm(m.gravity)
+                    / ct.nodes.len().max(1) as f64;
                 normals_settled = c.max_normal_change <= 1e-6 * scale.max(1e-300);
             }
             // With contact, a step whose predicted decrease is at round-off level is an
@@ -630,7 +702,9 @@ impl<'m> Integrator<'m> {
             }
             self.stats.line_search_s += t3.elapsed().as_secs_f64();
             if !accepted {
-                return Err(format!("line search failed at Newton iteration {it} (slope {slope:.3e})"));
+                return Err(format!(
+                    "line search failed at Newton iteration {it} (slope {slope:.3e})"
+                ));
             }
             std::mem::swap(&mut s.q, &mut self.trial);
             if h.is_none() {
@@ -656,7 +730,10 @@ impl<'m> Integrator<'m> {
                 have_pred = true;
             }
         }
-        Err(format!("Newton did not converge in {} iterations", m.max_iterations))
+        Err(format!(
+            "Newton did not converge in {} iterations",
+            m.max_iterations
+        ))
     }
 
     /// One implicit Euler step of size `h`, without retries.
@@ -665,7 +742,11 @@ impl<'m> Integrator<'m> {
         self.q_prev.copy_from_slice(&s.q);
         self.v_prev.copy_from_slice(&s.v);
         for k in 0..m.ndof {
-            self.qhat[k] = if m.fixed[k] { s.q[k] } else { s.q[k] + h * s.v[k] };
+            self.qhat[k] = if m.fixed[k] {
+                s.q[k]
+            } else {
+                s.q[k] + h * s.v[k]
+            };
         }
         self.set_time(s.t + h);
         s.q.copy_from_slice(&self.qhat);
@@ -747,7 +828,12 @@ impl<'m> Integrator<'m> {
                     eprintln!("step of {h} s at t = {} failed: {reason}", s.t);
                 }
                 if level >= self.model.max_halvings {
-                    return Err(StepError::Rejected { t: s.t, dt: h, halvings: level, reason });
+                    return Err(StepError::Rejected {
+                        t: s.t,
+                        dt: h,
+                        halvings: level,
+                        reason,
+                    });
                 }
                 self.stats.step_halvings += 1;
                 self.step_level(s, 0.5 * h, level + 1)?;
@@ -769,7 +855,12 @@ impl<'m> Integrator<'m> {
                 s.v.fill(0.0);
                 Ok(it)
             }
-            Err(reason) => Err(StepError::Rejected { t: s.t, dt: 0.0, halvings: 0, reason: format!("static solve at load {load}: {reason}") }),
+            Err(reason) => Err(StepError::Rejected {
+                t: s.t,
+                dt: 0.0,
+                halvings: 0,
+                reason: format!("static solve at load {load}: {reason}"),
+            }),
         }
     }
 
@@ -778,7 +869,13 @@ impl<'m> Integrator<'m> {
     pub fn energy_derivatives(&mut self, s: &State, q: &[f64], project: bool) -> (f64, Assembly) {
         self.set_time(s.t);
         let mut asm = Assembly::new(self.model.ndof);
-        let ctx = Ctx { model: self.model, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+        let ctx = Ctx {
+            model: self.model,
+            frames: &s.frames,
+            kappa0: &self.kappa0,
+            m0: &self.m0,
+            gravity: self.gravity(),
+        };
         let e = energy::total(&self.terms, &ctx, q, Some(&mut asm), project);
         (e, asm)
     }
@@ -798,7 +895,13 @@ impl<'m> Integrator<'m> {
     /// Rod energy at `q` with the frames of `s` and rest strains at `s.t`.
     pub fn energy_at(&mut self, s: &State, q: &[f64]) -> f64 {
         self.set_time(s.t);
-        let ctx = Ctx { model: self.model, frames: &s.frames, kappa0: &self.kappa0, m0: &self.m0, gravity: self.gravity() };
+        let ctx = Ctx {
+            model: self.model,
+            frames: &s.frames,
+            kappa0: &self.kappa0,
+            m0: &self.m0,
+            gravity: self.gravity(),
+        };
         energy::total(&self.terms, &ctx, q, None, false)
     }
 }

@@ -101,12 +101,24 @@ fn median(mut v: Vec<f64>) -> f64 {
 pub fn fields(m: &Model, frames: &[Frame]) -> Fields {
     let a = m.diameter;
     let delta = m.length / 10.0;
-    let mut out = Fields { s: m.real.clone().map(|i| m.arc_length(i)).collect(), ..Default::default() };
+    let mut out = Fields {
+        s: m.real.clone().map(|i| m.arc_length(i)).collect(),
+        ..Default::default()
+    };
     for fr in frames {
         out.t.push(fr.t);
-        out.elevation.push(fr.x.iter().map(|x| x[2] - 0.5 * a).collect());
-        out.slip.push(fr.v.iter().map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt()).collect());
-        let c = FramedCurve { nodes: fr.x.clone(), d1: fr.d1.clone(), closed: false };
+        out.elevation
+            .push(fr.x.iter().map(|x| x[2] - 0.5 * a).collect());
+        out.slip.push(
+            fr.v.iter()
+                .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
+                .collect(),
+        );
+        let c = FramedCurve {
+            nodes: fr.x.clone(),
+            d1: fr.d1.clone(),
+            closed: false,
+        };
         let top = topology::topology(&c);
         out.tw.push(top.tw);
         out.wr.push(top.wr);
@@ -127,7 +139,9 @@ pub fn fields(m: &Model, frames: &[Frame]) -> Fields {
 /// Scalar observables from the frames and fields.
 pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
     let mut o = Observables::default();
-    let (Some(first), Some(last)) = (frames.first(), frames.last()) else { return o };
+    let (Some(first), Some(last)) = (frames.first(), frames.last()) else {
+        return o;
+    };
     let centroid = |fr: &Frame| {
         let mut c = [0.0; 3];
         for x in &fr.x {
@@ -143,8 +157,15 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
     let disp = f::sub(centroid(last), centroid(first));
     let t_end = last.t - first.t;
     o.displacement = [f::dot(disp, xh), f::dot(disp, side)];
-    o.displacement_angle_deg = o.displacement[1].abs().atan2(o.displacement[0]).to_degrees();
-    o.v_s = if t_end > 0.0 { o.displacement[0] / t_end } else { 0.0 };
+    o.displacement_angle_deg = o.displacement[1]
+        .abs()
+        .atan2(o.displacement[0])
+        .to_degrees();
+    o.v_s = if t_end > 0.0 {
+        o.displacement[0] / t_end
+    } else {
+        0.0
+    };
     let g = &m.gait;
     let has_gait = g.kind != crate::gait::Kind::None && g.couple > 0.0;
     let vm = g.speed;
@@ -153,8 +174,18 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
     o.writhe_mean = fl.wr.iter().sum::<f64>() / fl.wr.len() as f64;
     o.link_max = fl.lk.iter().fold(0.0, |a: f64, w| a.max(w.abs()));
     let a = m.diameter;
-    o.max_elevation_over_a = fl.elevation.iter().flatten().fold(0.0, |x: f64, &e| x.max(e)) / a;
-    o.lifted_arcs_max = fl.elevation.iter().map(|row| runs(row.iter().map(|&e| e >= 0.5 * a))).max().unwrap_or(0);
+    o.max_elevation_over_a = fl
+        .elevation
+        .iter()
+        .flatten()
+        .fold(0.0, |x: f64, &e| x.max(e))
+        / a;
+    o.lifted_arcs_max = fl
+        .elevation
+        .iter()
+        .map(|row| runs(row.iter().map(|&e| e >= 0.5 * a)))
+        .max()
+        .unwrap_or(0);
     // Contact: nodes carrying more than a millionth of their weight.
     let w_node = m.total_mass() * f::norm(m.gravity) / m.elements() as f64;
     let in_contact = |n: f64| n > 1e-6 * w_node;
@@ -180,7 +211,8 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
     // is tracked frame by frame.
     let period = g.pulse_time(m.length);
     let t_lo = g.ramp_time + 0.05 * period;
-    let t_hi = ((m.length - g.centers.iter().fold(0.0f64, |a, &c| a.max(c)) - 2.0 * g.sigma) / vm).min(period);
+    let t_hi = ((m.length - g.centers.iter().fold(0.0f64, |a, &c| a.max(c)) - 2.0 * g.sigma) / vm)
+        .min(period);
     let window = |t: f64| has_gait && t >= t_lo && t <= t_hi;
     let mut sign = 0.0;
     let mut best = 0.0;
@@ -200,13 +232,22 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
             continue;
         }
         let row = &fl.lambda[k];
-        if let Some((j, amp)) = row.iter().enumerate().filter(|(_, l)| l.is_finite()).map(|(j, l)| (j, sign * l)).max_by(|a, b| a.1.total_cmp(&b.1)) {
+        if let Some((j, amp)) = row
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.is_finite())
+            .map(|(j, l)| (j, sign * l))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+        {
             ts.push(fr.t);
             ss.push(fl.s_window[j]);
             amps.push(amp);
         }
         let sb = g.centers[1] + vm * fr.t;
-        let v: Vec<f64> = (0..fr.x.len()).filter(|&i| (fl.s[i] - sb).abs() <= g.sigma && in_contact(fr.normal[i])).map(|i| fl.slip[k][i]).collect();
+        let v: Vec<f64> = (0..fr.x.len())
+            .filter(|&i| (fl.s[i] - sb).abs() <= g.sigma && in_contact(fr.normal[i]))
+            .map(|i| fl.slip[k][i])
+            .collect();
         if !v.is_empty() {
             mids.push(v.iter().sum::<f64>() / v.len() as f64);
         }
@@ -219,7 +260,11 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         let sts: f64 = ts.iter().zip(&ss).map(|(t, s)| (t - mt) * (s - ms)).sum();
         let sss: f64 = ss.iter().map(|s| (s - ms).powi(2)).sum();
         o.lambda_pulse_speed = sts / stt;
-        o.lambda_pulse_r2 = if sss > 0.0 { sts * sts / (stt * sss) } else { 0.0 };
+        o.lambda_pulse_r2 = if sss > 0.0 {
+            sts * sts / (stt * sss)
+        } else {
+            0.0
+        };
         let amax = amps.iter().fold(0.0, |a: f64, &b| a.max(b));
         let amin = amps.iter().fold(f64::INFINITY, |a: f64, &b| a.min(b));
         o.lambda_amplitude_variation = (amax - amin) / amax;
@@ -237,7 +282,8 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
 pub fn classify(m: &Model, o: &Observables) -> &'static str {
     let a = m.diameter;
     let lifted = o.max_elevation_over_a >= 0.5;
-    let coherent = o.lambda_pulse_r2 >= 0.8 && (o.lambda_pulse_speed / m.gait.speed - 1.0).abs() <= 0.3;
+    let coherent =
+        o.lambda_pulse_r2 >= 0.8 && (o.lambda_pulse_speed / m.gait.speed - 1.0).abs() <= 0.3;
     if o.max_elevation_over_a * a > 0.25 * m.length || (lifted && !(o.lambda_pulse_r2 >= 0.5)) {
         "U"
     } else if o.v_s_over_v_m > 0.02 && o.lifted_arcs_max >= 2 && coherent {

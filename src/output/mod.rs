@@ -70,7 +70,11 @@ impl Summary {
     pub fn new(problem: &Path, m: &Model, o: &Outcome) -> Self {
         let s = &o.state;
         Summary {
-            status: if o.error.is_some() { "failed".into() } else { "completed".into() },
+            status: if o.error.is_some() {
+                "failed".into()
+            } else {
+                "completed".into()
+            },
             error: o.error.as_ref().map(|e| e.to_string()),
             problem: problem.display().to_string(),
             mode: format!("{:?}", m.mode).to_lowercase(),
@@ -88,7 +92,8 @@ impl Summary {
             centroid_displacement: centroid_displacement(&o.frames),
             slip_speed_max: o.slip_speed_max,
             normal_force_final: o.frames.last().map_or(0.0, |f| f.normal.iter().sum()),
-            conic_iterations_mean: o.stats.conic_iterations as f64 / o.stats.conic_solves.max(1) as f64,
+            conic_iterations_mean: o.stats.conic_iterations as f64
+                / o.stats.conic_solves.max(1) as f64,
             conic_solves_per_step: o.stats.conic_solves as f64 / o.stats.steps.max(1) as f64,
             observables: None,
             head_final: s.node(m.real.start),
@@ -113,41 +118,104 @@ pub fn write_final_csv(dir: &Path, m: &Model, o: &Outcome) -> std::io::Result<()
     for i in m.real.clone() {
         let x = s.node(i);
         let (d1, _) = s.directors(i.min(last_edge));
-        writeln!(w, "{:.17e},{:.17e},{:.17e},{:.17e},{:.17e},{:.17e},{:.17e}", m.arc_length(i), x[0], x[1], x[2], d1[0], d1[1], d1[2])?;
+        writeln!(
+            w,
+            "{:.17e},{:.17e},{:.17e},{:.17e},{:.17e},{:.17e},{:.17e}",
+            m.arc_length(i),
+            x[0],
+            x[1],
+            x[2],
+            d1[0],
+            d1[1],
+            d1[2]
+        )?;
     }
     w.flush()
 }
 
-fn put(npz: &mut npyz::npz::NpzWriter<std::io::BufWriter<std::fs::File>>, name: &str, shape: &[u64], data: impl IntoIterator<Item = f64>) -> std::io::Result<()> {
-    let opts = npyz::zip::write::FileOptions::default().compression_method(npyz::zip::CompressionMethod::Stored);
-    let mut w = npz.array::<f64>(name, opts)?.default_dtype().shape(shape).begin_nd()?;
+fn put(
+    npz: &mut npyz::npz::NpzWriter<std::io::BufWriter<std::fs::File>>,
+    name: &str,
+    shape: &[u64],
+    data: impl IntoIterator<Item = f64>,
+) -> std::io::Result<()> {
+    let opts = npyz::zip::write::FileOptions::default()
+        .compression_method(npyz::zip::CompressionMethod::Stored);
+    let mut w = npz
+        .array::<f64>(name, opts)?
+        .default_dtype()
+        .shape(shape)
+        .begin_nd()?;
     w.extend(data)?;
     w.finish()
 }
 
 /// Write `trajectory.npz` with `t` (F), `x` (F x nodes x 3), `theta` (F x edges),
 /// `v` (F x nodes x 3), `s` (nodes) and any extra per-frame arrays `(name, per-node values)`.
-pub fn write_trajectory(dir: &Path, m: &Model, frames: &[Frame], extra: &[(&str, Vec<Vec<f64>>)]) -> std::io::Result<()> {
+pub fn write_trajectory(
+    dir: &Path,
+    m: &Model,
+    frames: &[Frame],
+    extra: &[(&str, Vec<Vec<f64>>)],
+) -> std::io::Result<()> {
     let mut npz = npyz::npz::NpzWriter::create(dir.join("trajectory.npz"))?;
     let nf = frames.len() as u64;
     let nn = m.real.len() as u64;
     let ne = nn - 1;
     put(&mut npz, "t", &[nf], frames.iter().map(|fr| fr.t))?;
-    put(&mut npz, "s", &[nn], m.real.clone().map(|i| m.arc_length(i)))?;
-    put(&mut npz, "x", &[nf, nn, 3], frames.iter().flat_map(|fr| fr.x.iter().flatten().copied()))?;
-    put(&mut npz, "v", &[nf, nn, 3], frames.iter().flat_map(|fr| fr.v.iter().flatten().copied()))?;
-    put(&mut npz, "theta", &[nf, ne], frames.iter().flat_map(|fr| fr.theta.iter().copied()))?;
-    put(&mut npz, "normal_force", &[nf, nn], frames.iter().flat_map(|fr| fr.normal.iter().copied()))?;
+    put(
+        &mut npz,
+        "s",
+        &[nn],
+        m.real.clone().map(|i| m.arc_length(i)),
+    )?;
+    put(
+        &mut npz,
+        "x",
+        &[nf, nn, 3],
+        frames.iter().flat_map(|fr| fr.x.iter().flatten().copied()),
+    )?;
+    put(
+        &mut npz,
+        "v",
+        &[nf, nn, 3],
+        frames.iter().flat_map(|fr| fr.v.iter().flatten().copied()),
+    )?;
+    put(
+        &mut npz,
+        "theta",
+        &[nf, ne],
+        frames.iter().flat_map(|fr| fr.theta.iter().copied()),
+    )?;
+    put(
+        &mut npz,
+        "normal_force",
+        &[nf, nn],
+        frames.iter().flat_map(|fr| fr.normal.iter().copied()),
+    )?;
     // Slip velocity: the horizontal velocity of nodes in contact (zero elsewhere).
     put(
         &mut npz,
         "slip_velocity",
         &[nf, nn, 3],
-        frames.iter().flat_map(|fr| fr.v.iter().zip(&fr.normal).flat_map(|(v, n)| if *n > 0.0 { [v[0], v[1], 0.0] } else { [0.0; 3] })),
+        frames.iter().flat_map(|fr| {
+            fr.v.iter().zip(&fr.normal).flat_map(|(v, n)| {
+                if *n > 0.0 {
+                    [v[0], v[1], 0.0]
+                } else {
+                    [0.0; 3]
+                }
+            })
+        }),
     )?;
     for (name, data) in extra {
         let k = data.first().map_or(0, |r| r.len()) as u64;
-        put(&mut npz, name, &[data.len() as u64, k], data.iter().flatten().copied())?;
+        put(
+            &mut npz,
+            name,
+            &[data.len() as u64, k],
+            data.iter().flatten().copied(),
+        )?;
     }
     Ok(())
 }
@@ -169,29 +237,88 @@ pub fn centroid_displacement(frames: &[Frame]) -> [f64; 3] {
 
 /// Figures and ParaView files of a run: kymographs of elevation, slip speed and local link
 /// density over s and t/T, top and side snapshots, Tw/Wr/Lk over time (PNG), and `vtk/`.
-pub fn write_figures(dir: &Path, m: &Model, frames: &[Frame], fl: &crate::observe::Fields) -> Result<(), String> {
+pub fn write_figures(
+    dir: &Path,
+    m: &Model,
+    frames: &[Frame],
+    fl: &crate::observe::Fields,
+) -> Result<(), String> {
     use crate::plot;
     if frames.len() < 2 {
         return Ok(());
     }
-    let period = if m.gait.kind != crate::gait::Kind::None { m.gait.pulse_time(m.length) } else { fl.t.last().copied().unwrap_or(1.0).max(1e-300) };
+    let period = if m.gait.kind != crate::gait::Kind::None {
+        m.gait.pulse_time(m.length)
+    } else {
+        fl.t.last().copied().unwrap_or(1.0).max(1e-300)
+    };
     let t_over: Vec<f64> = fl.t.iter().map(|t| t / period).collect();
     let err = |e: plot::PlotError| e.to_string();
     let a = m.diameter;
-    let elev_a: Vec<Vec<f64>> = fl.elevation.iter().map(|r| r.iter().map(|e| e / a).collect()).collect();
-    plot::kymograph(&dir.join("kymograph_elevation.png"), "Elevation", "(z - a/2) / a", &fl.s, &t_over, &elev_a, false).map_err(err)?;
-    plot::kymograph(&dir.join("kymograph_slip.png"), "Slip speed", "|v| (m/s)", &fl.s, &t_over, &fl.slip, false).map_err(err)?;
+    let elev_a: Vec<Vec<f64>> = fl
+        .elevation
+        .iter()
+        .map(|r| r.iter().map(|e| e / a).collect())
+        .collect();
+    plot::kymograph(
+        &dir.join("kymograph_elevation.png"),
+        "Elevation",
+        "(z - a/2) / a",
+        &fl.s,
+        &t_over,
+        &elev_a,
+        false,
+    )
+    .map_err(err)?;
+    plot::kymograph(
+        &dir.join("kymograph_slip.png"),
+        "Slip speed",
+        "|v| (m/s)",
+        &fl.s,
+        &t_over,
+        &fl.slip,
+        false,
+    )
+    .map_err(err)?;
     if !fl.s_window.is_empty() {
-        plot::kymograph(&dir.join("kymograph_lambda.png"), "Local link density (window L/10)", "lambda (turns/m)", &fl.s_window, &t_over, &fl.lambda, true).map_err(err)?;
+        plot::kymograph(
+            &dir.join("kymograph_lambda.png"),
+            "Local link density (window L/10)",
+            "lambda (turns/m)",
+            &fl.s_window,
+            &t_over,
+            &fl.lambda,
+            true,
+        )
+        .map_err(err)?;
     }
     let picks: Vec<usize> = {
         let n = frames.len();
         let k = 6.min(n);
         (0..k).map(|j| j * (n - 1) / (k - 1).max(1)).collect()
     };
-    let snaps: Vec<(f64, Vec<[f64; 3]>)> = picks.iter().map(|&j| (frames[j].t, frames[j].x.clone())).collect();
-    plot::snapshots(&dir.join("snapshots.png"), "Body: top and side views", &snaps).map_err(err)?;
-    plot::series(&dir.join("topology.png"), "Twist, writhe and link of the ribbon (r, d1)", "turns", &fl.t, &[("Tw", fl.tw.clone()), ("Wr", fl.wr.clone()), ("Lk = Tw + Wr", fl.lk.clone())]).map_err(err)?;
+    let snaps: Vec<(f64, Vec<[f64; 3]>)> = picks
+        .iter()
+        .map(|&j| (frames[j].t, frames[j].x.clone()))
+        .collect();
+    plot::snapshots(
+        &dir.join("snapshots.png"),
+        "Body: top and side views",
+        &snaps,
+    )
+    .map_err(err)?;
+    plot::series(
+        &dir.join("topology.png"),
+        "Twist, writhe and link of the ribbon (r, d1)",
+        "turns",
+        &fl.t,
+        &[
+            ("Tw", fl.tw.clone()),
+            ("Wr", fl.wr.clone()),
+            ("Lk = Tw + Wr", fl.lk.clone()),
+        ],
+    )
+    .map_err(err)?;
     // ParaView: elevation, slip speed and lambda interpolated to the nodes.
     let lambda_nodes: Vec<Vec<f64>> = fl
         .lambda
@@ -200,12 +327,28 @@ pub fn write_figures(dir: &Path, m: &Model, frames: &[Frame], fl: &crate::observ
             fl.s.iter()
                 .map(|&s| {
                     // nearest window centre
-                    let j = fl.s_window.iter().enumerate().min_by(|x, y| (x.1 - s).abs().total_cmp(&(y.1 - s).abs())).map(|(j, _)| j).unwrap_or(0);
+                    let j = fl
+                        .s_window
+                        .iter()
+                        .enumerate()
+                        .min_by(|x, y| (x.1 - s).abs().total_cmp(&(y.1 - s).abs()))
+                        .map(|(j, _)| j)
+                        .unwrap_or(0);
                     row.get(j).copied().unwrap_or(f64::NAN)
                 })
                 .collect()
         })
         .collect();
     let positions: Vec<Vec<[f64; 3]>> = frames.iter().map(|f| f.x.clone()).collect();
-    vtk::write_vtk(dir, &fl.t, &positions, &[("elevation", fl.elevation.clone()), ("slip_speed", fl.slip.clone()), ("lambda", lambda_nodes)]).map_err(|e| e.to_string())
+    vtk::write_vtk(
+        dir,
+        &fl.t,
+        &positions,
+        &[
+            ("elevation", fl.elevation.clone()),
+            ("slip_speed", fl.slip.clone()),
+            ("lambda", lambda_nodes),
+        ],
+    )
+    .map_err(|e| e.to_string())
 }

@@ -51,7 +51,9 @@ pub fn write_vtk(
     }
     for (name, vals) in point_data {
         if name.is_empty() {
-            return Err(invalid("write_vtk: point-data array with an empty name".into()));
+            return Err(invalid(
+                "write_vtk: point-data array with an empty name".into(),
+            ));
         }
         if vals.len() != times.len() {
             return Err(invalid(format!(
@@ -81,7 +83,10 @@ pub fn write_vtk(
 
     let mut w = BufWriter::new(File::create(vtk_dir.join("frames.pvd"))?);
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
-    writeln!(w, r#"<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">"#)?;
+    writeln!(
+        w,
+        r#"<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">"#
+    )?;
     writeln!(w, "  <Collection>")?;
     for (k, t) in times.iter().enumerate() {
         writeln!(
@@ -114,7 +119,10 @@ fn write_frame<'a>(
 ) -> io::Result<()> {
     let n = pos.len();
     writeln!(w, r#"<?xml version="1.0"?>"#)?;
-    writeln!(w, r#"<VTKFile type="PolyData" version="0.1" byte_order="LittleEndian">"#)?;
+    writeln!(
+        w,
+        r#"<VTKFile type="PolyData" version="0.1" byte_order="LittleEndian">"#
+    )?;
     writeln!(w, "  <PolyData>")?;
     let lines = usize::from(n > 0);
     writeln!(
@@ -140,21 +148,30 @@ fn write_frame<'a>(
     }
     writeln!(w, "      </PointData>")?;
     writeln!(w, "      <Points>")?;
-    writeln!(w, r#"        <DataArray type="Float64" Name="Points" NumberOfComponents="3" format="ascii">"#)?;
+    writeln!(
+        w,
+        r#"        <DataArray type="Float64" Name="Points" NumberOfComponents="3" format="ascii">"#
+    )?;
     for p in pos {
         writeln!(w, "          {} {} {}", num(p[0]), num(p[1]), num(p[2]))?;
     }
     writeln!(w, "        </DataArray>")?;
     writeln!(w, "      </Points>")?;
     writeln!(w, "      <Lines>")?;
-    writeln!(w, r#"        <DataArray type="Int64" Name="connectivity" format="ascii">"#)?;
+    writeln!(
+        w,
+        r#"        <DataArray type="Int64" Name="connectivity" format="ascii">"#
+    )?;
     let idx: Vec<usize> = (0..n).collect();
     for chunk in idx.chunks(16) {
         let line: Vec<String> = chunk.iter().map(|i| i.to_string()).collect();
         writeln!(w, "          {}", line.join(" "))?;
     }
     writeln!(w, "        </DataArray>")?;
-    writeln!(w, r#"        <DataArray type="Int64" Name="offsets" format="ascii">"#)?;
+    writeln!(
+        w,
+        r#"        <DataArray type="Int64" Name="offsets" format="ascii">"#
+    )?;
     if n > 0 {
         writeln!(w, "          {n}")?;
     }

@@ -31,7 +31,11 @@ const BWR: [[u8; 3]; 11] = [
 ];
 
 fn interp(anchors: &[[u8; 3]], u: f64) -> RGBColor {
-    let u = if u.is_finite() { u.clamp(0.0, 1.0) } else { 0.0 };
+    let u = if u.is_finite() {
+        u.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let n = anchors.len() - 1;
     let x = u * n as f64;
     let i = (x.floor() as usize).min(n - 1);

@@ -219,7 +219,7 @@ fn best_corner(
         SeriesLabelPosition::LowerRight,
         SeriesLabelPosition::LowerLeft,
     ][best]
-    .clone()
+        .clone()
 }
 
 /// Splits a sequence of points into runs of finite points (a NaN breaks the line).
@@ -243,14 +243,19 @@ type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 
 /// White canvas with the title (if non-empty) drawn at the top; returns the root (to present)
 /// and the area below the title.
-fn canvas<'a>(path: &'a Path, size: (u32, u32), title: &str) -> Result<(Area<'a>, Area<'a>), PlotError> {
+fn canvas<'a>(
+    path: &'a Path,
+    size: (u32, u32),
+    title: &str,
+) -> Result<(Area<'a>, Area<'a>), PlotError> {
     register_fonts()?;
     let root = BitMapBackend::new(path, size).into_drawing_area();
     root.fill(&WHITE).map_err(draw_err)?;
     let body = if title.is_empty() {
         root.clone().margin(TITLE_PX / 2, 0, 0, 0)
     } else {
-        root.titled(title, (FONT, TITLE_PX).into_font().style(FontStyle::Bold)).map_err(draw_err)?
+        root.titled(title, (FONT, TITLE_PX).into_font().style(FontStyle::Bold))
+            .map_err(draw_err)?
     };
     Ok((root, body))
 }
@@ -265,8 +270,11 @@ where
     // Box around the plotting area (drawn in pixel coordinates of the plotting area).
     let area = chart.plotting_area().strip_coord_spec();
     let (w, h) = area.dim_in_pixel();
-    area.draw(&Rectangle::new([(0, 0), (w as i32 - 1, h as i32 - 1)], BLACK.stroke_width(1)))
-        .map_err(draw_err)
+    area.draw(&Rectangle::new(
+        [(0, 0), (w as i32 - 1, h as i32 - 1)],
+        BLACK.stroke_width(1),
+    ))
+    .map_err(draw_err)
 }
 
 /// Kymograph: a heat map of `values[frame][node]` over arc length `s` (m, horizontal axis, head
@@ -315,7 +323,13 @@ pub fn kymograph(
             r => pad(r, 0.0),
         }
     };
-    let cmap = |u: f64| if diverging { colormap::diverging(u) } else { colormap::sequential(u) };
+    let cmap = |u: f64| {
+        if diverging {
+            colormap::diverging(u)
+        } else {
+            colormap::sequential(u)
+        }
+    };
     let color = |v: f64| {
         if v.is_finite() {
             cmap((v - lo) / (hi - lo))
@@ -357,7 +371,10 @@ pub fn kymograph(
     let mut cells = Vec::with_capacity(values.len() * s.len());
     for (j, row) in values.iter().enumerate() {
         for (i, &v) in row.iter().enumerate() {
-            cells.push(Rectangle::new([(xe[i], ye[j]), (xe[i + 1], ye[j + 1])], color(v).filled()));
+            cells.push(Rectangle::new(
+                [(xe[i], ye[j]), (xe[i + 1], ye[j + 1])],
+                color(v).filled(),
+            ));
         }
     }
     chart.draw_series(cells).map_err(draw_err)?;
@@ -378,7 +395,10 @@ pub fn kymograph(
     cbar.draw_series((0..nbar).map(|k| {
         let a = lo + (hi - lo) * k as f64 / nbar as f64;
         let b = lo + (hi - lo) * (k + 1) as f64 / nbar as f64;
-        Rectangle::new([(0.0, a), (1.0, b)], cmap((k as f64 + 0.5) / nbar as f64).filled())
+        Rectangle::new(
+            [(0.0, a), (1.0, b)],
+            cmap((k as f64 + 0.5) / nbar as f64).filled(),
+        )
     }))
     .map_err(draw_err)?;
     let fmt = |v: &f64| tick_label(*v, hi - lo);
@@ -404,7 +424,10 @@ fn snapshot_chart<'a, 'b>(
     area: &'a Area<'b>,
     x: (f64, f64),
     y: (f64, f64),
-) -> Result<ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>, PlotError> {
+) -> Result<
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    PlotError,
+> {
     ChartBuilder::on(area)
         .margin_left(15)
         .margin_right(25)
@@ -424,7 +447,11 @@ fn snapshot_chart<'a, 'b>(
 /// with a dot. Writes a 1400x700 px PNG.
 ///
 /// Errors: [`PlotError::Invalid`] if `frames` is empty or holds no finite point.
-pub fn snapshots(path: &Path, title: &str, frames: &[(f64, Vec<[f64; 3]>)]) -> Result<(), PlotError> {
+pub fn snapshots(
+    path: &Path,
+    title: &str,
+    frames: &[(f64, Vec<[f64; 3]>)],
+) -> Result<(), PlotError> {
     if frames.is_empty() {
         return Err(PlotError::Invalid("snapshots: no frames".into()));
     }
@@ -434,7 +461,9 @@ pub fn snapshots(path: &Path, title: &str, frames: &[(f64, Vec<[f64; 3]>)]) -> R
     let yr = finite_range(all().filter(finite).map(|p| p[1]));
     let zr = finite_range(all().filter(finite).map(|p| p[2]));
     if xr.is_none() {
-        return Err(PlotError::Invalid("snapshots: no finite node position".into()));
+        return Err(PlotError::Invalid(
+            "snapshots: no finite node position".into(),
+        ));
     }
     let tr = finite_range(frames.iter().map(|f| f.0));
     let tcolor = |t: f64| match tr {
@@ -450,7 +479,9 @@ pub fn snapshots(path: &Path, title: &str, frames: &[(f64, Vec<[f64; 3]>)]) -> R
     let (rcap, rarea) = right.split_vertically(cap_px);
 
     // Measure the plotting area, then choose ranges with equal metres per pixel in x and y.
-    let (pw, ph) = snapshot_chart(&larea, (0.0, 1.0), (0.0, 1.0))?.plotting_area().dim_in_pixel();
+    let (pw, ph) = snapshot_chart(&larea, (0.0, 1.0), (0.0, 1.0))?
+        .plotting_area()
+        .dim_in_pixel();
     let (pw, ph) = (pw.max(1) as f64, ph.max(1) as f64);
     let (xa, xb) = pad(xr, 0.06);
     let (ya, yb) = pad(yr, 0.06);
@@ -460,7 +491,9 @@ pub fn snapshots(path: &Path, title: &str, frames: &[(f64, Vec<[f64; 3]>)]) -> R
     let yrange = (cy - 0.5 * scale * ph, cy + 0.5 * scale * ph);
     // Side view: same x range; z padded, with a floor on its span so that a planar body is shown
     // as a flat line rather than amplified round-off.
-    let (pw2, ph2) = snapshot_chart(&rarea, (0.0, 1.0), (0.0, 1.0))?.plotting_area().dim_in_pixel();
+    let (pw2, ph2) = snapshot_chart(&rarea, (0.0, 1.0), (0.0, 1.0))?
+        .plotting_area()
+        .dim_in_pixel();
     let (pw2, ph2) = (pw2.max(1) as f64, ph2.max(1) as f64);
     let xspan = xrange.1 - xrange.0;
     let zmin_span = 1e-3 * xspan;
@@ -479,21 +512,30 @@ pub fn snapshots(path: &Path, title: &str, frames: &[(f64, Vec<[f64; 3]>)]) -> R
     let zrange = pad(zr, 0.1);
     let stretch = ((ph2 / (zrange.1 - zrange.0)) / (pw2 / (xrange.1 - xrange.0))).max(0.0);
 
-    let cap_style = TextStyle::from((FONT, DESC_PX).into_font()).pos(plotters::style::text_anchor::Pos::new(
-        plotters::style::text_anchor::HPos::Center,
-        plotters::style::text_anchor::VPos::Center,
-    ));
+    let cap_style =
+        TextStyle::from((FONT, DESC_PX).into_font()).pos(plotters::style::text_anchor::Pos::new(
+            plotters::style::text_anchor::HPos::Center,
+            plotters::style::text_anchor::VPos::Center,
+        ));
     let (cw, ch) = lcap.dim_in_pixel();
-    lcap.draw_text("top view (x-y, equal scales)", &cap_style, (cw as i32 / 2, ch as i32 / 2))
-        .map_err(draw_err)?;
+    lcap.draw_text(
+        "top view (x-y, equal scales)",
+        &cap_style,
+        (cw as i32 / 2, ch as i32 / 2),
+    )
+    .map_err(draw_err)?;
     let side_caption = if stretch > 1.5 {
         format!("side view (x-z, z stretched ×{})", fmt_num(stretch, 2))
     } else if stretch < 1.0 / 1.5 {
-        format!("side view (x-z, z compressed ×{})", fmt_num(1.0 / stretch, 2))
+        format!(
+            "side view (x-z, z compressed ×{})",
+            fmt_num(1.0 / stretch, 2)
+        )
     } else {
         "side view (x-z)".to_string()
     };
-    rcap.draw_text(&side_caption, &cap_style, (cw as i32 / 2, ch as i32 / 2)).map_err(draw_err)?;
+    rcap.draw_text(&side_caption, &cap_style, (cw as i32 / 2, ch as i32 / 2))
+        .map_err(draw_err)?;
 
     let mut head_pts = vec![];
     for (panel, (area, (ya_, yb_), comp, ydesc)) in [
@@ -530,7 +572,9 @@ pub fn snapshots(path: &Path, title: &str, frames: &[(f64, Vec<[f64; 3]>)]) -> R
                 if panel == 0 && k == 0 {
                     series
                         .label(format!("t = {} s", fmt_num(*t, 4)))
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3)));
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3))
+                        });
                 }
             }
             if let Some(h) = pos.first().filter(|p| finite(p)) {
@@ -538,7 +582,11 @@ pub fn snapshots(path: &Path, title: &str, frames: &[(f64, Vec<[f64; 3]>)]) -> R
                     .draw_series(std::iter::once(Circle::new((h[0], h[comp]), 5, c.filled())))
                     .map_err(draw_err)?;
                 chart
-                    .draw_series(std::iter::once(Circle::new((h[0], h[comp]), 5, BLACK.stroke_width(1))))
+                    .draw_series(std::iter::once(Circle::new(
+                        (h[0], h[comp]),
+                        5,
+                        BLACK.stroke_width(1),
+                    )))
                     .map_err(draw_err)?;
                 if panel == 0 {
                     head_pts.push((h[0], h[1]));
@@ -572,7 +620,13 @@ pub fn snapshots(path: &Path, title: &str, frames: &[(f64, Vec<[f64; 3]>)]) -> R
 ///
 /// Errors: [`PlotError::Mismatch`] if a curve's length differs from `t.len()`;
 /// [`PlotError::Invalid`] if `t` is empty or has a non-finite entry.
-pub fn series(path: &Path, title: &str, y_label: &str, t: &[f64], curves: &[(&str, Vec<f64>)]) -> Result<(), PlotError> {
+pub fn series(
+    path: &Path,
+    title: &str,
+    y_label: &str,
+    t: &[f64],
+    curves: &[(&str, Vec<f64>)],
+) -> Result<(), PlotError> {
     if t.is_empty() {
         return Err(PlotError::Invalid("series: t is empty".into()));
     }
@@ -591,11 +645,31 @@ pub fn series(path: &Path, title: &str, y_label: &str, t: &[f64], curves: &[(&st
         .map(|(n, c)| (*n, t.iter().copied().zip(c.iter().copied()).collect()))
         .collect();
     let (root, body) = canvas(path, SIZE, title)?;
-    let xr = finite_range(t.iter().copied()).map(|(a, b)| if b > a { (a, b) } else { pad(Some((a, b)), 0.0) });
-    let yr = pad(finite_range(curves.iter().flat_map(|(_, c)| c.iter().copied())), 0.05);
+    let xr = finite_range(t.iter().copied()).map(|(a, b)| {
+        if b > a {
+            (a, b)
+        } else {
+            pad(Some((a, b)), 0.0)
+        }
+    });
+    let yr = pad(
+        finite_range(curves.iter().flat_map(|(_, c)| c.iter().copied())),
+        0.05,
+    );
     let x: RangedCoordf64 = (xr.unwrap().0..xr.unwrap().1).into();
     let y: RangedCoordf64 = (yr.0..yr.1).into();
-    line_chart(&body, x, y, xr.unwrap(), yr, "time t (s)", y_label, &data, false, (false, false))?;
+    line_chart(
+        &body,
+        x,
+        y,
+        xr.unwrap(),
+        yr,
+        "time t (s)",
+        y_label,
+        &data,
+        false,
+        (false, false),
+    )?;
     root.present().map_err(draw_err)
 }
 
@@ -615,26 +689,93 @@ pub fn xy(
     log_x: bool,
     log_y: bool,
 ) -> Result<(), PlotError> {
-    let keep = |&(x, y): &(f64, f64)| x.is_finite() && y.is_finite() && (!log_x || x > 0.0) && (!log_y || y > 0.0);
+    let keep = |&(x, y): &(f64, f64)| {
+        x.is_finite() && y.is_finite() && (!log_x || x > 0.0) && (!log_y || y > 0.0)
+    };
     let data: Vec<(&str, Vec<(f64, f64)>)> = series
         .iter()
-        .map(|(n, p)| (*n, p.iter().map(|&q| if keep(&q) { q } else { (f64::NAN, f64::NAN) }).collect()))
+        .map(|(n, p)| {
+            (
+                *n,
+                p.iter()
+                    .map(|&q| if keep(&q) { q } else { (f64::NAN, f64::NAN) })
+                    .collect(),
+            )
+        })
         .collect();
-    let pts = || data.iter().flat_map(|(_, p)| p.iter().copied()).filter(|p| p.0.is_finite());
+    let pts = || {
+        data.iter()
+            .flat_map(|(_, p)| p.iter().copied())
+            .filter(|p| p.0.is_finite())
+    };
     if pts().next().is_none() {
-        return Err(PlotError::Invalid("xy: no plottable point (finite, and positive on log axes)".into()));
+        return Err(PlotError::Invalid(
+            "xy: no plottable point (finite, and positive on log axes)".into(),
+        ));
     }
-    let xr = if log_x { pad_log(finite_range(pts().map(|p| p.0)), 0.05) } else { pad(finite_range(pts().map(|p| p.0)), 0.05) };
-    let yr = if log_y { pad_log(finite_range(pts().map(|p| p.1)), 0.05) } else { pad(finite_range(pts().map(|p| p.1)), 0.05) };
+    let xr = if log_x {
+        pad_log(finite_range(pts().map(|p| p.0)), 0.05)
+    } else {
+        pad(finite_range(pts().map(|p| p.0)), 0.05)
+    };
+    let yr = if log_y {
+        pad_log(finite_range(pts().map(|p| p.1)), 0.05)
+    } else {
+        pad(finite_range(pts().map(|p| p.1)), 0.05)
+    };
     let (root, body) = canvas(path, SIZE, title)?;
     let lin = |r: (f64, f64)| -> RangedCoordf64 { (r.0..r.1).into() };
     let log = |r: (f64, f64)| -> LogCoord<f64> { (r.0..r.1).log_scale().into() };
     let logs = (log_x, log_y);
     match logs {
-        (false, false) => line_chart(&body, lin(xr), lin(yr), xr, yr, x_label, y_label, &data, true, logs)?,
-        (true, false) => line_chart(&body, log(xr), lin(yr), xr, yr, x_label, y_label, &data, true, logs)?,
-        (false, true) => line_chart(&body, lin(xr), log(yr), xr, yr, x_label, y_label, &data, true, logs)?,
-        (true, true) => line_chart(&body, log(xr), log(yr), xr, yr, x_label, y_label, &data, true, logs)?,
+        (false, false) => line_chart(
+            &body,
+            lin(xr),
+            lin(yr),
+            xr,
+            yr,
+            x_label,
+            y_label,
+            &data,
+            true,
+            logs,
+        )?,
+        (true, false) => line_chart(
+            &body,
+            log(xr),
+            lin(yr),
+            xr,
+            yr,
+            x_label,
+            y_label,
+            &data,
+            true,
+            logs,
+        )?,
+        (false, true) => line_chart(
+            &body,
+            lin(xr),
+            log(yr),
+            xr,
+            yr,
+            x_label,
+            y_label,
+            &data,
+            true,
+            logs,
+        )?,
+        (true, true) => line_chart(
+            &body,
+            log(xr),
+            log(yr),
+            xr,
+            yr,
+            x_label,
+            y_label,
+            &data,
+            true,
+            logs,
+        )?,
     }
     root.present().map_err(draw_err)
 }
@@ -666,8 +807,20 @@ where
         .y_label_area_size(100)
         .build_cartesian_2d(x, y)
         .map_err(draw_err)?;
-    let xfmt = |v: &f64| if logs.0 { fmt_num(*v, 3) } else { tick_label(*v, xr.1 - xr.0) };
-    let yfmt = |v: &f64| if logs.1 { fmt_num(*v, 3) } else { tick_label(*v, yr.1 - yr.0) };
+    let xfmt = |v: &f64| {
+        if logs.0 {
+            fmt_num(*v, 3)
+        } else {
+            tick_label(*v, xr.1 - xr.0)
+        }
+    };
+    let yfmt = |v: &f64| {
+        if logs.1 {
+            fmt_num(*v, 3)
+        } else {
+            tick_label(*v, yr.1 - yr.0)
+        }
+    };
     let mut mesh = chart.configure_mesh();
     mesh.light_line_style(BLACK.mix(0.04))
         .bold_line_style(BLACK.mix(0.12))
@@ -683,7 +836,10 @@ where
     // A zero line on a linear y axis that spans zero.
     if !logs.1 && yr.0 < 0.0 && yr.1 > 0.0 {
         chart
-            .draw_series(LineSeries::new(vec![(xr.0, 0.0), (xr.1, 0.0)], BLACK.mix(0.5).stroke_width(1)))
+            .draw_series(LineSeries::new(
+                vec![(xr.0, 0.0), (xr.1, 0.0)],
+                BLACK.mix(0.5).stroke_width(1),
+            ))
             .map_err(draw_err)?;
     }
     for (k, (name, pts)) in data.iter().enumerate() {
@@ -711,7 +867,13 @@ where
         }
     }
     if data.iter().any(|(n, _)| !n.is_empty()) {
-        let corner = best_corner(data.iter().flat_map(|(_, p)| p.iter().copied()), xr, yr, logs.0, logs.1);
+        let corner = best_corner(
+            data.iter().flat_map(|(_, p)| p.iter().copied()),
+            xr,
+            yr,
+            logs.0,
+            logs.1,
+        );
         chart
             .configure_series_labels()
             .position(corner)
@@ -741,7 +903,10 @@ mod tests {
 
     #[test]
     fn cell_edges() {
-        assert_eq!(edges("s", &[0.0, 1.0, 3.0]).unwrap(), vec![-0.5, 0.5, 2.0, 4.0]);
+        assert_eq!(
+            edges("s", &[0.0, 1.0, 3.0]).unwrap(),
+            vec![-0.5, 0.5, 2.0, 4.0]
+        );
         assert!(edges("s", &[0.0, 0.0]).is_err());
         assert!(edges("s", &[]).is_err());
     }

@@ -144,7 +144,13 @@ pub struct InitialSpec {
 }
 impl Default for InitialSpec {
     fn default() -> Self {
-        Self { shape: Shape::Straight, velocity: [0.0; 3], angular_velocity: [0.0; 3], heading_deg: 0.0, height: 0.0 }
+        Self {
+            shape: Shape::Straight,
+            velocity: [0.0; 3],
+            angular_velocity: [0.0; 3],
+            heading_deg: 0.0,
+            height: 0.0,
+        }
     }
 }
 
@@ -229,7 +235,11 @@ fn d_halvings() -> usize {
 }
 impl Default for SolverSpec {
     fn default() -> Self {
-        Self { tolerance: d_tol(), max_iterations: d_iters(), max_halvings: d_halvings() }
+        Self {
+            tolerance: d_tol(),
+            max_iterations: d_iters(),
+            max_halvings: d_halvings(),
+        }
     }
 }
 
@@ -270,7 +280,10 @@ pub enum ProblemError {
 
 /// Read, parse and validate a problem file.
 pub fn load(path: &Path) -> Result<Problem, ProblemError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io { file: path.into(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
+        file: path.into(),
+        source,
+    })?;
     parse(&text, path)
 }
 
@@ -282,7 +295,10 @@ pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
             Some(key) => format!("`{key}`: {message}"),
             None => message,
         };
-        ProblemError::Parse { file: path.into(), message }
+        ProblemError::Parse {
+            file: path.into(),
+            message,
+        }
     })?;
     validate(&p, text, path)?;
     Ok(p)
@@ -303,12 +319,26 @@ fn toml_error_key(text: &str, e: &toml::de::Error) -> Option<String> {
         offset += raw.len();
         let line = raw.trim();
         if line.starts_with('[') {
-            table = line.trim_start_matches('[').split(']').next().unwrap_or("").trim().to_string();
+            table = line
+                .trim_start_matches('[')
+                .split(']')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_string();
             key = None;
         } else if let Some((k, _)) = line.split_once('=') {
             let k = k.trim();
-            if !k.is_empty() && k.chars().all(|c| c.is_ascii_alphanumeric() || "_-.\"' ".contains(c)) {
-                key = Some(k.split('.').map(|s| s.trim().trim_matches(['"', '\''])).collect::<Vec<_>>().join("."));
+            if !k.is_empty()
+                && k.chars()
+                    .all(|c| c.is_ascii_alphanumeric() || "_-.\"' ".contains(c))
+            {
+                key = Some(
+                    k.split('.')
+                        .map(|s| s.trim().trim_matches(['"', '\'']))
+                        .collect::<Vec<_>>()
+                        .join("."),
+                );
             }
         }
     }
@@ -317,7 +347,11 @@ fn toml_error_key(text: &str, e: &toml::de::Error) -> Option<String> {
         (true, Some(b)) => b.to_string(),
         (false, Some(b)) => format!("{a}.{b}"),
     };
-    let dotted = match e.message().strip_prefix("missing field `").and_then(|m| m.strip_suffix('`')) {
+    let dotted = match e
+        .message()
+        .strip_prefix("missing field `")
+        .and_then(|m| m.strip_suffix('`'))
+    {
         Some(field) => {
             // The span is the table lacking the field: its `[header]`, an inline `{ ... }`, or
             // (for the root table) the start of the document.
@@ -343,7 +377,13 @@ pub fn key_line(text: &str, table: &str, key: &str) -> usize {
     for (n, raw) in text.lines().enumerate() {
         let line = raw.trim();
         if line.starts_with('[') {
-            current = line.trim_start_matches('[').split(']').next().unwrap_or("").trim().to_string();
+            current = line
+                .trim_start_matches('[')
+                .split(']')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_string();
             if current == table {
                 header_line = Some(n + 1);
             }
@@ -379,7 +419,12 @@ impl Checker<'_> {
         if v.is_finite() && v > 0.0 {
             Ok(())
         } else {
-            Err(self.fail(table, key, format!("{v}"), &format!("a finite number > 0 ({unit})")))
+            Err(self.fail(
+                table,
+                key,
+                format!("{v}"),
+                &format!("a finite number > 0 ({unit})"),
+            ))
         }
     }
     fn finite(&self, table: &str, key: &str, v: &[f64], unit: &str) -> Result<(), ProblemError> {
@@ -389,11 +434,24 @@ impl Checker<'_> {
             Err(self.fail(table, key, format!("{v:?}"), &format!("finite ({unit})")))
         }
     }
-    fn range(&self, table: &str, key: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), ProblemError> {
+    fn range(
+        &self,
+        table: &str,
+        key: &str,
+        v: f64,
+        lo: f64,
+        hi: f64,
+        unit: &str,
+    ) -> Result<(), ProblemError> {
         if v.is_finite() && v > lo && v <= hi {
             Ok(())
         } else {
-            Err(self.fail(table, key, format!("{v}"), &format!("in ({lo}, {hi}] ({unit})")))
+            Err(self.fail(
+                table,
+                key,
+                format!("{v}"),
+                &format!("in ({lo}, {hi}] ({unit})"),
+            ))
         }
     }
 }
@@ -404,10 +462,20 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     c.positive("rod", "length", r.length, "m")?;
     c.positive("rod", "diameter", r.diameter, "m")?;
     if r.diameter >= r.length {
-        return Err(c.fail("rod", "diameter", format!("{}", r.diameter), "smaller than rod.length (m)"));
+        return Err(c.fail(
+            "rod",
+            "diameter",
+            format!("{}", r.diameter),
+            "smaller than rod.length (m)",
+        ));
     }
     if !(2..=100_000).contains(&r.elements) {
-        return Err(c.fail("rod", "elements", format!("{}", r.elements), "an integer in [2, 100000]"));
+        return Err(c.fail(
+            "rod",
+            "elements",
+            format!("{}", r.elements),
+            "an integer in [2, 100000]",
+        ));
     }
     c.positive("rod", "density", r.density, "kg/m^3")?;
     c.positive("rod", "bending_stiffness", r.bending_stiffness, "N m^2")?;
@@ -424,17 +492,41 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     c.finite("initial", "angular_velocity", &i.angular_velocity, "rad/s")?;
     c.finite("initial", "heading_deg", &[i.heading_deg], "degrees")?;
     if !(i.height.is_finite() && i.height >= 0.0) {
-        return Err(c.fail("initial", "height", format!("{}", i.height), "a finite number >= 0 (m)"));
+        return Err(c.fail(
+            "initial",
+            "height",
+            format!("{}", i.height),
+            "a finite number >= 0 (m)",
+        ));
     }
     if !(p.gravity.g.is_finite() && p.gravity.g >= 0.0) {
-        return Err(c.fail("gravity", "g", format!("{}", p.gravity.g), "a finite number >= 0 (m/s^2)"));
+        return Err(c.fail(
+            "gravity",
+            "g",
+            format!("{}", p.gravity.g),
+            "a finite number >= 0 (m/s^2)",
+        ));
     }
     let t = &p.time;
     match t.mode {
         Mode::Dynamic => {
-            let dt = t.dt.ok_or_else(|| c.fail("time", "dt", "(missing)".into(), "given in dynamic mode, > 0 (s)"))?;
+            let dt = t.dt.ok_or_else(|| {
+                c.fail(
+                    "time",
+                    "dt",
+                    "(missing)".into(),
+                    "given in dynamic mode, > 0 (s)",
+                )
+            })?;
             c.positive("time", "dt", dt, "s")?;
-            let d = t.duration.ok_or_else(|| c.fail("time", "duration", "(missing)".into(), "given in dynamic mode, > 0 (s)"))?;
+            let d = t.duration.ok_or_else(|| {
+                c.fail(
+                    "time",
+                    "duration",
+                    "(missing)".into(),
+                    "given in dynamic mode, > 0 (s)",
+                )
+            })?;
             c.positive("time", "duration", d, "s")?;
             if dt > d {
                 return Err(c.fail("time", "dt", format!("{dt}"), "at most time.duration (s)"));
@@ -453,24 +545,53 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
         }
     }
     if !(1..=10_000).contains(&t.load_steps) {
-        return Err(c.fail("time", "load_steps", format!("{}", t.load_steps), "an integer in [1, 10000]"));
+        return Err(c.fail(
+            "time",
+            "load_steps",
+            format!("{}", t.load_steps),
+            "an integer in [1, 10000]",
+        ));
     }
     if let Some(gr) = &p.ground {
-        for (key, v) in [("mu_forward", gr.mu_forward), ("mu_backward", gr.mu_backward), ("mu_sideways", gr.mu_sideways)] {
+        for (key, v) in [
+            ("mu_forward", gr.mu_forward),
+            ("mu_backward", gr.mu_backward),
+            ("mu_sideways", gr.mu_sideways),
+        ] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(c.fail("ground", key, format!("{v}"), "a finite number >= 0 (dimensionless)"));
+                return Err(c.fail(
+                    "ground",
+                    key,
+                    format!("{v}"),
+                    "a finite number >= 0 (dimensionless)",
+                ));
             }
         }
         if !(gr.incline_deg.is_finite() && gr.incline_deg > -90.0 && gr.incline_deg < 90.0) {
-            return Err(c.fail("ground", "incline_deg", format!("{}", gr.incline_deg), "in (-90, 90) (degrees)"));
+            return Err(c.fail(
+                "ground",
+                "incline_deg",
+                format!("{}", gr.incline_deg),
+                "in (-90, 90) (degrees)",
+            ));
         }
         if t.mode == Mode::Static {
-            return Err(c.fail("time", "mode", "\"static\"".into(), "\"dynamic\" when a [ground] is present (friction needs time)"));
+            return Err(c.fail(
+                "time",
+                "mode",
+                "\"static\"".into(),
+                "\"dynamic\" when a [ground] is present (friction needs time)",
+            ));
         }
     }
     let g = &p.gait;
     if !(g.stress.is_finite() && g.stress >= 0.0) {
-        return Err(c.fail("gait", "stress", format!("{}", g.stress), "a finite number >= 0 (Pa)"));
+        return Err(c.fail(
+            "gait",
+            "stress",
+            format!("{}", g.stress),
+            "a finite number >= 0 (Pa)",
+        ));
     }
     c.range("gait", "sigma", g.sigma, 0.0, 1.0, "fraction of rod.length")?;
     c.positive("gait", "speed", g.speed, "m/s")?;
@@ -478,18 +599,40 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     c.finite("gait", "scales", &g.scales, "dimensionless")?;
     c.positive("gait", "period", g.period, "s")?;
     if !(g.ramp.is_finite() && (0.0..=1.0).contains(&g.ramp)) {
-        return Err(c.fail("gait", "ramp", format!("{}", g.ramp), "in [0, 1] (fraction of L / v_m)"));
+        return Err(c.fail(
+            "gait",
+            "ramp",
+            format!("{}", g.ramp),
+            "in [0, 1] (fraction of L / v_m)",
+        ));
     }
     c.positive("gait", "wavelength", g.wavelength, "fraction of rod.length")?;
     if let Some(iv) = p.output.interval {
         c.positive("output", "interval", iv, "s")?;
     }
-    c.range("solver", "tolerance", p.solver.tolerance, 0.0, 1e-3, "dimensionless")?;
+    c.range(
+        "solver",
+        "tolerance",
+        p.solver.tolerance,
+        0.0,
+        1e-3,
+        "dimensionless",
+    )?;
     if !(1..=10_000).contains(&p.solver.max_iterations) {
-        return Err(c.fail("solver", "max_iterations", format!("{}", p.solver.max_iterations), "an integer in [1, 10000]"));
+        return Err(c.fail(
+            "solver",
+            "max_iterations",
+            format!("{}", p.solver.max_iterations),
+            "an integer in [1, 10000]",
+        ));
     }
     if p.solver.max_halvings > 30 {
-        return Err(c.fail("solver", "max_halvings", format!("{}", p.solver.max_halvings), "an integer in [0, 30]"));
+        return Err(c.fail(
+            "solver",
+            "max_halvings",
+            format!("{}", p.solver.max_halvings),
+            "an integer in [0, 30]",
+        ));
     }
     Ok(())
 }

@@ -34,7 +34,19 @@ pub fn stencil(i: usize) -> [usize; 11] {
     let a = node(i - 1);
     let b = node(i);
     let c = node(i + 1);
-    [a, a + 1, a + 2, b, b + 1, b + 2, c, c + 1, c + 2, edge(i - 1), edge(i)]
+    [
+        a,
+        a + 1,
+        a + 2,
+        b,
+        b + 1,
+        b + 2,
+        c,
+        c + 1,
+        c + 2,
+        edge(i - 1),
+        edge(i),
+    ]
 }
 
 #[cfg(test)]

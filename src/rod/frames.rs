@@ -49,7 +49,11 @@ pub fn material<T: DualNum<Primitive = f64>>(t: &V3<T>, a1: &V3<T>, theta: &T) -
 }
 
 /// Reference director of an edge with current tangent `t`, transported from the frozen frame.
-pub fn reference<T: DualNum<Primitive = f64>>(t_old: [f64; 3], a1_old: [f64; 3], t: &V3<T>) -> V3<T> {
+pub fn reference<T: DualNum<Primitive = f64>>(
+    t_old: [f64; 3],
+    a1_old: [f64; 3],
+    t: &V3<T>,
+) -> V3<T> {
     transport(&V3::lift(t_old), t, &V3::lift(a1_old))
 }
 
@@ -89,7 +93,10 @@ pub fn strains<T: DualNum<Primitive = f64>>(
         r += k * two_pi;
     }
     let twist = th1.clone() - th0.clone() + r;
-    Strains { kappa: [k1, k2], twist }
+    Strains {
+        kappa: [k1, k2],
+        twist,
+    }
 }
 
 /// Plain-number reference twist of a stencil for the current positions (used to update the
@@ -118,7 +125,11 @@ mod tests {
     fn straight_rod_has_no_strain_and_d2_up() {
         let t = [-1.0, 0.0, 0.0];
         let a = initial_director(t);
-        let p = StencilFrame { t_old: [t, t], a1_old: [a, a], ref_twist_prev: 0.0 };
+        let p = StencilFrame {
+            t_old: [t, t],
+            a1_old: [a, a],
+            ref_twist_prev: 0.0,
+        };
         let s = strains::<f64>(&V3([-0.1, 0.0, 0.0]), &V3([-0.1, 0.0, 0.0]), &0.3, &0.5, &p);
         assert!(s.kappa[0].abs() < 1e-15 && s.kappa[1].abs() < 1e-15);
         assert!((s.twist - 0.2).abs() < 1e-15);
@@ -135,7 +146,11 @@ mod tests {
         let ang: f64 = 0.2;
         let t1 = [-ang.cos(), ang.sin(), 0.0];
         let a1 = initial_director(t1);
-        let p = StencilFrame { t_old: [t0, t1], a1_old: [a, a1], ref_twist_prev: 0.0 };
+        let p = StencilFrame {
+            t_old: [t0, t1],
+            a1_old: [a, a1],
+            ref_twist_prev: 0.0,
+        };
         let s = strains::<f64>(&V3(t0), &V3(t1), &0.0, &0.0, &p);
         assert!(s.kappa[0].abs() < 1e-14);
         assert!((s.kappa[1].abs() - 2.0 * (ang / 2.0).tan()).abs() < 1e-14);

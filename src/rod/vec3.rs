@@ -14,7 +14,9 @@ impl<T: DualNum<Primitive = f64>> V3<T> {
     }
     /// Dot product.
     pub fn dot(&self, o: &Self) -> T {
-        self.0[0].clone() * o.0[0].clone() + self.0[1].clone() * o.0[1].clone() + self.0[2].clone() * o.0[2].clone()
+        self.0[0].clone() * o.0[0].clone()
+            + self.0[1].clone() * o.0[1].clone()
+            + self.0[2].clone() * o.0[2].clone()
     }
     /// Cross product.
     pub fn cross(&self, o: &Self) -> Self {
@@ -28,15 +30,27 @@ impl<T: DualNum<Primitive = f64>> V3<T> {
     }
     /// Sum.
     pub fn add(&self, o: &Self) -> Self {
-        V3([self.0[0].clone() + o.0[0].clone(), self.0[1].clone() + o.0[1].clone(), self.0[2].clone() + o.0[2].clone()])
+        V3([
+            self.0[0].clone() + o.0[0].clone(),
+            self.0[1].clone() + o.0[1].clone(),
+            self.0[2].clone() + o.0[2].clone(),
+        ])
     }
     /// Difference.
     pub fn sub(&self, o: &Self) -> Self {
-        V3([self.0[0].clone() - o.0[0].clone(), self.0[1].clone() - o.0[1].clone(), self.0[2].clone() - o.0[2].clone()])
+        V3([
+            self.0[0].clone() - o.0[0].clone(),
+            self.0[1].clone() - o.0[1].clone(),
+            self.0[2].clone() - o.0[2].clone(),
+        ])
     }
     /// Scale by a scalar of the same type.
     pub fn scale(&self, s: &T) -> Self {
-        V3([self.0[0].clone() * s.clone(), self.0[1].clone() * s.clone(), self.0[2].clone() * s.clone()])
+        V3([
+            self.0[0].clone() * s.clone(),
+            self.0[1].clone() * s.clone(),
+            self.0[2].clone() * s.clone(),
+        ])
     }
     /// Euclidean norm.
     pub fn norm(&self) -> T {
@@ -64,7 +78,11 @@ pub mod f {
     }
     /// Cross product.
     pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
     }
     /// Difference.
     pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {

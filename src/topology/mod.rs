@@ -330,7 +330,11 @@ fn pair_solid_angle(p1: &V3, p2: &V3, p3: &V3, p4: &V3) -> f64 {
     // The parallelogram r_13 -> r_14 -> r_24 -> r_23 is traversed clockwise as
     // seen from the origin when K-L's sign is positive, hence the minus sign.
     let w = -(triangle_solid_angle(&r13, &r14, &r24) + triangle_solid_angle(&r13, &r24, &r23));
-    if w.is_finite() { w } else { 0.0 }
+    if w.is_finite() {
+        w
+    } else {
+        0.0
+    }
 }
 
 /// Push-off direction at each node of a closed curve: the average of the two
@@ -392,7 +396,11 @@ pub fn writhe(nodes: &[[f64; 3]], closed: bool) -> f64 {
         let a0 = &nodes[i];
         let a1 = &nodes[(i + 1) % n];
         // closed: edge 0 and edge m-1 share node 0
-        let j_end = if closed && i == 0 { m.saturating_sub(1) } else { m };
+        let j_end = if closed && i == 0 {
+            m.saturating_sub(1)
+        } else {
+            m
+        };
         for j in (i + 2)..j_end {
             sum += pair_solid_angle(a0, a1, &nodes[j], &nodes[(j + 1) % n]);
         }
@@ -407,7 +415,11 @@ pub fn writhe(nodes: &[[f64; 3]], closed: bool) -> f64 {
 pub fn topology(c: &FramedCurve) -> Topology {
     let tw = twist(c);
     let wr = writhe(&c.nodes, c.closed);
-    Topology { tw, wr, lk: tw + wr }
+    Topology {
+        tw,
+        wr,
+        lk: tw + wr,
+    }
 }
 
 /// Gauss linking number of the closed polygon `r` and its push-off polygon
@@ -515,8 +527,16 @@ pub fn densities(c: &FramedCurve, delta: f64) -> Densities {
         }
     } else {
         for j in 1..m {
-            let a = if j == 1 { 0.0 } else { s_node[j] - 0.5 * lens[j - 1] };
-            let b = if j == m - 1 { total } else { s_node[j] + 0.5 * lens[j] };
+            let a = if j == 1 {
+                0.0
+            } else {
+                s_node[j] - 0.5 * lens[j - 1]
+            };
+            let b = if j == m - 1 {
+                total
+            } else {
+                s_node[j] + 0.5 * lens[j]
+            };
             cells.push((a, b, rho(j - 1, j)));
         }
     }
@@ -717,7 +737,11 @@ mod tests {
                 director(&nodes[i], &nodes[(i + 1) % n], &radial, k as f64 * thm)
             })
             .collect();
-        FramedCurve { nodes, d1, closed: true }
+        FramedCurve {
+            nodes,
+            d1,
+            closed: true,
+        }
     }
 
     /// (p,q) torus knot on the torus (R, a); d1 = direction away from the tube
@@ -726,10 +750,16 @@ mod tests {
         let (rr, a) = (2.0, 0.8);
         let pos = |phi: f64| {
             let rad = rr + a * (q * phi).cos();
-            [rad * (p * phi).cos(), rad * (p * phi).sin(), a * (q * phi).sin()]
+            [
+                rad * (p * phi).cos(),
+                rad * (p * phi).sin(),
+                a * (q * phi).sin(),
+            ]
         };
         let core = |phi: f64| [rr * (p * phi).cos(), rr * (p * phi).sin(), 0.0];
-        let nodes: Vec<V3> = (0..n).map(|i| pos(2.0 * PI * i as f64 / n as f64)).collect();
+        let nodes: Vec<V3> = (0..n)
+            .map(|i| pos(2.0 * PI * i as f64 / n as f64))
+            .collect();
         let d1 = (0..n)
             .map(|i| {
                 let phm = 2.0 * PI * (i as f64 + 0.5) / n as f64;
@@ -739,7 +769,11 @@ mod tests {
                 director(r0, r1, &u, extra as f64 * phm)
             })
             .collect();
-        FramedCurve { nodes, d1, closed: true }
+        FramedCurve {
+            nodes,
+            d1,
+            closed: true,
+        }
     }
 
     fn is_integer(x: f64, tol: f64) -> bool {
@@ -783,7 +817,10 @@ mod tests {
                 let nodes: Vec<V3> = (0..200)
                     .map(|i| {
                         let s = i as f64 * 0.01;
-                        let wig = add(&scale(&e1, amp * (7.0 * s).sin()), &scale(&e2, amp * (5.0 * s).cos()));
+                        let wig = add(
+                            &scale(&e1, amp * (7.0 * s).sin()),
+                            &scale(&e2, amp * (5.0 * s).cos()),
+                        );
                         add(&add(&[off, -off, off], &scale(&d, s)), &wig)
                     })
                     .collect();
@@ -807,7 +844,15 @@ mod tests {
             let dadb = cross(&da, &db);
             // composite Simpson on [0,1]^2
             let m = 200;
-            let w = |k: usize| if k == 0 || k == m { 1.0 } else if k % 2 == 1 { 4.0 } else { 2.0 };
+            let w = |k: usize| {
+                if k == 0 || k == m {
+                    1.0
+                } else if k % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                }
+            };
             let mut sum = 0.0;
             for i in 0..=m {
                 let x = add(&p1, &scale(&da, i as f64 / m as f64));
@@ -835,7 +880,10 @@ mod tests {
             let lk = gauss_link(&c, 0.01);
             assert!(is_integer(lk, 1e-6), "k={k}: lk={lk} not integer");
             assert!((lk - k as f64).abs() < 1e-6, "k={k}: lk={lk}");
-            assert!((lk - (topo.tw + topo.wr)).abs() < 1e-6, "k={k}: {lk} vs {topo:?}");
+            assert!(
+                (lk - (topo.tw + topo.wr)).abs() < 1e-6,
+                "k={k}: {lk} vs {topo:?}"
+            );
             assert!((topo.lk - topo.tw - topo.wr).abs() == 0.0);
             assert!(topo.wr.abs() < 1e-12, "planar writhe {}", topo.wr);
             assert!((topo.tw - k as f64).abs() < 1e-9, "tw={}", topo.tw);
@@ -877,9 +925,21 @@ mod tests {
         q.iter_mut().for_each(|x| *x /= l);
         let [w, x, y, z] = q;
         [
-            [1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y)],
-            [2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x)],
-            [2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y)],
+            [
+                1.0 - 2.0 * (y * y + z * z),
+                2.0 * (x * y - w * z),
+                2.0 * (x * z + w * y),
+            ],
+            [
+                2.0 * (x * y + w * z),
+                1.0 - 2.0 * (x * x + z * z),
+                2.0 * (y * z - w * x),
+            ],
+            [
+                2.0 * (x * z - w * y),
+                2.0 * (y * z + w * x),
+                1.0 - 2.0 * (x * x + y * y),
+            ],
         ]
     }
 
@@ -918,8 +978,14 @@ mod tests {
             assert!((writhe(&mirror, closed) + wr).abs() < 1e-10);
         }
         // no non-adjacent pairs
-        assert_eq!(writhe(&[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.3]], false), 0.0);
-        assert_eq!(writhe(&[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.3]], true), 0.0);
+        assert_eq!(
+            writhe(&[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.3]], false),
+            0.0
+        );
+        assert_eq!(
+            writhe(&[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.3]], true),
+            0.0
+        );
     }
 
     // 4a. uniformly twisted straight rod (non-uniform spacing, tilted axis)
@@ -934,27 +1000,40 @@ mod tests {
             let last = *s.last().unwrap();
             s.push(last + 0.05 * (1.0 + 0.3 * (1.7 * i as f64).sin()));
         }
-        let nodes: Vec<V3> = s.iter().map(|&si| add(&[0.3, -1.0, 2.0], &scale(&dir, si))).collect();
+        let nodes: Vec<V3> = s
+            .iter()
+            .map(|&si| add(&[0.3, -1.0, 2.0], &scale(&dir, si)))
+            .collect();
         let d1: Vec<V3> = (0..s.len() - 1)
             .map(|e| {
                 let a = tau0 * 0.5 * (s[e] + s[e + 1]);
                 add(&scale(&e1, a.cos()), &scale(&e2, a.sin()))
             })
             .collect();
-        let c = FramedCurve { nodes, d1, closed: false };
+        let c = FramedCurve {
+            nodes,
+            d1,
+            closed: false,
+        };
         let delta = 0.37;
         let d = densities(&c, delta);
         assert!(d.s.len() > 10);
         for k in 0..d.s.len() {
             assert!((d.s[k] - s[k]).abs() < 1e-12);
             assert!(d.s[k] + delta <= s[s.len() - 1] + 1e-9);
-            assert!((d.tau[k] - tau0 / (2.0 * PI)).abs() < 1e-9, "tau[{k}]={}", d.tau[k]);
+            assert!(
+                (d.tau[k] - tau0 / (2.0 * PI)).abs() < 1e-9,
+                "tau[{k}]={}",
+                d.tau[k]
+            );
             assert!(d.omega[k].abs() < 1e-12, "omega[{k}]={}", d.omega[k]);
             assert_eq!(d.lambda[k], d.tau[k] + d.omega[k]);
         }
         // the last fitting window is present
         let last_start = *d.s.last().unwrap();
-        assert!(s.iter().any(|&si| si > last_start && si + delta > s[s.len() - 1] + 1e-9));
+        assert!(s
+            .iter()
+            .any(|&si| si > last_start && si + delta > s[s.len() - 1] + 1e-9));
     }
 
     // 4b. helix writhe density has the helix's sign
@@ -974,20 +1053,34 @@ mod tests {
                     director(&nodes[i], &nodes[i + 1], &[-m[0], -m[1], 0.0], 0.0)
                 })
                 .collect();
-            FramedCurve { nodes, d1, closed: false }
+            FramedCurve {
+                nodes,
+                d1,
+                closed: false,
+            }
         };
         let right = densities(&helix(0.2), 7.0);
         let left = densities(&helix(-0.2), 7.0);
         assert!(!right.s.is_empty());
         assert_eq!(right.s.len(), left.s.len());
         for k in 0..right.s.len() {
-            assert!(right.omega[k] > 1e-3, "right-handed omega[{k}]={}", right.omega[k]);
-            assert!(left.omega[k] < -1e-3, "left-handed omega[{k}]={}", left.omega[k]);
+            assert!(
+                right.omega[k] > 1e-3,
+                "right-handed omega[{k}]={}",
+                right.omega[k]
+            );
+            assert!(
+                left.omega[k] < -1e-3,
+                "left-handed omega[{k}]={}",
+                left.omega[k]
+            );
             assert!((right.omega[k] + left.omega[k]).abs() < 1e-12);
         }
         // a window covering the whole curve reproduces the curve's writhe
         let c = helix(0.2);
-        let total: f64 = (0..c.nodes.len() - 1).map(|i| norm(&sub(&c.nodes[i + 1], &c.nodes[i]))).sum();
+        let total: f64 = (0..c.nodes.len() - 1)
+            .map(|i| norm(&sub(&c.nodes[i + 1], &c.nodes[i])))
+            .sum();
         let whole = densities(&c, total);
         assert_eq!(whole.s.len(), 1);
         assert!((whole.omega[0] * total - writhe(&c.nodes, false)).abs() < 1e-10);
@@ -998,12 +1091,18 @@ mod tests {
     fn densities_closed_full_window_gives_total_twist() {
         let c = torus_knot(2.0, 3.0, 150, 1);
         let n = c.nodes.len();
-        let total: f64 = (0..n).map(|i| norm(&sub(&c.nodes[(i + 1) % n], &c.nodes[i]))).sum();
+        let total: f64 = (0..n)
+            .map(|i| norm(&sub(&c.nodes[(i + 1) % n], &c.nodes[i])))
+            .sum();
         let d = densities(&c, total);
         assert_eq!(d.s.len(), n);
         let tw = twist(&c);
         for k in 0..n {
-            assert!((d.tau[k] * total - tw).abs() < 1e-9, "{} vs {tw}", d.tau[k] * total);
+            assert!(
+                (d.tau[k] * total - tw).abs() < 1e-9,
+                "{} vs {tw}",
+                d.tau[k] * total
+            );
         }
         assert!(densities(&c, 1.01 * total).s.is_empty());
         assert!(densities(&c, -1.0).s.is_empty());
@@ -1028,7 +1127,8 @@ mod tests {
         open.d1.pop();
         assert_eq!(parse_curve_csv(&to_csv(&open), false).unwrap(), open);
         // whitespace, CRLF and blank lines are tolerated
-        let text = "x, y, z, d1x, d1y, d1z\r\n0, 0, 0, 0, 1, 0\r\n\r\n1,0,0, 0,1,0\r\n2,0,0,0,1,0\r\n";
+        let text =
+            "x, y, z, d1x, d1y, d1z\r\n0, 0, 0, 0, 1, 0\r\n\r\n1,0,0, 0,1,0\r\n2,0,0,0,1,0\r\n";
         let c = parse_curve_csv(text, false).unwrap();
         assert_eq!(c.nodes.len(), 3);
         assert_eq!(c.d1.len(), 2);
@@ -1039,7 +1139,11 @@ mod tests {
         let h = "x,y,z,d1x,d1y,d1z\n";
         let ok = "0,0,0,0,1,0\n";
         let cases: Vec<(String, usize, &str)> = vec![
-            (format!("{h}{ok}{ok}1,2,3,4,5\n{ok}"), 4, "expected 6 fields"),
+            (
+                format!("{h}{ok}{ok}1,2,3,4,5\n{ok}"),
+                4,
+                "expected 6 fields",
+            ),
             (format!("{h}{ok}{ok}{ok}1,2,abc,0,1,0\n"), 5, "not a number"),
             (format!("{h}{ok}1,2,inf,0,1,0\n{ok}"), 3, "not finite"),
             (format!("{h}{ok}1,2,3,0,NaN,0\n{ok}"), 3, "not finite"),
