@@ -81,15 +81,14 @@ pub fn run(
     let mut max_penetration: f64 = 0.0;
     let mut slip_speed_max: f64 = 0.0;
     let mut watch = |s: &State, integ: &Integrator| {
-        if model.ground.is_some() {
-            let nf = integ.normal_forces();
-            for (k, i) in model.real.clone().enumerate() {
-                let x = s.node(i);
-                max_penetration = max_penetration.max(0.5 * model.diameter - x[2]);
-                if nf[k] > 0.0 {
-                    let v = s.node_velocity(i);
-                    slip_speed_max = slip_speed_max.max((v[0] * v[0] + v[1] * v[1]).sqrt());
-                }
+        let Some(ct) = &integ.contacts else { return };
+        for i in model.real.clone() {
+            max_penetration = max_penetration.max(0.5 * model.diameter - s.node(i)[2]);
+        }
+        for (&i, &n) in ct.nodes.iter().zip(&ct.normal) {
+            if n > 0.0 {
+                let v = s.node_velocity(i);
+                slip_speed_max = slip_speed_max.max((v[0] * v[0] + v[1] * v[1]).sqrt());
             }
         }
     };

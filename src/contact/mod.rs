@@ -122,6 +122,11 @@ impl Contacts {
         }
     }
 
+    /// Mean weight per contact candidate (N): the scale of normal-force tolerances.
+    pub fn weight_scale(&self, m: &Model) -> f64 {
+        (m.total_mass() * f::norm(m.gravity) / self.nodes.len().max(1) as f64).max(1e-300)
+    }
+
     /// Freeze the contact frames and start positions at the beginning of a step.
     pub fn begin_step(&mut self, m: &Model, q: &[f64]) {
         for (c, &i) in self.nodes.iter().enumerate() {

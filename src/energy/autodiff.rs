@@ -11,6 +11,32 @@ pub trait StencilEnergy {
     fn eval<T: DualNum<Primitive = f64>>(&self, y: &[T; 8]) -> T;
 }
 
+/// Value of node `i`'s stencil energy at `q`; with `out`, also adds its gradient and
+/// Hessian (projected to positive semi-definite when `project`) at the node coordinates.
+/// `derivs` gives value, gradient and Hessian in the intrinsic coordinates.
+pub fn add_stencil<E: StencilEnergy>(
+    st: &E,
+    derivs: impl FnOnce(&E, [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>),
+    i: usize,
+    q: &[f64],
+    out: Option<&mut crate::energy::Assembly>,
+    project: bool,
+) -> f64 {
+    let y = intrinsic(q, i);
+    match out {
+        None => st.eval(&y),
+        Some(asm) => {
+            let (v, g, mut h) = derivs(st, y);
+            if project {
+                project_psd(&mut h);
+            }
+            let (gx, hx) = to_nodes(&g, &h);
+            asm.add_local(&crate::rod::dof::stencil(i), &gx, &hx);
+            v
+        }
+    }
+}
+
 /// Intrinsic coordinates of node `i`'s stencil from `q`.
 pub fn intrinsic(q: &[f64], i: usize) -> [f64; 8] {
     use crate::rod::dof;

@@ -4,7 +4,7 @@
 
 use super::autodiff::{self, StencilEnergy};
 use super::{Assembly, Ctx, Term};
-use crate::rod::{dof, frames, frames::StencilFrame, V3};
+use crate::rod::{frames, frames::StencilFrame, V3};
 use nalgebra::{SMatrix, SVector};
 use num_dual::DualNum;
 
@@ -79,19 +79,14 @@ impl Term for Bend {
                 kappa0: ctx.kappa0[i],
                 coef: m.bend / (2.0 * m.voronoi[i]),
             };
-            let y = autodiff::intrinsic(q, i);
-            match out.as_deref_mut() {
-                None => e += st.eval(&y),
-                Some(asm) => {
-                    let (v, g, mut h) = st.derivatives(y);
-                    if project {
-                        autodiff::project_psd(&mut h);
-                    }
-                    let (gx, hx) = autodiff::to_nodes(&g, &h);
-                    asm.add_local(&dof::stencil(i), &gx, &hx);
-                    e += v;
-                }
-            }
+            e += autodiff::add_stencil(
+                &st,
+                |st, y| st.derivatives(y),
+                i,
+                q,
+                out.as_deref_mut(),
+                project,
+            );
         }
         e
     }

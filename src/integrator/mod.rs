@@ -239,6 +239,46 @@ impl<'m> Integrator<'m> {
         f
     }
 
+    /// Clear and assemble the step objective at `s.q`: rod energy plus, in a dynamic step,
+    /// the inertial term `1/(2h^2) |q - qhat|_M^2`; gradient and Hessian into `self.asm`.
+    /// Returns the objective's value.
+    fn assemble(&mut self, s: &State, h: Option<f64>, project: bool) -> f64 {
+        let m = self.model;
+        self.asm.clear();
+        let ctx = Ctx {
+            model: m,
+            frames: &s.frames,
+            kappa0: &self.kappa0,
+            m0: &self.m0,
+            gravity: self.gravity(),
+        };
+        let mut f = energy::total(&self.terms, &ctx, &s.q, Some(&mut self.asm), project);
+        if let Some(h) = h {
+            let w = 1.0 / (h * h);
+            for k in 0..m.ndof {
+                let d = s.q[k] - self.qhat[k];
+                f += 0.5 * w * m.mass[k] * d * d;
+                self.asm.grad[k] += w * m.mass[k] * d;
+                self.asm.add_h(k, k, w * m.mass[k]);
+            }
+        }
+        f
+    }
+
+    /// Largest position and twist-angle components of the Newton correction `self.dq`.
+    fn correction_norms(&self) -> (f64, f64) {
+        let mut dx: f64 = 0.0;
+        let mut dth: f64 = 0.0;
+        for (k, d) in self.dq.iter().enumerate() {
+            if dof::is_edge(k) {
+                dth = dth.max(d.abs());
+            } else {
+                dx = dx.max(d.abs());
+            }
+        }
+        (dx, dth)
+    }
+
     /// Rod energy plus the inertial term (dynamic) at `q`, without friction.
     fn phi(&self, s: &State, q: &[f64], h: Option<f64>) -> f64 {
         let ctx = Ctx {
@@ -307,8 +347,7 @@ impl<'m> Integrator<'m> {
         let a = m.diameter;
         let nc = ct.nodes.len();
         let ground = m.ground.as_ref().expect("ground");
-        let scale =
-            (m.total_mass() * crate::rod::vec3::f::norm(m.gravity) / nc.max(1) as f64).max(1e-300);
+        let scale = ct.weight_scale(m);
         self.held.copy_from_slice(&m.fixed);
         ct.hold(m, &mut s.q, &mut self.held);
         // Iterations (each one assembly) and status changes allowed before the conic
@@ -323,25 +362,7 @@ impl<'m> Integrator<'m> {
         while it < cap {
             it += 1;
             let t0 = Instant::now();
-            self.asm.clear();
-            let mut f0 = {
-                let ctx = Ctx {
-                    model: m,
-                    frames: &s.frames,
-                    kappa0: &self.kappa0,
-                    m0: &self.m0,
-                    gravity: self.gravity(),
-                };
-                let mut f = energy::total(&self.terms, &ctx, &s.q, Some(&mut self.asm), project);
-                let w = 1.0 / (h * h);
-                for k in 0..n {
-                    let d = s.q[k] - self.qhat[k];
-                    f += 0.5 * w * m.mass[k] * d * d;
-                    self.asm.grad[k] += w * m.mass[k] * d;
-                    self.asm.add_h(k, k, w * m.mass[k]);
-                }
-                f
-            };
+            let mut f0 = self.assemble(s, Some(h), project);
             if !f0.is_finite() || self.asm.grad.iter().any(|g| !g.is_finite()) {
                 return Err(format!(
                     "non-finite objective or gradient at active-set iteration {it}"
@@ -437,16 +458,7 @@ impl<'m> Integrator<'m> {
                     "non-finite Newton direction at active-set iteration {it}"
                 ));
             }
-            let mut dx: f64 = 0.0;
-            let mut dth: f64 = 0.0;
-            for i in 0..m.nodes {
-                for c in 0..3 {
-                    dx = dx.max(self.dq[dof::node(i) + c].abs());
-                }
-                if i + 1 < m.nodes {
-                    dth = dth.max(self.dq[dof::edge(i)].abs());
-                }
-            }
+            let (dx, dth) = self.correction_norms();
             let small = dx <= m.tolerance * a && dth <= m.tolerance;
             let settled = dn <= 1e-6 * scale;
             if self.trace {
@@ -568,27 +580,7 @@ impl<'m> Integrator<'m> {
         let mut have_pred = false;
         for it in 1..=m.max_iterations {
             let t0 = Instant::now();
-            self.asm.clear();
-            let f0 = {
-                let ctx = Ctx {
-                    model: m,
-                    frames: &s.frames,
-                    kappa0: &self.kappa0,
-                    m0: &self.m0,
-                    gravity: self.gravity(),
-                };
-                let mut f = energy::total(&self.terms, &ctx, &s.q, Some(&mut self.asm), true);
-                if let Some(h) = h {
-                    let w = 1.0 / (h * h);
-                    for k in 0..n {
-                        let d = s.q[k] - self.qhat[k];
-                        f += 0.5 * w * m.mass[k] * d * d;
-                        self.asm.grad[k] += w * m.mass[k] * d;
-                        self.asm.add_h(k, k, w * m.mass[k]);
-                    }
-                }
-                f
-            };
+            let f0 = self.assemble(s, h, true);
             for k in 0..n {
                 if m.fixed[k] {
                     self.asm.fix(k);
@@ -640,9 +632,6 @@ impl<'m> Integrator<'m> {
                 self.lin.solve(&mut self.dq);
                 let t3 = Instant::now();
                 self.stats.solve_s += (t3 - t2).as_secs_f64();
-                if self.dq.iter().any(|d| !d.is_finite()) {
-                    return Err(format!("non-finite Newton direction at iteration {it}"));
-                }
             }
             let t3 = Instant::now();
             if self.dq.iter().any(|d| !d.is_finite()) {
@@ -658,21 +647,10 @@ impl<'m> Integrator<'m> {
                 Some(c) => c.predicted_decrease.min(0.0),
                 None => self.asm.grad.iter().zip(&self.dq).map(|(g, d)| g * d).sum(),
             };
-            let mut dx: f64 = 0.0;
-            let mut dth: f64 = 0.0;
-            for i in 0..m.nodes {
-                for c in 0..3 {
-                    dx = dx.max(self.dq[dof::node(i) + c].abs());
-                }
-                if i + 1 < m.nodes {
-                    dth = dth.max(self.dq[dof::edge(i)].abs());
-                }
-            }
+            let (dx, dth) = self.correction_norms();
             let mut normals_settled = true;
             if let (Some(c), Some(ct)) = (&conic, self.contacts.as_ref()) {
-                let scale = m.total_mass() * crate::rod::vec3::f::norm(m.gravity)
-                    / ct.nodes.len().max(1) as f64;
-                normals_settled = c.max_normal_change <= 1e-6 * scale.max(1e-300);
+                normals_settled = c.max_normal_change <= 1e-6 * ct.weight_scale(m);
             }
             // With contact, a step whose predicted decrease is at round-off level is an
             // accuracy-level correction of the conic solve: take it in full.
