@@ -66,9 +66,13 @@ pub struct Observables {
     pub max_elevation_over_a: f64,
     /// Most separate arcs lifted at least `a/2` at one instant.
     pub lifted_arcs_max: usize,
-    /// Median (over frames) of the mean slip speed of contact nodes within one `sigma` of
-    /// couple b, over `v_m`.
+    /// Median (over the pulse frames) of the mean slip speed of the middle contact segment,
+    /// over `v_m`. The middle segment is the set of nodes in contact between the centres of
+    /// couples a and c (the ground contact between the two lifted bends).
     pub middle_slip_over_v_m: f64,
+    /// Fraction of the pulse frames in which the middle contact segment exists and its mean
+    /// slip speed is below `0.1 v_m`.
+    pub middle_static_fraction: f64,
     /// Fraction of frames with at least two separate contact patches.
     pub two_patch_fraction: f64,
     /// Median slip speed of contact nodes over `v_m`.
@@ -243,14 +247,17 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
             ss.push(fl.s_window[j]);
             amps.push(amp);
         }
-        let sb = g.centers[1] + vm * fr.t;
+        let (sa, sc) = (g.centers[0] + vm * fr.t, g.centers[2] + vm * fr.t);
+        let (lo, hi) = (sa.min(sc), sa.max(sc));
         let v: Vec<f64> = (0..fr.x.len())
-            .filter(|&i| (fl.s[i] - sb).abs() <= g.sigma && in_contact(fr.normal[i]))
+            .filter(|&i| fl.s[i] > lo && fl.s[i] < hi && in_contact(fr.normal[i]))
             .map(|i| fl.slip[k][i])
             .collect();
-        if !v.is_empty() {
-            mids.push(v.iter().sum::<f64>() / v.len() as f64);
-        }
+        mids.push(if v.is_empty() {
+            f64::INFINITY
+        } else {
+            v.iter().sum::<f64>() / v.len() as f64
+        });
     }
     if ts.len() >= 3 {
         let n = ts.len() as f64;
@@ -273,6 +280,11 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         o.lambda_pulse_r2 = f64::NAN;
         o.lambda_amplitude_variation = f64::NAN;
     }
+    o.middle_static_fraction = if mids.is_empty() {
+        f64::NAN
+    } else {
+        mids.iter().filter(|&&v| v < 0.1 * vm).count() as f64 / mids.len() as f64
+    };
     o.middle_slip_over_v_m = median(mids) / vm;
     o.regime = classify(m, &o).to_string();
     o
