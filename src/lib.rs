@@ -17,10 +17,13 @@
 //! gravity); [`gait`] (muscles as moving natural curvature); [`contact`] (gaps, friction,
 //! conic program, active set); [`integrator`] (the step, halving, static solve); [`sim`]
 //! (the run loop); [`topology`] (twist, writhe, link, densities); [`observe`] (speeds,
-//! kymograph fields, regimes); [`output`] and [`plot`] (files and figures); [`fd`] (the
-//! finite-difference checker used by the tests).
+//! kymograph fields, regimes); [`output`] and [`plot`] (files and figures); [`design`] (the gait
+//! optimiser, argmin's Nelder-Mead over simulations); [`fd`] (the finite-difference checker
+//! used by the tests).
 #![warn(missing_docs)]
+pub mod chart;
 pub mod contact;
+pub mod design;
 pub mod energy;
 pub mod fd;
 pub mod gait;

@@ -2,7 +2,7 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use slither::model::Model;
-use slither::{gait, observe, output, problem, sim, topology};
+use slither::{design, gait, observe, output, problem, sim, topology};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -43,6 +43,38 @@ enum Cmd {
         #[arg(long)]
         closed: bool,
     },
+    /// Speed against accuracy of the implicit and the explicit (velocity Verlet) integrator:
+    /// work-precision chart or stability map (CSV, JSON and PNG).
+    Chart {
+        #[command(subcommand)]
+        which: ChartCmd,
+    },
+    /// Gait design: maximise the forward speed v_s over muscle stress, width and speed
+    /// (argmin Nelder-Mead, one simulation per evaluation); writes history.csv, optimum.json
+    /// and figures. Rerunning with the same --out reuses the evaluations in history.csv.
+    Optimize {
+        /// Study file (TOML): the base problem, the bounds and the budget.
+        study: PathBuf,
+        /// Output directory (created if absent).
+        #[arg(long, default_value = "out_optimize")]
+        out: PathBuf,
+        /// No progress bar and no log lines.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Regime phase diagram over scaled weight W and scaled torque G (one simulation per
+    /// cell, in parallel); writes phase.csv, phase.png and speed.png. Rerunning with the same
+    /// --out reuses the finished cells.
+    Phase {
+        /// Phase file (TOML): the base problem and the W and G grids.
+        file: PathBuf,
+        /// Output directory (created if absent).
+        #[arg(long, default_value = "out_phase")]
+        out: PathBuf,
+        /// No progress bar and no per-cell lines.
+        #[arg(long)]
+        quiet: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -55,6 +87,9 @@ fn main() -> ExitCode {
             no_plots,
         } => run(&problem, &out, quiet, no_plots),
         Cmd::Topology { curve, closed } => topo(&curve, closed),
+        Cmd::Chart { which } => chart_cmd(which),
+        Cmd::Optimize { study, out, quiet } => optimize(&study, &out, quiet),
+        Cmd::Phase { file, out, quiet } => phase(&file, &out, quiet),
     }
 }
 
@@ -126,14 +161,21 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
             b.set_position((frac * 1000.0) as u64);
         }
     };
-    let o = sim::run(
-        &model,
-        Box::new(gait::Muscles {
-            gait: model.gait.clone(),
-        }),
-        &mut progress,
-        &mut |_| {},
-    );
+    let muscles = Box::new(gait::Muscles {
+        gait: model.gait.clone(),
+    });
+    let o = match p.solver.integrator {
+        problem::IntegratorKind::Implicit => sim::run(&model, muscles, &mut progress, &mut |_| {}),
+        problem::IntegratorKind::Explicit => {
+            match slither::integrator::explicit::run(&model, muscles, &mut progress, &mut |_| {}) {
+                Ok(o) => o,
+                Err(e) => {
+                    eprintln!("error: {}: {e}", path.display());
+                    return ExitCode::from(2);
+                }
+            }
+        }
+    };
     if let Some(b) = bar.take() {
         b.finish_and_clear();
     }
@@ -181,6 +223,368 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
             ob.regime,
             out.display()
         );
+    }
+    ExitCode::SUCCESS
+}
+
+/// Progress of a study: an indicatif bar over evaluations on a terminal, else one line per
+/// evaluation on stderr (nothing with --quiet).
+struct StudyProgress {
+    bar: Option<ProgressBar>,
+    lines: bool,
+    max: usize,
+    done: usize,
+}
+
+impl StudyProgress {
+    fn say(&self, line: String) {
+        match &self.bar {
+            Some(b) => b.println(line),
+            None if self.lines => eprintln!("{line}"),
+            None => {}
+        }
+    }
+}
+
+impl design::EvaluationObserver for StudyProgress {
+    fn started(&mut self, count: usize, p: &design::Point, cached: bool) {
+        if let Some(b) = &self.bar {
+            b.set_message(format!(
+                "eval {count}/{}: stress {} Pa, sigma {}, speed {} m/s{}",
+                self.max,
+                p.stress,
+                p.sigma,
+                p.speed,
+                if cached { " (cached)" } else { "" }
+            ));
+        }
+    }
+
+    fn progress(&mut self, fraction: f64) {
+        if let Some(b) = &self.bar {
+            b.set_position((self.done as f64 * 100.0 + fraction * 100.0) as u64);
+        }
+    }
+
+    fn finished(&mut self, count: usize, e: &design::Evaluation, reused: bool) {
+        self.done = count;
+        if let Some(b) = &self.bar {
+            b.set_position(self.done as u64 * 100);
+        }
+        let source = if reused {
+            "reused from history.csv".to_string()
+        } else {
+            format!("{:.1} s", e.wall_time_s)
+        };
+        let result = match e.status {
+            design::Status::Ok => format!(
+                "v_s = {:.5} m/s, v_s/v_m = {:.4}, Wr_max = {:.3}, regime {}",
+                e.v_s, e.v_s_over_v_m, e.writhe_max, e.regime
+            ),
+            design::Status::Failed => format!("FAILED: {}", e.reason),
+        };
+        self.say(format!(
+            "eval {count}/{} (row {}): stress {} Pa, sigma {}, speed {} m/s (G = {:.3}) -> {result} [{source}]",
+            self.max, e.eval, e.point.stress, e.point.sigma, e.point.speed, e.g
+        ));
+    }
+}
+
+fn optimize(path: &Path, out: &Path, quiet: bool) -> ExitCode {
+    let study = match design::load_study(path) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let show_bar = !quiet && std::io::stderr().is_terminal();
+    let bar = show_bar.then(|| {
+        let b = ProgressBar::with_draw_target(
+            Some(study.max_evaluations as u64 * 100),
+            ProgressDrawTarget::stderr(),
+        );
+        b.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {percent}% {msg}").unwrap(),
+        );
+        b
+    });
+    let mut progress = StudyProgress {
+        bar,
+        lines: !quiet,
+        max: study.max_evaluations,
+        done: 0,
+    };
+    let names: Vec<String> = study
+        .space
+        .dims
+        .iter()
+        .map(|d| {
+            format!(
+                "{} in [{}, {}] {}",
+                d.param.key(),
+                d.lo,
+                d.hi,
+                d.param.unit()
+            )
+        })
+        .collect();
+    let history = out.join(design::HISTORY_FILE);
+    if history.exists() {
+        progress.say(format!(
+            "{}: resuming with {}: evaluations already in it are reused, not simulated again",
+            path.display(),
+            history.display()
+        ));
+    }
+    progress.say(format!(
+        "{}: Nelder-Mead over {}; at most {} evaluations of {} ({} pulse times L/v_m each)",
+        path.display(),
+        names.join(", "),
+        study.max_evaluations,
+        study.base_path.display(),
+        study.duration_pulses
+    ));
+    let result = design::optimize(&study, out, &mut progress);
+    if let Some(b) = progress.bar.take() {
+        b.finish_and_clear();
+    }
+    let r = match result {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(match e {
+                design::DesignError::History { .. } => 2,
+                _ => 1,
+            });
+        }
+    };
+    let Some(best) = &r.best else {
+        eprintln!(
+            "error: {}: every simulation failed ({} evaluations); see {}",
+            path.display(),
+            r.evaluations,
+            history.display()
+        );
+        return ExitCode::from(3);
+    };
+    if !quiet {
+        if r.dropped_partial_row {
+            eprintln!(
+                "note: an incomplete last row of {} was dropped",
+                history.display()
+            );
+        }
+        if r.rows_other_base > 0 {
+            eprintln!(
+                "note: {} rows of {} were written for another version of the base file and were not reused",
+                r.rows_other_base,
+                history.display()
+            );
+        }
+        let i = &r.initial;
+        eprintln!(
+            "{}: {} evaluations ({} simulated, {} reused from {}, {} repeated, {} failed) in {:.1} s; {}",
+            path.display(),
+            r.evaluations,
+            r.simulations,
+            r.reused,
+            history.display(),
+            r.repeats,
+            r.failed,
+            r.wall_time_s,
+            r.termination
+        );
+        eprintln!(
+            "start: stress {} Pa, sigma {}, speed {} m/s: v_s = {:.5} m/s (v_s/v_m = {:.4}), regime {}",
+            i.point.stress, i.point.sigma, i.point.speed, i.v_s, i.v_s_over_v_m, i.regime
+        );
+        eprintln!(
+            "best:  stress {} Pa, sigma {}, speed {} m/s (G = {:.3}, W = {:.1}): v_s = {:.5} m/s (v_s/v_m = {:.4}), writhe max {:.3} mean {:.3} turns, regime {}; wrote {}",
+            best.point.stress,
+            best.point.sigma,
+            best.point.speed,
+            best.g,
+            best.w,
+            best.v_s,
+            best.v_s_over_v_m,
+            best.writhe_max,
+            best.writhe_mean,
+            best.regime,
+            out.display()
+        );
+    }
+    ExitCode::SUCCESS
+}
+
+#[derive(Subcommand)]
+enum ChartCmd {
+    /// Final-centreline error against wall time for both integrators at several steps, against
+    /// a Richardson-checked velocity Verlet reference (a scene without [ground]).
+    WorkPrecision {
+        /// Problem file without [ground], e.g. problems/cantilever_swing.toml.
+        problem: PathBuf,
+        /// Output directory (created if absent).
+        #[arg(long, default_value = "out/work_precision")]
+        out: PathBuf,
+    },
+    /// Largest stable step of each integrator over scaled weight W and element count, by
+    /// bisection, for the cantilever swing (or --problem).
+    Stability {
+        /// Base scene without [ground] (default: the bundled problems/cantilever_swing.toml).
+        #[arg(long)]
+        problem: Option<PathBuf>,
+        /// Output directory (created if absent).
+        #[arg(long, default_value = "out/stability")]
+        out: PathBuf,
+    },
+}
+
+fn chart_cmd(which: ChartCmd) -> ExitCode {
+    use slither::chart;
+    const SWING: &str = include_str!("../problems/cantilever_swing.toml");
+    let load = |path: &Path| problem::load(path);
+    let (p, scene, out) = match &which {
+        ChartCmd::WorkPrecision { problem, out } => (load(problem), problem.clone(), out.clone()),
+        ChartCmd::Stability {
+            problem: Some(f),
+            out,
+        } => (load(f), f.clone(), out.clone()),
+        ChartCmd::Stability { problem: None, out } => {
+            let name = PathBuf::from("problems/cantilever_swing.toml");
+            (problem::parse(SWING, &name), name, out.clone())
+        }
+    };
+    let p = match p {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if p.ground.is_some() || p.time.mode == problem::Mode::Static {
+        eprintln!(
+            "error: {}: the charts need a dynamic scene without [ground] (the explicit integrator has no contact)",
+            scene.display()
+        );
+        return ExitCode::from(2);
+    }
+    let name = scene.file_name().map_or(scene.display().to_string(), |n| {
+        n.to_string_lossy().into_owned()
+    });
+    let mut log = |line: &str| eprintln!("{line}");
+    let r = match which {
+        ChartCmd::WorkPrecision { .. } => {
+            let model = Model::new(&p);
+            chart::work_precision(&name, &model, &Default::default(), &mut log).and_then(|wp| {
+                eprint!("{}", wp.summary());
+                chart::write_work_precision(&out, &wp)
+            })
+        }
+        ChartCmd::Stability { .. } => {
+            chart::stability_map(&name, &p, &Default::default(), &mut log).and_then(|map| {
+                eprint!("{}", map.summary());
+                chart::write_stability(&out, &map)
+            })
+        }
+    };
+    match r {
+        Ok(()) => {
+            eprintln!("wrote {}", out.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {}: {e}", scene.display());
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
+    let ph = match design::phase::load(path) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let total = ph.weight.len() * ph.torque.len();
+    if !quiet {
+        eprintln!(
+            "{}: {} cells (W in {:?} x G in {:?}) of {}; finished cells in {} are reused",
+            path.display(),
+            total,
+            ph.weight,
+            ph.torque,
+            ph.base_path.display(),
+            out.join("phase.csv").display()
+        );
+    }
+    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let b = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+        b.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} cells {msg}")
+                .unwrap(),
+        );
+        b
+    });
+    let report = |done: usize, todo: usize, c: &design::phase::Cell| {
+        let line = if c.status == "ok" {
+            format!(
+                "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a, {:.1} s",
+                c.weight,
+                c.torque,
+                c.regime,
+                c.v_s_over_v_m,
+                c.displacement_angle_deg,
+                c.max_elevation_over_a,
+                c.wall_time_s
+            )
+        } else {
+            format!(
+                "cell {done}/{todo}: W = {} G = {}: failed: {}",
+                c.weight, c.torque, c.reason
+            )
+        };
+        match &bar {
+            Some(b) => {
+                b.inc(1);
+                b.println(line);
+            }
+            None if !quiet => eprintln!("{line}"),
+            None => {}
+        }
+    };
+    let t0 = Instant::now();
+    let result = design::phase::sweep(&ph, out, &report);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let sw = match result {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+    };
+    let failed = sw.cells.iter().filter(|c| c.status != "ok").count();
+    eprintln!(
+        "{}: {} cells ({} simulated, {} reused, {} failed) in {:.1} s; wrote {}",
+        path.display(),
+        sw.cells.len(),
+        sw.simulated,
+        sw.reused,
+        failed,
+        t0.elapsed().as_secs_f64(),
+        out.display()
+    );
+    if failed == sw.cells.len() {
+        eprintln!(
+            "error: {}: every cell failed; see {}",
+            path.display(),
+            out.join("phase.csv").display()
+        );
+        return ExitCode::from(3);
     }
     ExitCode::SUCCESS
 }

@@ -687,3 +687,97 @@ fn topology_planar_square_ring() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+// ---------------------------------------------------------------------------------------------
+// `[solver] integrator`.
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn unknown_integrator() {
+    let text = format!("{BASE}\n[solver]\nintegrator = \"verlet\"\n");
+    let line = line_of(&text, "integrator");
+    let err = rejected(
+        "unknown_integrator",
+        &text,
+        Expect {
+            key: "solver.integrator",
+            line: Some(line),
+            allowed: None,
+        },
+    );
+    // toml lists the allowed values.
+    assert!(
+        err.contains("implicit") && err.contains("explicit"),
+        "{err}"
+    );
+}
+
+#[test]
+fn explicit_integrator_with_ground() {
+    let text =
+        format!("{BASE}\n[solver]\nintegrator = \"explicit\"\n\n[ground]\nmu_forward = 0.1\n");
+    let err = range_error(
+        "explicit_ground",
+        &text,
+        "solver.integrator",
+        "integrator",
+        "\"implicit\" when a [ground] is present",
+    );
+    assert!(err.contains("no contact"), "{err}");
+}
+
+#[test]
+fn explicit_integrator_in_static_mode() {
+    let text = edit("dt = 0.005", "mode = \"static\"\ndt = 0.005");
+    let text = edit_text(
+        &text,
+        "bending_stiffness = 1.0",
+        "bending_stiffness = 1.0\nclamp = \"tail\"",
+    );
+    let text = format!("{text}\n[solver]\nintegrator = \"explicit\"\n");
+    range_error(
+        "explicit_static",
+        &text,
+        "solver.integrator",
+        "integrator",
+        "\"implicit\" in static mode",
+    );
+}
+
+#[test]
+fn explicit_integrator_runs_below_its_limit_and_fails_above_it() {
+    // BASE: 4 elements of 0.25 m, EA = 16 B / a^2 = 4e4 N: the explicit limit is about
+    // l0 sqrt(rho A / EA) = 7e-4 s.
+    // Clamped, so that the rod deforms (a free rod only falls).
+    let clamped = edit(
+        "bending_stiffness = 1.0",
+        "bending_stiffness = 1.0\nclamp = \"tail\"",
+    );
+    let fine = edit_text(&clamped, "dt = 0.005", "dt = 2.5e-4");
+    let fine = format!("{fine}\n[solver]\nintegrator = \"explicit\"\n");
+    let r = run_problem("explicit_fine", &fine);
+    let err = r.stderr();
+    assert_eq!(r.code(), Some(0), "stderr:\n{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(r.out.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(v["status"], "completed");
+    assert_eq!(v["steps"], 40);
+    r.cleanup();
+    // At BASE's dt = 0.005 s (over 20 steps) the run blows up: exit code 3, the instant and the step named,
+    // results so far written with "status": "failed".
+    let coarse = edit_text(&clamped, "duration = 0.01", "duration = 0.1");
+    let coarse = format!("{coarse}\n[solver]\nintegrator = \"explicit\"\n");
+    let r = run_problem("explicit_coarse", &coarse);
+    let err = r.stderr();
+    assert_eq!(r.code(), Some(3), "stderr:\n{err}");
+    assert!(
+        err.contains("explicit integrator unstable at t = ") && err.contains("dt = 0.005 s"),
+        "{err}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(r.out.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(v["status"], "failed");
+    r.cleanup();
+}

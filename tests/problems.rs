@@ -4,15 +4,30 @@
 use slither::integrator::Natural;
 use slither::model::Model;
 use slither::problem::{self, Mode};
-use slither::sim;
+use slither::{design, sim};
 use std::path::Path;
 
 #[test]
 fn every_bundled_problem_runs_over_a_short_horizon() {
     let mut seen = 0;
+    let mut studies = 0;
     for entry in std::fs::read_dir("problems").unwrap() {
         let path = entry.unwrap().path();
         if path.extension().and_then(|e| e.to_str()) != Some("toml") {
+            continue;
+        }
+        // Study files (optimiser, phase diagram) name a base problem; they must load, and their
+        // base is one of the problems checked here.
+        let text = std::fs::read_to_string(&path).unwrap();
+        let table: toml::Table = toml::from_str(&text).unwrap();
+        if table.contains_key("study") {
+            design::load_study(&path).unwrap_or_else(|e| panic!("{e}"));
+            studies += 1;
+            continue;
+        }
+        if table.contains_key("phase") {
+            design::phase::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            studies += 1;
             continue;
         }
         let p = problem::load(&path).unwrap_or_else(|e| panic!("{e}"));
@@ -48,6 +63,7 @@ fn every_bundled_problem_runs_over_a_short_horizon() {
         seen += 1;
     }
     assert!(seen >= 3);
+    assert!(studies >= 2);
 }
 
 #[test]

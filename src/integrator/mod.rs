@@ -21,7 +21,11 @@
 //! Hessians, Coulomb conditions verified at convergence; `newton_active`); if its checks
 //! fail the step restarts from the same iterate with one conic program per Newton iterate
 //! (`newton`), whose failure rejects the step as above.
+//!
+//! [`explicit`] is the explicit symplectic reference (velocity Verlet on the same discrete
+//! model, no contact) for the speed-against-accuracy charts.
 
+pub mod explicit;
 pub mod linsolve;
 
 use crate::energy::{self, Assembly, Ctx, Term};
@@ -97,6 +101,17 @@ pub enum StepError {
         /// Halvings tried.
         halvings: usize,
         /// Why the last attempt failed.
+        reason: String,
+    },
+    /// The explicit integrator became unstable ([`explicit`]): non-finite state or energy
+    /// blow-up. The state is that of the start of the failed step.
+    #[error("explicit integrator unstable at t = {t} s with dt = {dt} s: {reason}")]
+    Unstable {
+        /// Time at the start of the failed step (s).
+        t: f64,
+        /// Step (s).
+        dt: f64,
+        /// What was detected.
         reason: String,
     },
 }

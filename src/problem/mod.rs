@@ -223,6 +223,23 @@ pub struct SolverSpec {
     /// Times a rejected step may be halved before the run stops. Default 8.
     #[serde(default = "d_halvings")]
     pub max_halvings: usize,
+    /// Time integrator: "implicit" (default: variational implicit Euler by Newton, with
+    /// contact) or "explicit" (velocity Verlet on the same discrete model,
+    /// [`crate::integrator::explicit`]; dynamic mode without a `[ground]` only, stable only
+    /// below a step limit: see `slither chart stability`).
+    #[serde(default)]
+    pub integrator: IntegratorKind,
+}
+
+/// `[solver] integrator`.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum IntegratorKind {
+    /// Variational implicit Euler (Newton), the production integrator.
+    #[default]
+    Implicit,
+    /// Velocity Verlet, the explicit symplectic reference (no contact).
+    Explicit,
 }
 fn d_tol() -> f64 {
     1e-9
@@ -239,6 +256,7 @@ impl Default for SolverSpec {
             tolerance: d_tol(),
             max_iterations: d_iters(),
             max_halvings: d_halvings(),
+            integrator: IntegratorKind::Implicit,
         }
     }
 }
@@ -307,7 +325,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
 /// The dotted key a TOML error is about (e.g. `rod.length`), found from the error's span: the
 /// table header and the `key =` statement enclosing it (so a bad element of a multi-line array
 /// still names its key); for "missing field" errors the table lacking the field plus the field.
-fn toml_error_key(text: &str, e: &toml::de::Error) -> Option<String> {
+pub(crate) fn toml_error_key(text: &str, e: &toml::de::Error) -> Option<String> {
     let span = e.span()?;
     let start = span.start.min(text.len());
     let (mut table, mut key) = (String::new(), None::<String>);
@@ -625,6 +643,24 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             format!("{}", p.solver.max_iterations),
             "an integer in [1, 10000]",
         ));
+    }
+    if p.solver.integrator == IntegratorKind::Explicit {
+        if p.ground.is_some() {
+            return Err(c.fail(
+                "solver",
+                "integrator",
+                "\"explicit\"".into(),
+                "\"implicit\" when a [ground] is present (the explicit integrator has no contact)",
+            ));
+        }
+        if t.mode == Mode::Static {
+            return Err(c.fail(
+                "solver",
+                "integrator",
+                "\"explicit\"".into(),
+                "\"implicit\" in static mode (the explicit integrator only steps in time)",
+            ));
+        }
     }
     if p.solver.max_halvings > 30 {
         return Err(c.fail(

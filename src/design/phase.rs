@@ -1,0 +1,654 @@
+//! The regime phase diagram (MODEL section 6): the locomotion regime (S, F, N, U; criteria in
+//! [`crate::observe`]) and the forward speed over scaled weight `W = rho g a^2 L^3 / B` and
+//! scaled torque `G = Gamma a^3 L / B`.
+//!
+//! A phase file names a base problem with a gait and the grid:
+//!
+//! ```toml
+//! [phase]
+//! base = "s_start.toml"                 # problem file, relative to the phase file
+//! weight = [100.0, 300.0, 1000.0]       # scaled weights W, each > 0
+//! torque = [5.0, 10.0, 15.0, 20.0]      # scaled torques G, each >= 0
+//! ```
+//!
+//! Each cell keeps the base's geometry, density, gravity, friction, gait shape, pulse speed and
+//! time stepping. `W` is set through the bending stiffness, `B = rho g a^2 L^3 / W`, with the
+//! twist and stretching stiffnesses scaled by the same factor (so `C/B` and `EA a^2/B` stay the
+//! base's); `G` through the muscle stress, `Gamma = G B / (a^3 L)`.
+//!
+//! Cells run in parallel (rayon) and each finished cell is appended to `phase.csv` at once, so
+//! a sweep that is interrupted keeps every finished cell; a rerun into the same directory
+//! reuses the rows whose base file (hashed) and `(W, G)` match and simulates only the rest. A
+//! cell whose simulation fails is recorded with status `failed` and its reason, and is not
+//! retried on resume (the failure is deterministic).
+
+use crate::gait::{Kind, Muscles};
+use crate::model::Model;
+use crate::problem::{self, key_line, Problem, ProblemError};
+use crate::{observe, plot, sim};
+use plotters::prelude::*;
+use rayon::prelude::*;
+use serde::Deserialize;
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// A parsed and validated phase file.
+#[derive(Clone, Debug)]
+pub struct Phase {
+    /// The phase file.
+    pub file: PathBuf,
+    /// The base problem's path.
+    pub base_path: PathBuf,
+    /// The base problem.
+    pub base: Problem,
+    /// Hash of the base problem's text (resume key).
+    pub base_hash: u64,
+    /// Scaled weights `W` (dimensionless).
+    pub weight: Vec<f64>,
+    /// Scaled torques `G` (dimensionless).
+    pub torque: Vec<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PhaseFile {
+    phase: PhaseTable,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PhaseTable {
+    base: String,
+    weight: Vec<f64>,
+    torque: Vec<f64>,
+}
+
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf29ce484222325u64, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x100000001b3)
+    })
+}
+
+/// Read and validate a phase file and its base problem.
+pub fn load(path: &Path) -> Result<Phase, ProblemError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
+        file: path.into(),
+        source,
+    })?;
+    let f: PhaseFile = toml::from_str(&text).map_err(|e| {
+        let message = e.to_string().trim_end().to_string();
+        let message = match problem::toml_error_key(&text, &e) {
+            Some(key) => format!("`{key}`: {message}"),
+            None => message,
+        };
+        ProblemError::Parse {
+            file: path.into(),
+            message,
+        }
+    })?;
+    let t = f.phase;
+    let invalid = |key: &str, value: String, allowed: &str| ProblemError::Invalid {
+        file: path.into(),
+        line: key_line(&text, "phase", key),
+        key: format!("phase.{key}"),
+        value,
+        allowed: allowed.into(),
+    };
+    let check = |key: &str, v: &[f64], ok: fn(f64) -> bool, what: &str| {
+        if v.is_empty() {
+            return Err(invalid(
+                key,
+                "[]".into(),
+                &format!("a non-empty list of {what}"),
+            ));
+        }
+        if let Some(x) = v.iter().find(|&&x| !ok(x)) {
+            return Err(invalid(key, format!("[.. {x} ..]"), what));
+        }
+        if v.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(invalid(
+                key,
+                format!("{v:?}"),
+                &format!("{what}, strictly increasing"),
+            ));
+        }
+        Ok(())
+    };
+    check(
+        "weight",
+        &t.weight,
+        |x| x.is_finite() && x > 0.0,
+        "scaled weights W > 0",
+    )?;
+    check(
+        "torque",
+        &t.torque,
+        |x| x.is_finite() && x >= 0.0,
+        "scaled torques G >= 0",
+    )?;
+    let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
+    let base_text = std::fs::read_to_string(&base_path).map_err(|_| {
+        invalid(
+            "base",
+            format!("\"{}\"", t.base),
+            &format!(
+                "a readable problem file (relative to the phase file; {} not found)",
+                base_path.display()
+            ),
+        )
+    })?;
+    let base = problem::parse(&base_text, &base_path)?;
+    if base.gait.kind == Kind::None {
+        return Err(invalid(
+            "base",
+            format!("\"{}\"", t.base),
+            "a problem with a [gait] (kind other than \"none\")",
+        ));
+    }
+    if base.ground.is_none() {
+        return Err(invalid(
+            "base",
+            format!("\"{}\"", t.base),
+            "a problem with a [ground]",
+        ));
+    }
+    Ok(Phase {
+        file: path.into(),
+        base_hash: fnv1a(base_text.as_bytes()),
+        base_path,
+        base,
+        weight: t.weight,
+        torque: t.torque,
+    })
+}
+
+/// The base problem with scaled weight `w` and scaled torque `g` (see the module doc).
+pub fn cell_problem(base: &Problem, w: f64, g: f64) -> Problem {
+    let mut p = base.clone();
+    let r = &base.rod;
+    let b = r.density * base.gravity.g * r.diameter.powi(2) * r.length.powi(3) / w;
+    let k = b / r.bending_stiffness;
+    p.rod.bending_stiffness = b;
+    p.rod.twist_stiffness = r.twist_stiffness.map(|c| c * k);
+    p.rod.stretch_stiffness = r.stretch_stiffness.map(|ea| ea * k);
+    p.gait.stress = g * b / (r.diameter.powi(3) * r.length);
+    p
+}
+
+/// One cell of the diagram.
+#[derive(Clone, Debug)]
+pub struct Cell {
+    /// Scaled weight `W`.
+    pub weight: f64,
+    /// Scaled torque `G`.
+    pub torque: f64,
+    /// "ok" or "failed".
+    pub status: String,
+    /// Regime ("S", "F", "N", "U"; "-" when failed).
+    pub regime: String,
+    /// `v_s / v_m`.
+    pub v_s_over_v_m: f64,
+    /// Angle of the net displacement from the initial head direction (degrees).
+    pub displacement_angle_deg: f64,
+    /// Largest elevation over `a`.
+    pub max_elevation_over_a: f64,
+    /// Most arcs lifted at least `a/2` at one instant.
+    pub lifted_arcs_max: usize,
+    /// Largest |writhe| (turns).
+    pub writhe_max: f64,
+    /// `R^2` of the `lambda` pulse fit.
+    pub lambda_pulse_r2: f64,
+    /// Wall time of the simulation (s).
+    pub wall_time_s: f64,
+    /// Why it failed (empty when ok).
+    pub reason: String,
+}
+
+const HEADER: &str = "weight,torque,W_over_G,status,regime,v_s_over_v_m,displacement_angle_deg,max_elevation_over_a,lifted_arcs_max,writhe_max,lambda_pulse_r2,wall_time_s,base_hash,reason";
+
+impl Cell {
+    fn failed(w: f64, g: f64, reason: String) -> Self {
+        Cell {
+            weight: w,
+            torque: g,
+            status: "failed".into(),
+            regime: "-".into(),
+            v_s_over_v_m: f64::NAN,
+            displacement_angle_deg: f64::NAN,
+            max_elevation_over_a: f64::NAN,
+            lifted_arcs_max: 0,
+            writhe_max: f64::NAN,
+            lambda_pulse_r2: f64::NAN,
+            wall_time_s: 0.0,
+            reason,
+        }
+    }
+
+    fn row(&self, hash: u64) -> String {
+        let clean: String = self
+            .reason
+            .chars()
+            .map(|c| if c == ',' || c == '\n' { ';' } else { c })
+            .collect();
+        format!(
+            "{:e},{:e},{:e},{},{},{:e},{:e},{:e},{},{:e},{:e},{:.3},{:016x},{}",
+            self.weight,
+            self.torque,
+            self.weight / self.torque,
+            self.status,
+            self.regime,
+            self.v_s_over_v_m,
+            self.displacement_angle_deg,
+            self.max_elevation_over_a,
+            self.lifted_arcs_max,
+            self.writhe_max,
+            self.lambda_pulse_r2,
+            self.wall_time_s,
+            hash,
+            clean
+        )
+    }
+
+    fn parse(line: &str) -> Option<(Cell, u64)> {
+        let f: Vec<&str> = line.splitn(14, ',').collect();
+        if f.len() != 14 {
+            return None;
+        }
+        let num = |i: usize| f[i].parse::<f64>().ok();
+        Some((
+            Cell {
+                weight: num(0)?,
+                torque: num(1)?,
+                status: f[3].into(),
+                regime: f[4].into(),
+                v_s_over_v_m: num(5)?,
+                displacement_angle_deg: num(6)?,
+                max_elevation_over_a: num(7)?,
+                lifted_arcs_max: f[8].parse().ok()?,
+                writhe_max: num(9)?,
+                lambda_pulse_r2: num(10)?,
+                wall_time_s: num(11)?,
+                reason: f[13].into(),
+            },
+            u64::from_str_radix(f[12], 16).ok()?,
+        ))
+    }
+}
+
+/// Simulate one cell (never panics: a panic inside the simulation is recorded as a failure).
+pub fn simulate(base: &Problem, w: f64, g: f64) -> Cell {
+    let p = cell_problem(base, w, g);
+    let run = std::panic::catch_unwind(|| {
+        let m = Model::new(&p);
+        let o = sim::run(
+            &m,
+            Box::new(Muscles {
+                gait: m.gait.clone(),
+            }),
+            &mut |_| {},
+            &mut |_| {},
+        );
+        let fl = observe::fields(&m, &o.frames);
+        (observe::observe(&m, &o.frames, &fl), o)
+    });
+    match run {
+        Err(_) => Cell::failed(w, g, "the simulation panicked".into()),
+        Ok((_, o)) if o.error.is_some() => {
+            let mut c = Cell::failed(w, g, o.error.unwrap().to_string());
+            c.wall_time_s = o.wall_time_s;
+            c
+        }
+        Ok((ob, o)) => Cell {
+            weight: w,
+            torque: g,
+            status: "ok".into(),
+            regime: ob.regime,
+            // Defined at G = 0 too (the observable is NaN without a gait): v_m is the base's.
+            v_s_over_v_m: ob.v_s / p.gait.speed,
+            displacement_angle_deg: ob.displacement_angle_deg,
+            max_elevation_over_a: ob.max_elevation_over_a,
+            lifted_arcs_max: ob.lifted_arcs_max,
+            writhe_max: ob.writhe_max,
+            lambda_pulse_r2: ob.lambda_pulse_r2,
+            wall_time_s: o.wall_time_s,
+            reason: String::new(),
+        },
+    }
+}
+
+/// Errors of a sweep's bookkeeping (the simulations' own failures are recorded in the cells).
+#[derive(Debug, thiserror::Error)]
+pub enum PhaseError {
+    /// Reading or writing an output file failed.
+    #[error("{file}: {source}")]
+    Io {
+        /// The file.
+        file: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// An existing `phase.csv` that is not ours.
+    #[error("{file}:{line}: not a phase.csv row (expected the columns {HEADER}); move the file away or choose another --out")]
+    Csv {
+        /// The file.
+        file: PathBuf,
+        /// 1-based line.
+        line: usize,
+    },
+    /// A figure could not be drawn.
+    #[error("{file}: {source}")]
+    Plot {
+        /// The figure.
+        file: PathBuf,
+        /// The plotting error.
+        source: plot::PlotError,
+    },
+}
+
+/// What a sweep produced.
+#[derive(Debug)]
+pub struct Sweep {
+    /// Every cell, weight-major (`cells[i * torque.len() + j]` is `(weight[i], torque[j])`).
+    pub cells: Vec<Cell>,
+    /// Cells simulated in this call.
+    pub simulated: usize,
+    /// Cells reused from an existing `phase.csv`.
+    pub reused: usize,
+}
+
+/// Run the diagram into `out` (`phase.csv`, `phase.png`, `speed.png`), reusing finished rows.
+/// `report(done, total, cell)` is called after each newly simulated cell.
+pub fn sweep(
+    ph: &Phase,
+    out: &Path,
+    report: &(dyn Fn(usize, usize, &Cell) + Sync),
+) -> Result<Sweep, PhaseError> {
+    let io = |file: &Path| {
+        let file = file.to_path_buf();
+        move |source| PhaseError::Io {
+            file: file.clone(),
+            source,
+        }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
+    let csv = out.join("phase.csv");
+    let key = |w: f64, g: f64| (w.to_bits(), g.to_bits());
+    let mut done: HashMap<(u64, u64), Cell> = HashMap::new();
+    let fresh = !csv.exists();
+    if !fresh {
+        let text = std::fs::read_to_string(&csv).map_err(io(&csv))?;
+        for (n, line) in text.lines().enumerate() {
+            if n == 0 {
+                if line != HEADER {
+                    return Err(PhaseError::Csv {
+                        file: csv.clone(),
+                        line: 1,
+                    });
+                }
+                continue;
+            }
+            if line.trim().is_empty() {
+                continue;
+            }
+            let (c, h) = Cell::parse(line).ok_or(PhaseError::Csv {
+                file: csv.clone(),
+                line: n + 1,
+            })?;
+            if h == ph.base_hash {
+                done.insert(key(c.weight, c.torque), c);
+            }
+        }
+    }
+    let mut file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&csv)
+        .map_err(io(&csv))?;
+    if fresh {
+        writeln!(file, "{HEADER}").map_err(io(&csv))?;
+    }
+    let grid: Vec<(f64, f64)> = ph
+        .weight
+        .iter()
+        .flat_map(|&w| ph.torque.iter().map(move |&g| (w, g)))
+        .collect();
+    let todo: Vec<(f64, f64)> = grid
+        .iter()
+        .copied()
+        .filter(|&(w, g)| !done.contains_key(&key(w, g)))
+        .collect();
+    let reused = grid.len() - todo.len();
+    let sink = Mutex::new((file, 0usize, None::<std::io::Error>));
+    let new: Vec<Cell> = todo
+        .par_iter()
+        .map(|&(w, g)| {
+            let c = simulate(&ph.base, w, g);
+            let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
+            let r = writeln!(s.0, "{}", c.row(ph.base_hash)).and_then(|_| s.0.flush());
+            if let Err(e) = r {
+                s.2.get_or_insert(e);
+            }
+            s.1 += 1;
+            report(s.1, todo.len(), &c);
+            c
+        })
+        .collect();
+    if let Some(e) = sink.into_inner().unwrap_or_else(|e| e.into_inner()).2 {
+        return Err(io(&csv)(e));
+    }
+    let simulated = new.len();
+    for c in new {
+        done.insert(key(c.weight, c.torque), c);
+    }
+    let cells: Vec<Cell> = grid
+        .iter()
+        .map(|&(w, g)| done[&key(w, g)].clone())
+        .collect();
+    let sw = Sweep {
+        cells,
+        simulated,
+        reused,
+    };
+    let png = out.join("phase.png");
+    regime_map(&png, ph, &sw.cells).map_err(|source| PhaseError::Plot { file: png, source })?;
+    let png = out.join("speed.png");
+    speed_chart(&png, ph, &sw.cells).map_err(|source| PhaseError::Plot { file: png, source })?;
+    Ok(sw)
+}
+
+/// Colour of a regime in the map.
+fn regime_color(r: &str) -> RGBColor {
+    match r {
+        "S" => RGBColor(90, 180, 100),
+        "F" => RGBColor(240, 170, 80),
+        "N" => RGBColor(190, 190, 190),
+        "U" => RGBColor(220, 80, 80),
+        _ => RGBColor(60, 60, 60),
+    }
+}
+
+/// Cell edges on a log axis: geometric midpoints, the ends mirrored.
+fn log_edges(c: &[f64]) -> Vec<f64> {
+    let n = c.len();
+    if n == 1 {
+        return vec![c[0] / 2.0_f64.sqrt(), c[0] * 2.0_f64.sqrt()];
+    }
+    let mut e = vec![c[0] * (c[0] / c[1]).sqrt()];
+    e.extend(c.windows(2).map(|w| (w[0] * w[1]).sqrt()));
+    e.push(c[n - 1] * (c[n - 1] / c[n - 2]).sqrt());
+    e
+}
+
+/// Cell edges on a linear axis: midpoints, the ends mirrored.
+fn lin_edges(c: &[f64]) -> Vec<f64> {
+    let n = c.len();
+    if n == 1 {
+        return vec![
+            c[0] - 0.5 * c[0].abs().max(1.0),
+            c[0] + 0.5 * c[0].abs().max(1.0),
+        ];
+    }
+    let mut e = vec![c[0] - 0.5 * (c[1] - c[0])];
+    e.extend(c.windows(2).map(|w| 0.5 * (w[0] + w[1])));
+    e.push(c[n - 1] + 0.5 * (c[n - 1] - c[n - 2]));
+    e
+}
+
+/// The regime map: one coloured rectangle per cell (log W across, G up), labelled with the
+/// regime and `v_s / v_m`.
+fn regime_map(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotError> {
+    plot::register_fonts()?;
+    let err = |e: &dyn std::fmt::Display| plot::PlotError::Draw(e.to_string());
+    let xe = log_edges(&ph.weight);
+    let ye = lin_edges(&ph.torque);
+    let root = BitMapBackend::new(path, (1000, 750)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "Regime over scaled weight and scaled torque (S start, F friction, N none, U unstable)",
+            ("sans-serif", 24),
+        )
+        .margin(20)
+        .x_label_area_size(60)
+        .y_label_area_size(80)
+        .build_cartesian_2d(
+            (xe[0]..xe[xe.len() - 1]).log_scale(),
+            ye[0]..ye[ye.len() - 1],
+        )
+        .map_err(|e| err(&e))?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("scaled weight W = rho g a^2 L^3 / B")
+        .y_desc("scaled torque G = Gamma a^3 L / B")
+        .label_style(("sans-serif", 18))
+        .axis_desc_style(("sans-serif", 22))
+        .draw()
+        .map_err(|e| err(&e))?;
+    let nt = ph.torque.len();
+    for (k, c) in cells.iter().enumerate() {
+        let (i, j) = (k / nt, k % nt);
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(xe[i], ye[j]), (xe[i + 1], ye[j + 1])],
+                regime_color(&c.regime).filled(),
+            )))
+            .map_err(|e| err(&e))?;
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(xe[i], ye[j]), (xe[i + 1], ye[j + 1])],
+                WHITE.stroke_width(2),
+            )))
+            .map_err(|e| err(&e))?;
+        let label = if c.status == "ok" {
+            format!("{} {:.3}", c.regime, c.v_s_over_v_m)
+        } else {
+            "failed".into()
+        };
+        let style = ("sans-serif", 17).into_font().color(&BLACK).pos(
+            plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Center,
+            ),
+        );
+        chart
+            .draw_series(std::iter::once(Text::new(
+                label,
+                ((xe[i] * xe[i + 1]).sqrt(), 0.5 * (ye[j] + ye[j + 1])),
+                style,
+            )))
+            .map_err(|e| err(&e))?;
+    }
+    root.present().map_err(|e| err(&e))
+}
+
+/// `v_s / v_m` against `W / G` (the paper's speed chart), one series per torque.
+fn speed_chart(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotError> {
+    let names: Vec<String> = ph.torque.iter().map(|g| format!("G = {g}")).collect();
+    let series: Vec<(&str, Vec<(f64, f64)>)> = ph
+        .torque
+        .iter()
+        .zip(&names)
+        .map(|(&g, name)| {
+            let mut pts: Vec<(f64, f64)> = cells
+                .iter()
+                .filter(|c| c.torque == g && c.status == "ok")
+                .map(|c| (c.weight / c.torque, c.v_s_over_v_m))
+                .collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            (name.as_str(), pts)
+        })
+        .collect();
+    plot::xy(
+        path,
+        "Forward speed against weight over torque",
+        "W / G = rho g L^2 / (Gamma a)",
+        "v_s / v_m",
+        &series,
+        true,
+        false,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cell_problem_sets_the_groups_and_keeps_the_ratios() {
+        let base = problem::load(Path::new("problems/s_start.toml")).unwrap();
+        let p = cell_problem(&base, 1234.0, 7.5);
+        let r = &p.rod;
+        let w =
+            r.density * p.gravity.g * r.diameter.powi(2) * r.length.powi(3) / r.bending_stiffness;
+        let g = p.gait.stress * r.diameter.powi(3) * r.length / r.bending_stiffness;
+        assert!((w / 1234.0 - 1.0).abs() < 1e-12, "W {w}");
+        assert!((g / 7.5 - 1.0).abs() < 1e-12, "G {g}");
+        let c0 = base.rod.twist_stiffness.unwrap() / base.rod.bending_stiffness;
+        let c1 = r.twist_stiffness.unwrap() / r.bending_stiffness;
+        assert!((c1 / c0 - 1.0).abs() < 1e-12);
+        let e0 = base.rod.stretch_stiffness.unwrap() / base.rod.bending_stiffness;
+        let e1 = r.stretch_stiffness.unwrap() / r.bending_stiffness;
+        assert!((e1 / e0 - 1.0).abs() < 1e-12);
+        assert_eq!(p.gait.speed, base.gait.speed);
+        assert_eq!(p.rod.length, base.rod.length);
+    }
+
+    #[test]
+    fn rows_round_trip() {
+        let c = Cell {
+            weight: 300.0,
+            torque: 15.0,
+            status: "failed".into(),
+            regime: "-".into(),
+            v_s_over_v_m: f64::NAN,
+            displacement_angle_deg: 12.5,
+            max_elevation_over_a: 0.25,
+            lifted_arcs_max: 2,
+            writhe_max: 0.1,
+            lambda_pulse_r2: 0.9,
+            wall_time_s: 1.5,
+            reason: "step rejected, at t = 1\nagain".into(),
+        };
+        let (d, h) = Cell::parse(&c.row(0xabc)).unwrap();
+        assert_eq!(h, 0xabc);
+        assert_eq!((d.weight, d.torque, d.lifted_arcs_max), (300.0, 15.0, 2));
+        assert!(d.v_s_over_v_m.is_nan());
+        assert_eq!(d.displacement_angle_deg, 12.5);
+        assert_eq!(d.reason, "step rejected; at t = 1;again");
+    }
+
+    #[test]
+    fn edges_enclose_the_centres() {
+        let c = [100.0, 300.0, 1000.0];
+        let e = log_edges(&c);
+        assert_eq!(e.len(), 4);
+        for i in 0..3 {
+            assert!(e[i] < c[i] && c[i] < e[i + 1]);
+        }
+        let e = lin_edges(&[5.0, 10.0, 20.0]);
+        assert_eq!(e, vec![2.5, 7.5, 15.0, 25.0]);
+    }
+}

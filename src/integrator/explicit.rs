@@ -1,0 +1,554 @@
+//! Explicit symplectic reference integrator (MODEL section 8): velocity Verlet on the same
+//! discrete rod as the implicit step — the same coordinates `q = (x, theta)`, the same lumped
+//! masses `rho A l_i` and twist inertias `rho J l_j` ([`Model::mass`]), the same energy terms
+//! (stretch, bend, twist, gravity) and the same time-parallel reference frames:
+//!
+//! ```text
+//! v_{n+1/2} = v_n + h/2 M^{-1} F(q_n, t_n)
+//! q_{n+1}   = q_n + h v_{n+1/2}                  (then frames transported to q_{n+1})
+//! v_{n+1}   = v_{n+1/2} + h/2 M^{-1} F(q_{n+1}, t_{n+1}),      F = -dE/dq
+//! ```
+//!
+//! Why velocity Verlet and not symplectic Euler: both are symplectic and cost one force
+//! evaluation per step (the force at the end of a step is reused at the start of the next),
+//! but Verlet is second order and time-reversible, so its energy error is bounded and shrinks
+//! like `h^2` (symplectic Euler's like `h`), and its positions and velocities live at the same
+//! instants, so `E(q_n, v_n)` is the energy of the run. It is the Stormer-Verlet family that
+//! the peer simulators use (PyElastica's default `PositionVerlet` is the same method with the
+//! half steps on positions instead of velocities). The velocity form evaluates the force only
+//! at full steps, right after the reference frames have been transported to `q_{n+1}`, so the
+//! gradient is always taken with frames at the current tangents (the DER gradient of Bergou et
+//! al. 2010) and the frames are updated once per step.
+//!
+//! Forces come from a gradient-only path: stretching and gravity through their [`Term`]s (the
+//! stretching Hessian they also fill is a few closed-form 3x3 blocks per edge, negligible);
+//! bending and twist of the same [`BendStencil`] and [`TwistStencil`] the implicit step
+//! differentiates twice, here by the closed-form DER gradient (Bergou et al. 2010), which is
+//! exact when the reference frames sit at the current tangents, as they do where the forces
+//! are evaluated (see `closed_form`); anywhere else (a state whose frames are stale) the
+//! stencil energies are differentiated with first-order dual numbers instead
+//! ([`num_dual::gradient`]). Both are checked against the implicit path's gradient and finite
+//! differences in `tests/explicit.rs`. No Hessian, no eigenvalue projection, no linear solve.
+//!
+//! Clamped coordinates ([`Model::fixed`]) are held, as in the implicit step: their velocity
+//! is zero and their force ignored. Ground contact is not supported: explicit peers model it
+//! with penalty springs, which would make this a different model, so a model with a ground is
+//! rejected ([`Unsupported`]); so is static mode.
+//!
+//! Instability is an error, never silent: after every step the coordinates, velocities and
+//! energies must be finite and the energy error
+//! `|E(t) - E(0) - W_muscle(t)|` (`W_muscle`: the work of the time-dependent rest strains,
+//! `integral dE/dt|_q dt`, by the trapezoid rule per step:
+//! `[E(q_n, t_{n+1}) - E(q_n, t_n) + E(q_{n+1}, t_{n+1}) - E(q_{n+1}, t_n)] / 2`, two extra
+//! energy evaluations per step while muscles act) must stay below
+//! [`BLOWUP_FACTOR`] times the energy scale
+//! `KE(0) + E_elastic(0) + m g L + B/L + max_t E_rest(t)` (`m g L`: the weight over the rod's
+//! length; `B/L`: a floor so a rod at rest still has a scale; `E_rest`: the elastic energy of
+//! the straight rod against the muscles' rest strains). A stable Verlet run keeps this error
+//! orders of magnitude below the scale; past the stability limit it grows exponentially, so
+//! the exact factor only moves the reported instant by a few steps. The failed step is undone
+//! and reported as [`StepError::Unstable`] with its start time and step.
+
+use super::{Actuation, Energies, Stats, StepError};
+use crate::energy::autodiff::{intrinsic, StencilEnergy};
+use crate::energy::bend::BendStencil;
+use crate::energy::gravity::Gravity;
+use crate::energy::stretch::Stretch;
+use crate::energy::twist::TwistStencil;
+use crate::energy::{Assembly, Ctx, Term};
+use crate::model::Model;
+use crate::problem::Mode;
+use crate::rod::{dof, frames, vec3::f, V3};
+use crate::sim::{Frame, Outcome, Progress};
+use crate::state::State;
+use nalgebra::SVector;
+use num_dual::DualSVec64;
+use std::time::Instant;
+
+/// Energy error, in units of the run's energy scale (see the module doc), beyond which a run
+/// is declared unstable.
+pub const BLOWUP_FACTOR: f64 = 1.0;
+
+/// A model the explicit integrator does not handle.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Unsupported {
+    /// The model has a ground (contact would need penalty springs: a different model).
+    #[error("the explicit integrator has no ground contact: use the implicit integrator for problems with a [ground]")]
+    Ground,
+    /// Static mode has no time stepping.
+    #[error("the explicit integrator only steps in time: static mode needs the implicit solver")]
+    Static,
+}
+
+/// Rod energy split as the energy monitor needs it.
+#[derive(Clone, Copy, Debug, Default)]
+struct Potential {
+    elastic: f64,
+    gravity: f64,
+}
+
+impl Potential {
+    fn total(&self) -> f64 {
+        self.elastic + self.gravity
+    }
+}
+
+/// The velocity Verlet stepper: model, actuation, force cache and energy monitor.
+pub struct Explicit<'m> {
+    /// The model.
+    pub model: &'m Model,
+    actuation: Box<dyn Actuation>,
+    kappa0: Vec<[f64; 2]>,
+    m0: Vec<f64>,
+    kappa0_prev: Vec<[f64; 2]>,
+    m0_prev: Vec<f64>,
+    scratch: Assembly,
+    /// `dE/dq` at (`cached_q`, `cached_t`).
+    grad: Vec<f64>,
+    potential: Potential,
+    cached_q: Vec<f64>,
+    cached_t: f64,
+    have_grad: bool,
+    prev: Option<State>,
+    monitor: Option<Monitor>,
+    /// Statistics (`steps`; `assembly_s` is the time in force evaluations).
+    pub stats: Stats,
+    /// Stencil gradients computed in closed form and by dual numbers (stale frames).
+    pub stencil_paths: [usize; 2],
+}
+
+/// Energy bookkeeping of a run.
+#[derive(Clone, Copy, Debug)]
+struct Monitor {
+    e0: f64,
+    base_scale: f64,
+    rest_max: f64,
+    work: f64,
+    max_error: f64,
+}
+
+impl Monitor {
+    fn scale(&self) -> f64 {
+        self.base_scale + self.rest_max
+    }
+}
+
+impl<'m> Explicit<'m> {
+    /// A stepper for `model` driven by `actuation`; models with a ground or in static mode
+    /// are rejected.
+    pub fn new(model: &'m Model, actuation: Box<dyn Actuation>) -> Result<Self, Unsupported> {
+        if model.ground.is_some() {
+            return Err(Unsupported::Ground);
+        }
+        if model.mode == Mode::Static {
+            return Err(Unsupported::Static);
+        }
+        let n = model.ndof;
+        Ok(Explicit {
+            model,
+            actuation,
+            kappa0: vec![[0.0; 2]; model.nodes],
+            m0: vec![0.0; model.nodes],
+            kappa0_prev: vec![[0.0; 2]; model.nodes],
+            m0_prev: vec![0.0; model.nodes],
+            scratch: Assembly::new(n),
+            grad: vec![0.0; n],
+            potential: Potential::default(),
+            cached_q: vec![0.0; n],
+            cached_t: f64::NAN,
+            have_grad: false,
+            prev: None,
+            monitor: None,
+            stats: Stats::default(),
+            stencil_paths: [0; 2],
+        })
+    }
+
+    fn set_time(&mut self, t: f64) {
+        self.actuation
+            .rest_strains(t, self.model, &mut self.kappa0, &mut self.m0);
+    }
+
+    /// Elastic energy of the straight rod against the current rest strains (J).
+    fn rest_energy(&self) -> f64 {
+        let m = self.model;
+        (1..m.nodes - 1)
+            .filter(|&i| m.voronoi[i] > 0.0)
+            .map(|i| {
+                let l = m.voronoi[i];
+                let k = self.kappa0[i];
+                m.bend / (2.0 * l) * (k[0] * k[0] + k[1] * k[1])
+                    + m.twist / (2.0 * l) * self.m0[i] * self.m0[i]
+            })
+            .sum()
+    }
+
+    /// Rod energy of `q` with the frames of `s` and the current rest strains; with
+    /// `grad`, also `dE/dq` (overwritten).
+    /// `previous`: with the rest strains saved by the last step for its start time.
+    fn evaluate(
+        &mut self,
+        s: &State,
+        q: &[f64],
+        grad: Option<&mut [f64]>,
+        previous: bool,
+    ) -> Potential {
+        let m = self.model;
+        let (kappa0, m0) = if previous {
+            (&self.kappa0_prev, &self.m0_prev)
+        } else {
+            (&self.kappa0, &self.m0)
+        };
+        let ctx = Ctx {
+            model: m,
+            frames: &s.frames,
+            kappa0,
+            m0,
+            gravity: m.gravity,
+        };
+        let Some(grad) = grad else {
+            let mut p = Potential {
+                elastic: Stretch.eval(&ctx, q, None, false),
+                gravity: Gravity.eval(&ctx, q, None, false),
+            };
+            for i in 1..m.nodes - 1 {
+                let y = intrinsic(q, i);
+                p.elastic += bend_stencil(&ctx, i).eval(&y) + twist_stencil(&ctx, i).eval(&y);
+            }
+            return p;
+        };
+        self.scratch.clear();
+        let mut p = Potential {
+            elastic: Stretch.eval(&ctx, q, Some(&mut self.scratch), false),
+            gravity: Gravity.eval(&ctx, q, Some(&mut self.scratch), false),
+        };
+        grad.copy_from_slice(&self.scratch.grad);
+        for i in 1..m.nodes - 1 {
+            let y = intrinsic(q, i);
+            let (bend, twist) = (bend_stencil(&ctx, i), twist_stencil(&ctx, i));
+            let (e, g) = match closed_form(&bend, &twist, y) {
+                Some(r) => {
+                    self.stencil_paths[0] += 1;
+                    r
+                }
+                None => {
+                    self.stencil_paths[1] += 1;
+                    let (eb, gb) = stencil_gradient(&bend, y);
+                    let (et, gt) = stencil_gradient(&twist, y);
+                    (eb + et, std::array::from_fn(|k| gb[k] + gt[k]))
+                }
+            };
+            p.elastic += e;
+            // Chain rule: e0 = x_i - x_{i-1}, e1 = x_{i+1} - x_i.
+            let [a, b, c] = [dof::node(i - 1), dof::node(i), dof::node(i + 1)];
+            for r in 0..3 {
+                grad[a + r] -= g[r];
+                grad[b + r] += g[r] - g[3 + r];
+                grad[c + r] += g[3 + r];
+            }
+            grad[dof::edge(i - 1)] += g[6];
+            grad[dof::edge(i)] += g[7];
+        }
+        p
+    }
+
+    /// Make `self.grad` the energy gradient at `s` (rest strains at `s.t`).
+    fn ensure_gradient(&mut self, s: &State) {
+        if self.have_grad && self.cached_t == s.t && self.cached_q == s.q {
+            return;
+        }
+        let t0 = Instant::now();
+        self.set_time(s.t);
+        let mut grad = std::mem::take(&mut self.grad);
+        self.potential = self.evaluate(s, &s.q, Some(&mut grad), false);
+        self.grad = grad;
+        self.cached_q.copy_from_slice(&s.q);
+        self.cached_t = s.t;
+        self.have_grad = true;
+        self.stats.assembly_s += t0.elapsed().as_secs_f64();
+    }
+
+    /// Energy gradient `dE/dq` at `s` (rest strains at `s.t`), by the gradient-only path.
+    pub fn gradient(&mut self, s: &State) -> &[f64] {
+        self.ensure_gradient(s);
+        &self.grad
+    }
+
+    /// Rod energy (elastic plus gravity) at `s` as computed with the forces (J).
+    pub fn potential(&mut self, s: &State) -> f64 {
+        self.ensure_gradient(s);
+        self.potential.total()
+    }
+
+    /// Energies of `s` with the rest strains at `s.t`.
+    pub fn energies(&mut self, s: &State) -> Energies {
+        self.set_time(s.t);
+        let p = self.evaluate(s, &s.q, None, false);
+        let kinetic = s.kinetic_energy(self.model);
+        Energies {
+            kinetic,
+            elastic: p.elastic,
+            gravity: p.gravity,
+            total: kinetic + p.total(),
+        }
+    }
+
+    /// Largest energy error `|E(t) - E(0) - W_muscle(t)|` (J) over the steps so far.
+    pub fn max_energy_error(&self) -> f64 {
+        self.monitor.map_or(0.0, |mo| mo.max_error)
+    }
+
+    /// The energy scale the blow-up threshold is relative to (J); 0 before the first step.
+    pub fn energy_scale(&self) -> f64 {
+        self.monitor.map_or(0.0, |mo| mo.scale())
+    }
+
+    fn start_monitor(&mut self, s: &State) {
+        self.ensure_gradient(s);
+        let m = self.model;
+        let kinetic = s.kinetic_energy(m);
+        let g = crate::rod::vec3::f::norm(m.gravity);
+        let base_scale = kinetic
+            + self.potential.elastic.abs()
+            + m.total_mass() * g * m.length
+            + m.bend / m.length;
+        self.set_time(s.t);
+        self.monitor = Some(Monitor {
+            e0: kinetic + self.potential.total(),
+            base_scale,
+            rest_max: self.rest_energy(),
+            work: 0.0,
+            max_error: 0.0,
+        });
+    }
+
+    /// One velocity Verlet step of size `h`. On instability the state is restored to the
+    /// start of the step and [`StepError::Unstable`] names that time and `h`.
+    pub fn step(&mut self, s: &mut State, h: f64) -> Result<(), StepError> {
+        if self.monitor.is_none() {
+            self.start_monitor(s);
+        }
+        self.ensure_gradient(s);
+        match &mut self.prev {
+            Some(p) => copy_state(p, s),
+            None => self.prev = Some(s.clone()),
+        }
+        let m = self.model;
+        let t_start = s.t;
+        let potential_start = self.potential.total();
+        for k in 0..m.ndof {
+            if m.fixed[k] {
+                s.v[k] = 0.0;
+                continue;
+            }
+            s.v[k] -= 0.5 * h * self.grad[k] / m.mass[k];
+            s.q[k] += h * s.v[k];
+        }
+        s.update_frames();
+        s.t += h;
+        self.ensure_gradient(s);
+        // Work of the rest strains over the step (trapezoid in q): the change of E from t_n
+        // to t_{n+1} at fixed q_n and at fixed q_{n+1}, averaged.
+        self.actuation
+            .rest_strains(t_start, m, &mut self.kappa0_prev, &mut self.m0_prev);
+        let mut work = 0.0;
+        if self.kappa0 != self.kappa0_prev || self.m0 != self.m0_prev {
+            let new_before = self.evaluate(s, &s.q, None, true).total();
+            let prev = self.prev.take().expect("saved state");
+            let old_after = self.evaluate(&prev, &prev.q, None, false).total();
+            self.prev = Some(prev);
+            work = 0.5 * ((old_after - potential_start) + (self.potential.total() - new_before));
+        }
+        for k in 0..m.ndof {
+            if !m.fixed[k] {
+                s.v[k] -= 0.5 * h * self.grad[k] / m.mass[k];
+            }
+        }
+        self.stats.steps += 1;
+        let kinetic = s.kinetic_energy(m);
+        let rest = self.rest_energy();
+        let mo = self.monitor.as_mut().expect("monitor");
+        mo.work += work;
+        mo.rest_max = mo.rest_max.max(rest);
+        let err = (kinetic + self.potential.total() - mo.e0 - mo.work).abs();
+        let scale = mo.scale();
+        let finite = err.is_finite()
+            && s.q.iter().all(|x| x.is_finite())
+            && s.v.iter().all(|x| x.is_finite());
+        let reason = if !finite {
+            Some("non-finite coordinates, velocities or energy".to_string())
+        } else if err > BLOWUP_FACTOR * scale {
+            Some(format!(
+                "energy error {err:.3e} J exceeds {BLOWUP_FACTOR} x the energy scale {scale:.3e} J"
+            ))
+        } else {
+            mo.max_error = mo.max_error.max(err);
+            None
+        };
+        match reason {
+            None => Ok(()),
+            Some(reason) => {
+                copy_state(s, self.prev.as_ref().expect("saved state"));
+                self.have_grad = false;
+                self.stats.steps -= 1;
+                Err(StepError::Unstable {
+                    t: s.t,
+                    dt: h,
+                    reason,
+                })
+            }
+        }
+    }
+}
+
+/// Copy `src` into `dst` without allocating (same model).
+fn copy_state(dst: &mut State, src: &State) {
+    dst.t = src.t;
+    dst.q.copy_from_slice(&src.q);
+    dst.v.copy_from_slice(&src.v);
+    dst.tangent.copy_from_slice(&src.tangent);
+    dst.a1.copy_from_slice(&src.a1);
+    dst.frames.copy_from_slice(&src.frames);
+}
+
+fn bend_stencil<'a>(ctx: &'a Ctx, i: usize) -> BendStencil<'a> {
+    BendStencil {
+        frame: &ctx.frames[i - 1],
+        kappa0: ctx.kappa0[i],
+        coef: ctx.model.bend / (2.0 * ctx.model.voronoi[i]),
+    }
+}
+
+fn twist_stencil<'a>(ctx: &'a Ctx, i: usize) -> TwistStencil<'a> {
+    TwistStencil {
+        frame: &ctx.frames[i - 1],
+        m0: ctx.m0[i],
+        coef: ctx.model.twist / (2.0 * ctx.model.voronoi[i]),
+    }
+}
+
+/// Bending plus twist energy of one stencil and its gradient in the 8 intrinsic coordinates
+/// `y = (e^{i-1}, e^i, theta^{i-1}, theta^i)` in closed form (Bergou et al. 2010, in this
+/// crate's sign conventions `kappa_a = kb . (d_a^{i-1} + d_a^i)/2`):
+///
+/// ```text
+/// dkappa_a/de^{i-1} = (-kappa_a tt + t^i x dd_a) / |e^{i-1}|,
+/// dkappa_a/de^i     = (-kappa_a tt - t^{i-1} x dd_a) / |e^i|,
+/// dkappa_1/dtheta^j = kb . d2^j / 2,   dkappa_2/dtheta^j = -kb . d1^j / 2,
+/// dm/de^{i-1} = kb / (2 |e^{i-1}|),   dm/de^i = kb / (2 |e^i|),   dm/dtheta^{i-1,i} = -1, 1,
+/// ```
+///
+/// `chi = t^{i-1}.t^i`, `tt = (t^{i-1} + t^i)/(1 + chi)`, `dd_a = (d_a^{i-1} + d_a^i)/(1 + chi)`.
+/// These are the derivatives with the reference frames transported from the current tangents,
+/// so they are exact only when the stencil's frozen frame is current (`t_old = t`, which
+/// holds right after [`State::update_frames`], where the integrator evaluates forces);
+/// otherwise `None`, and the caller differentiates the energies with dual numbers.
+fn closed_form(bend: &BendStencil, twist: &TwistStencil, y: [f64; 8]) -> Option<(f64, [f64; 8])> {
+    let fr = bend.frame;
+    let e0 = [y[0], y[1], y[2]];
+    let e1 = [y[3], y[4], y[5]];
+    let (n0, n1) = (f::norm(e0), f::norm(e1));
+    let (t0, t1) = (f::scale(e0, 1.0 / n0), f::scale(e1, 1.0 / n1));
+    let current = |a: [f64; 3], b: [f64; 3]| (0..3).all(|k| (a[k] - b[k]).abs() <= 1e-12);
+    if !(current(t0, fr.t_old[0]) && current(t1, fr.t_old[1])) {
+        return None;
+    }
+    let st = frames::strains::<f64>(&V3(e0), &V3(e1), &y[6], &y[7], fr);
+    let directors = |t: [f64; 3], t_old: [f64; 3], a_old: [f64; 3], theta: f64| {
+        let a = f::transport(t_old, t, a_old);
+        let b = f::cross(t, a);
+        let (s, c) = theta.sin_cos();
+        (
+            f::add(f::scale(a, c), f::scale(b, s)),
+            f::sub(f::scale(b, c), f::scale(a, s)),
+        )
+    };
+    let (d1a, d2a) = directors(t0, fr.t_old[0], fr.a1_old[0], y[6]);
+    let (d1b, d2b) = directors(t1, fr.t_old[1], fr.a1_old[1], y[7]);
+    let w = 1.0 / (1.0 + f::dot(t0, t1));
+    let kb = f::scale(f::cross(t0, t1), 2.0 * w);
+    let tt = f::scale(f::add(t0, t1), w);
+    let dd = [f::scale(f::add(d1a, d1b), w), f::scale(f::add(d2a, d2b), w)];
+    // dE/dkappa_a and dE/dm.
+    let cb = 2.0 * bend.coef;
+    let gk = [
+        cb * (st.kappa[0] - bend.kappa0[0]),
+        cb * (st.kappa[1] - bend.kappa0[1]),
+    ];
+    let gm = 2.0 * twist.coef * (st.twist - twist.m0);
+    let energy = bend.coef
+        * ((st.kappa[0] - bend.kappa0[0]).powi(2) + (st.kappa[1] - bend.kappa0[1]).powi(2))
+        + twist.coef * (st.twist - twist.m0).powi(2);
+    let mut g0 = f::scale(kb, 0.5 * gm / n0);
+    let mut g1 = f::scale(kb, 0.5 * gm / n1);
+    for a in 0..2 {
+        let k = st.kappa[a];
+        g0 = f::add(
+            g0,
+            f::scale(f::add(f::scale(tt, -k), f::cross(t1, dd[a])), gk[a] / n0),
+        );
+        g1 = f::add(
+            g1,
+            f::scale(f::sub(f::scale(tt, -k), f::cross(t0, dd[a])), gk[a] / n1),
+        );
+    }
+    let th0 = 0.5 * (gk[0] * f::dot(kb, d2a) - gk[1] * f::dot(kb, d1a)) - gm;
+    let th1 = 0.5 * (gk[0] * f::dot(kb, d2b) - gk[1] * f::dot(kb, d1b)) + gm;
+    Some((energy, [g0[0], g0[1], g0[2], g1[0], g1[1], g1[2], th0, th1]))
+}
+
+/// Value and gradient of a stencil energy in its 8 intrinsic coordinates (first-order dual
+/// numbers).
+fn stencil_gradient<E: StencilEnergy>(e: &E, y: [f64; 8]) -> (f64, SVector<f64, 8>) {
+    num_dual::gradient(
+        |v: SVector<DualSVec64<8>, 8>| {
+            let arr: [DualSVec64<8>; 8] = std::array::from_fn(|k| v[k]);
+            e.eval(&arr)
+        },
+        &SVector::from(y),
+    )
+}
+
+/// Run a model to the end with the explicit integrator (or to the first instability, which
+/// is kept in [`Outcome::error`] with everything computed before it). Frames are recorded at
+/// the output interval as in [`crate::sim::run`].
+pub fn run(
+    model: &Model,
+    actuation: Box<dyn Actuation>,
+    progress: Progress,
+    on_step: &mut dyn FnMut(&State),
+) -> Result<Outcome, Unsupported> {
+    let start = Instant::now();
+    let mut integ = Explicit::new(model, actuation)?;
+    let mut s = State::initial(model);
+    let zero = vec![0.0; model.real.len()];
+    let mut frames = vec![Frame::of(model, &s, 0.0, zero.clone())];
+    let mut max_strain = s.max_strain(model);
+    let mut error = None;
+    let n_steps = (model.duration / model.dt).round().max(1.0) as usize;
+    let every = ((model.output_interval / model.dt).round() as usize).max(1);
+    for k in 1..=n_steps {
+        if let Err(e) = integ.step(&mut s, model.dt) {
+            error = Some(e);
+            break;
+        }
+        max_strain = max_strain.max(s.max_strain(model));
+        on_step(&s);
+        if k % every == 0 || k == n_steps {
+            frames.push(Frame::of(model, &s, s.t, zero.clone()));
+        }
+        progress(k as f64 / n_steps as f64);
+    }
+    let energies = integ.energies(&s);
+    Ok(Outcome {
+        state: s,
+        frames,
+        stats: integ.stats.clone(),
+        wall_time_s: start.elapsed().as_secs_f64(),
+        max_strain,
+        energies,
+        error,
+        max_penetration: 0.0,
+        slip_speed_max: 0.0,
+    })
+}

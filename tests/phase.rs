@@ -1,0 +1,156 @@
+//! The regime phase diagram (`slither phase`): a small grid runs, writes one `phase.csv` row
+//! per cell and both figures, resumes without simulating again, and bad phase files exit 2
+//! naming the file, line, key and allowed range. The base problem is a tiny S-start (12
+//! elements, a tenth of a second), so the whole file runs in seconds.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_slither");
+
+const BASE: &str = "\
+[rod]
+length = 1.0
+diameter = 0.02
+elements = 12
+density = 1000.0
+bending_stiffness = 0.01308
+
+[ground]
+mu_forward = 0.55
+mu_backward = 0.70
+mu_sideways = 1.00
+
+[gait]
+kind = \"s-start\"
+stress = 24525.0
+sigma = 0.0525
+speed = 0.28
+
+[time]
+dt = 1e-2
+duration = 0.1
+
+[output]
+interval = 0.02
+";
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("slither-phase-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn phase(dir: &Path, body: &str) -> PathBuf {
+    std::fs::write(dir.join("base.toml"), BASE).unwrap();
+    let p = dir.join("phase.toml");
+    std::fs::write(&p, format!("# a phase file\n\n[phase]\n{body}")).unwrap();
+    p
+}
+
+fn run(file: &Path, out: &Path) -> Output {
+    Command::new(BIN)
+        .args([
+            "phase",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn grid_runs_writes_every_cell_and_resumes() {
+    let dir = scratch("grid");
+    let file = phase(
+        &dir,
+        "base = \"base.toml\"\nweight = [300.0, 3000.0]\ntorque = [0.0, 15.0]\n",
+    );
+    let out = dir.join("out");
+    let o = run(&file, &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("4 simulated, 0 reused"), "{err}");
+    let csv = std::fs::read_to_string(out.join("phase.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(rows.len(), 4, "{csv}");
+    for r in &rows {
+        let f: Vec<&str> = r.split(',').collect();
+        assert_eq!(f[3], "ok", "{r}");
+        assert!(["S", "F", "N", "U"].contains(&f[4]), "{r}");
+    }
+    // No torque, no motion: the G = 0 cells are regime N with v_s/v_m below 1e-6.
+    for r in rows
+        .iter()
+        .filter(|r| r.split(',').nth(1).unwrap().parse::<f64>().unwrap() == 0.0)
+    {
+        let f: Vec<&str> = r.split(',').collect();
+        assert_eq!(f[4], "N", "{r}");
+        assert!(f[5].parse::<f64>().unwrap().abs() < 1e-6, "{r}");
+    }
+    for png in ["phase.png", "speed.png"] {
+        assert!(
+            std::fs::metadata(out.join(png)).unwrap().len() > 10_000,
+            "{png}"
+        );
+    }
+    // Resume: nothing to simulate, the same rows.
+    let o = run(&file, &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("0 simulated, 4 reused"), "{err}");
+    assert_eq!(std::fs::read_to_string(out.join("phase.csv")).unwrap(), csv);
+    // A larger grid simulates only the new cells.
+    let file = phase(
+        &dir,
+        "base = \"base.toml\"\nweight = [300.0, 3000.0]\ntorque = [0.0, 15.0, 20.0]\n",
+    );
+    let o = run(&file, &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("2 simulated, 4 reused"), "{err}");
+}
+
+fn rejects(name: &str, body: &str, needles: &[&str]) {
+    let dir = scratch(name);
+    let file = phase(&dir, body);
+    let out = dir.join("out");
+    let o = run(&file, &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+    assert!(err.contains("phase.toml"), "{name}: {err}");
+    for n in needles {
+        assert!(err.contains(n), "{name}: {n:?} not in {err}");
+    }
+    assert!(!out.join("phase.csv").exists(), "{name}");
+}
+
+#[test]
+fn bad_phase_files_exit_2_naming_the_key() {
+    rejects(
+        "negative-weight",
+        "base = \"base.toml\"\nweight = [-1.0, 3.0]\ntorque = [1.0]\n",
+        &[":5:", "phase.weight", "W > 0"],
+    );
+    rejects(
+        "decreasing-torque",
+        "base = \"base.toml\"\nweight = [1.0]\ntorque = [10.0, 5.0]\n",
+        &[":6:", "phase.torque", "strictly increasing"],
+    );
+    rejects(
+        "empty",
+        "base = \"base.toml\"\nweight = []\ntorque = [1.0]\n",
+        &["phase.weight", "non-empty"],
+    );
+    rejects(
+        "missing-base",
+        "base = \"nope.toml\"\nweight = [1.0]\ntorque = [1.0]\n",
+        &[":4:", "phase.base", "nope.toml"],
+    );
+    rejects(
+        "unknown-key",
+        "base = \"base.toml\"\nweight = [1.0]\ntorque = [1.0]\nwidth = 3\n",
+        &["width"],
+    );
+}
