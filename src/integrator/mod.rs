@@ -367,7 +367,7 @@ impl<'m> Integrator<'m> {
         ct.hold(m, &mut s.q, &mut self.held);
         // Iterations (each one assembly) and status changes allowed before the conic
         // program takes over.
-        let cap = m.max_iterations.min(20);
+        let cap = m.max_iterations.min(40);
         let switch_cap = nc + 8;
         let mut switches = 0;
         // Exact (unprojected) Hessians converge quadratically; the projected one is the
@@ -396,7 +396,9 @@ impl<'m> Integrator<'m> {
                 }
                 let k = dof::node(ct.nodes[c]);
                 let nn = self.asm.grad[k + 2];
-                dn = dn.max((nn - ct.normal[c]).abs());
+                // Against the clamped value: a pulling contact (nn < 0) keeps N = 0 and must
+                // count as settled, so that the Coulomb check below can free it.
+                dn = dn.max((nn.max(0.0) - ct.normal[c]).abs());
                 n_min = n_min.min(nn);
                 ct.react[c] = nn;
                 ct.normal[c] = nn.max(0.0);
