@@ -781,3 +781,20 @@ fn explicit_integrator_runs_below_its_limit_and_fails_above_it() {
     assert_eq!(v["status"], "failed");
     r.cleanup();
 }
+
+#[test]
+fn dotted_key_range_error_names_its_own_line() {
+    // The same key written as a dotted key at the top level: the error names its line, not
+    // line 1.
+    let text = BASE.replace("[gravity]\ng = 9.81\n", "").replace(
+        "# (comment lines shift the line numbers)\n",
+        "# (comment lines shift the line numbers)\ngravity.g = -3.0\n",
+    );
+    range_error(
+        "dotted_gravity",
+        &text,
+        "gravity.g",
+        "gravity.g",
+        "a finite number >= 0",
+    );
+}

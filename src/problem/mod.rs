@@ -407,11 +407,21 @@ pub fn key_line(text: &str, table: &str, key: &str) -> usize {
             }
             continue;
         }
-        if current == table {
-            if let Some(rest) = line.strip_prefix(key) {
-                if rest.trim_start().starts_with('=') {
-                    return n + 1;
-                }
+        // `key = ...` inside `[table]`, or a dotted key (`table.key = ...` at the top level,
+        // `b.key = ...` inside `[a]` for table `a.b`).
+        if let Some((lhs, _)) = line.split_once('=') {
+            let lhs: Vec<&str> = lhs.split('.').map(str::trim).collect();
+            let mut full: Vec<&str> = if current.is_empty() {
+                Vec::new()
+            } else {
+                current.split('.').map(str::trim).collect()
+            };
+            full.extend(lhs);
+            if full.len() >= 2
+                && full[full.len() - 1] == key
+                && full[..full.len() - 1].join(".") == table
+            {
+                return n + 1;
             }
         }
     }
