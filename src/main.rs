@@ -278,8 +278,8 @@ impl design::EvaluationObserver for StudyProgress {
         };
         let result = match e.status {
             design::Status::Ok => format!(
-                "v_s = {:.5} m/s, v_s/v_m = {:.4}, Wr_max = {:.3}, regime {}",
-                e.v_s, e.v_s_over_v_m, e.writhe_max, e.regime
+                "v_s = {:.5} m/s, v_s/v_m = {:.4}, {:.1} deg, Wr_max = {:.3}, regime {}",
+                e.v_s, e.v_s_over_v_m, e.displacement_angle_deg, e.writhe_max, e.regime
             ),
             design::Status::Failed => format!("FAILED: {}", e.reason),
         };
@@ -360,12 +360,21 @@ fn optimize(path: &Path, out: &Path, quiet: bool) -> ExitCode {
         }
     };
     let Some(best) = &r.best else {
-        eprintln!(
-            "error: {}: every simulation failed ({} evaluations); see {}",
-            path.display(),
-            r.evaluations,
-            history.display()
-        );
+        if let (Some(max), true) = (study.max_heading_deg, r.failed < r.simulations + r.reused) {
+            eprintln!(
+                "error: {}: no finished run headed within max_heading_deg = {max} degrees of the initial head direction ({} evaluations); see {}",
+                path.display(),
+                r.evaluations,
+                history.display()
+            );
+        } else {
+            eprintln!(
+                "error: {}: every simulation failed ({} evaluations); see {}",
+                path.display(),
+                r.evaluations,
+                history.display()
+            );
+        }
         return ExitCode::from(3);
     };
     if !quiet {
@@ -400,7 +409,7 @@ fn optimize(path: &Path, out: &Path, quiet: bool) -> ExitCode {
             i.point.stress, i.point.sigma, i.point.speed, i.v_s, i.v_s_over_v_m, i.regime
         );
         eprintln!(
-            "best:  stress {} Pa, sigma {}, speed {} m/s (G = {:.3}, W = {:.1}): v_s = {:.5} m/s (v_s/v_m = {:.4}), writhe max {:.3} mean {:.3} turns, regime {}; wrote {}",
+            "best:  stress {} Pa, sigma {}, speed {} m/s (G = {:.3}, W = {:.1}): v_s = {:.5} m/s (v_s/v_m = {:.4}), {:.1} deg off the head direction, writhe max {:.3} mean {:.3} turns, regime {}; wrote {}",
             best.point.stress,
             best.point.sigma,
             best.point.speed,
@@ -408,6 +417,7 @@ fn optimize(path: &Path, out: &Path, quiet: bool) -> ExitCode {
             best.w,
             best.v_s,
             best.v_s_over_v_m,
+            best.displacement_angle_deg,
             best.writhe_max,
             best.writhe_mean,
             best.regime,

@@ -142,7 +142,7 @@ fn optimiser_improves_on_the_start_and_writes_every_evaluation() {
     assert_eq!(r.simulations + r.repeats, r.evaluations);
     assert_eq!(r.reused, 0);
     for (k, row) in rows.iter().enumerate() {
-        assert_eq!(row.len(), 17, "{row:?}");
+        assert_eq!(row.len(), 18, "{row:?}");
         assert_eq!(row[col("eval")], format!("{}", k + 1));
         assert_eq!(row[col("status")], "ok");
         let v_s: f64 = row[col("v_s")].parse().unwrap();
@@ -228,7 +228,7 @@ fn an_interrupted_study_resumes_without_losing_evaluations() {
     // Row numbers continue and the partial row is gone.
     for (k, row) in rows.iter().enumerate() {
         assert_eq!(row[0], format!("{}", k + 1));
-        assert_eq!(row.len(), 17);
+        assert_eq!(row.len(), 18);
     }
     // The same 8-evaluation study run from scratch visits the same points (deterministic).
     let fresh = path.parent().unwrap().join("fresh");
@@ -381,6 +381,21 @@ fn bad_study_files_exit_2_naming_file_key_and_range() {
         "{err}"
     );
 
+    // Heading limit outside (0, 180].
+    let (code, err, path) = bad_study(
+        "heading",
+        &STUDY.replace(
+            "duration_pulses = 0.5",
+            "duration_pulses = 0.5\nmax_heading_deg = 0.0",
+        ),
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains(&format!("{}:6:", study_file(&path))), "{err}");
+    assert!(
+        err.contains("`study.max_heading_deg` = 0") && err.contains("(0, 180]"),
+        "{err}"
+    );
+
     // Nothing to optimise.
     let (code, err, _) = bad_study("empty", "[study]\nbase = \"base.toml\"\n\n[optimize]\n");
     assert_eq!(code, Some(2), "{err}");
@@ -458,4 +473,61 @@ fn normalised_coordinates_map_and_clamp_exactly_to_the_bounds() {
     for v in &s {
         assert!(v.iter().all(|u| (0.0..=1.0).contains(u)), "{v:?}");
     }
+}
+
+#[test]
+fn a_heading_limit_excludes_runs_that_veer_and_penalises_their_cost() {
+    // Without a limit the fastest run of this study veers more than 1 degree off the head
+    // direction; with `max_heading_deg = 1` it cannot be the optimum and costs more.
+    let free = setup("heading-free", BASE, STUDY);
+    let r0 = design::optimize(
+        &design::load_study(&free).unwrap(),
+        &free.parent().unwrap().join("out"),
+        &mut design::Silent,
+    )
+    .unwrap();
+    let fastest = r0.best.as_ref().unwrap();
+    assert!(
+        fastest.displacement_angle_deg > 1.0,
+        "the unconstrained optimum heads {} degrees off",
+        fastest.displacement_angle_deg
+    );
+    let limited = setup(
+        "heading-limited",
+        BASE,
+        &STUDY.replace(
+            "duration_pulses = 0.5",
+            "duration_pulses = 0.5\nmax_heading_deg = 1.0",
+        ),
+    );
+    let study = design::load_study(&limited).unwrap();
+    let r = design::optimize(
+        &study,
+        &limited.parent().unwrap().join("out"),
+        &mut design::Silent,
+    )
+    .unwrap();
+    let best = r.best.as_ref().expect("a run within 1 degree");
+    assert!(
+        best.displacement_angle_deg <= 1.0,
+        "{}",
+        best.displacement_angle_deg
+    );
+    for (e, cost) in &r.visited {
+        if e.status == Status::Ok && e.displacement_angle_deg > 1.0 {
+            // At least -v_s plus the penalty (1 m/s) per 90 degrees over the limit (an
+            // out-of-bounds penalty can only add to it).
+            assert!(
+                *cost >= -e.v_s + (e.displacement_angle_deg - 1.0) / 90.0 - 1e-15,
+                "cost {cost} of a run {} degrees off",
+                e.displacement_angle_deg
+            );
+            assert!(e.v_s != best.v_s || e.eval != best.eval);
+        }
+    }
+    let json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(limited.parent().unwrap().join("out/optimum.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(json["best"]["displacement_angle_deg"].as_f64().unwrap() <= 1.0);
 }

@@ -66,7 +66,7 @@ pub const FAILED_COST: f64 = 1.0e3;
 pub const HISTORY_FILE: &str = "history.csv";
 
 /// Header of `history.csv` (the column order is fixed; units in the README).
-pub const HISTORY_HEADER: &str = "eval,stress,sigma,speed,duration,G,W,v_s,v_s_over_v_m,writhe_max,writhe_mean,regime,status,wall_time_s,objective,base_hash,reason";
+pub const HISTORY_HEADER: &str = "eval,stress,sigma,speed,duration,G,W,v_s,v_s_over_v_m,writhe_max,writhe_mean,displacement_angle_deg,regime,status,wall_time_s,objective,base_hash,reason";
 
 // ---------------------------------------------------------------------------------------------
 // The study file
@@ -109,6 +109,10 @@ pub struct StudyTable {
     /// unit cube). Default 1.0, >= 0.
     #[serde(default = "d_penalty")]
     pub penalty: f64,
+    /// Heading limit (degrees): a finished run whose net displacement lies more than this off
+    /// the initial head direction costs `penalty * (angle - max_heading_deg) / 90` extra (m/s)
+    /// and cannot be the optimum. Default: no limit; in (0, 180].
+    pub max_heading_deg: Option<f64>,
 }
 fn d_max_evaluations() -> usize {
     30
@@ -321,11 +325,30 @@ pub struct Study {
     pub tolerance: f64,
     /// Out-of-bounds penalty (m/s per unit normalised distance).
     pub penalty: f64,
+    /// Heading limit (degrees), if any.
+    pub max_heading_deg: Option<f64>,
     /// The search space.
     pub space: Space,
 }
 
 impl Study {
+    /// Whether a run's heading is within `max_heading_deg` (always, without a limit).
+    pub fn meets_heading(&self, e: &Evaluation) -> bool {
+        self.max_heading_deg
+            .is_none_or(|max| !(e.displacement_angle_deg > max))
+    }
+
+    /// Extra cost (m/s) of a finished run that heads more than `max_heading_deg` off the
+    /// initial head direction: `penalty * (angle - max_heading_deg) / 90`; zero otherwise.
+    pub fn heading_penalty(&self, e: &Evaluation) -> f64 {
+        match (self.max_heading_deg, e.status) {
+            (Some(max), Status::Ok) if e.displacement_angle_deg > max => {
+                self.penalty * (e.displacement_angle_deg - max) / 90.0
+            }
+            _ => 0.0,
+        }
+    }
+
     /// Duration of a run at travelling speed `speed` (s).
     pub fn duration(&self, speed: f64) -> f64 {
         self.duration_pulses * self.base.rod.length / speed
@@ -588,6 +611,16 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
             "a finite number >= 0 (m/s per unit normalised distance)".into(),
         ));
     }
+    if let Some(h) = s.max_heading_deg {
+        if !(h.is_finite() && h > 0.0 && h <= 180.0) {
+            return Err(fail(
+                "study",
+                "max_heading_deg",
+                format!("{h}"),
+                "a number in (0, 180] (degrees)".into(),
+            ));
+        }
+    }
     let space = Space { dims, fixed };
     let study = Study {
         path: path.into(),
@@ -599,6 +632,7 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         initial_step: s.initial_step,
         tolerance: s.tolerance,
         penalty: s.penalty,
+        max_heading_deg: s.max_heading_deg,
         space,
     };
     // The shortest run (at the fastest speed) must hold at least one time step.
@@ -689,6 +723,8 @@ pub struct Evaluation {
     pub writhe_max: f64,
     /// Mean writhe over the frames (turns).
     pub writhe_mean: f64,
+    /// Angle of the net displacement from the initial head direction (degrees).
+    pub displacement_angle_deg: f64,
     /// Regime "S", "F", "N" or "U" ([`crate::observe`]).
     pub regime: String,
     /// Finished or failed.
@@ -724,7 +760,7 @@ impl Evaluation {
             })
             .collect();
         format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             self.eval,
             self.point.stress,
             self.point.sigma,
@@ -736,6 +772,7 @@ impl Evaluation {
             self.v_s_over_v_m,
             self.writhe_max,
             self.writhe_mean,
+            self.displacement_angle_deg,
             self.regime,
             self.status.as_str(),
             self.wall_time_s,
@@ -815,11 +852,11 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
         if line.trim().is_empty() {
             continue;
         }
-        let f: Vec<&str> = line.splitn(17, ',').collect();
-        if f.len() != 17 {
+        let f: Vec<&str> = line.splitn(18, ',').collect();
+        if f.len() != 18 {
             return Err(bad(
                 line_no,
-                format!("expected 17 comma-separated fields, found {}", f.len()),
+                format!("expected 18 comma-separated fields, found {}", f.len()),
             ));
         }
         let num = |i: usize| -> Result<f64, DesignError> {
@@ -840,7 +877,7 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
                 format!("column `eval` = {:?} is not an integer", f[0]),
             )
         })?;
-        let status = match f[12].trim() {
+        let status = match f[13].trim() {
             "ok" => Status::Ok,
             "failed" => Status::Failed,
             other => {
@@ -864,12 +901,13 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
             v_s_over_v_m: num(8)?,
             writhe_max: num(9)?,
             writhe_mean: num(10)?,
-            regime: f[11].trim().to_string(),
+            displacement_angle_deg: num(11)?,
+            regime: f[12].trim().to_string(),
             status,
-            wall_time_s: num(13)?,
-            reason: f[16].to_string(),
+            wall_time_s: num(14)?,
+            reason: f[17].to_string(),
         };
-        h.rows.push((e, f[15].trim().to_string()));
+        h.rows.push((e, f[16].trim().to_string()));
     }
     Ok(h)
 }
@@ -899,6 +937,7 @@ pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Eval
         v_s_over_v_m: f64::NAN,
         writhe_max: f64::NAN,
         writhe_mean: f64::NAN,
+        displacement_angle_deg: f64::NAN,
         regime: String::new(),
         status: Status::Failed,
         wall_time_s: 0.0,
@@ -925,6 +964,7 @@ pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Eval
             e.v_s_over_v_m = ob.v_s_over_v_m;
             e.writhe_max = ob.writhe_max;
             e.writhe_mean = ob.writhe_mean;
+            e.displacement_angle_deg = ob.displacement_angle_deg;
             e.regime = ob.regime;
             match error {
                 Some(reason) => e.reason = reason,
@@ -1047,7 +1087,7 @@ impl CostFunction for Evaluator<'_> {
             (e, Source::Simulated)
         };
         sh.observer.finished(count, &e, source == Source::Reused);
-        let cost = e.objective() + study.penalty * dist;
+        let cost = e.objective() + study.penalty * dist + study.heading_penalty(&e);
         sh.visited.push((e, source, cost));
         Ok(cost)
     }
@@ -1317,7 +1357,7 @@ pub fn optimize(
     }
     let best = visited
         .iter()
-        .filter(|v| v.0.status == Status::Ok)
+        .filter(|v| v.0.status == Status::Ok && study.meets_heading(&v.0))
         .max_by(|a, b| a.0.v_s.total_cmp(&b.0.v_s))
         .map(|v| v.0.clone());
     let initial = visited
@@ -1353,7 +1393,7 @@ struct Optimum<'a> {
     base_hash: &'a str,
     /// The optimised parameters and their bounds.
     optimized: &'a [Dim],
-    /// Best finished evaluation (null if every simulation failed).
+    /// Fastest finished evaluation within the heading limit (null if there is none).
     best: Option<Summary<'a>>,
     /// The starting point.
     initial: Summary<'a>,
@@ -1386,6 +1426,8 @@ struct Summary<'a> {
     v_s_over_v_m: f64,
     writhe_max: f64,
     writhe_mean: f64,
+    /// Net displacement's angle from the initial head direction (degrees).
+    displacement_angle_deg: f64,
     regime: &'a str,
     status: Status,
 }
@@ -1419,6 +1461,7 @@ fn summary(e: &Evaluation) -> Summary<'_> {
         v_s_over_v_m: e.v_s_over_v_m,
         writhe_max: e.writhe_max,
         writhe_mean: e.writhe_mean,
+        displacement_angle_deg: e.displacement_angle_deg,
         regime: &e.regime,
         status: e.status,
     }
