@@ -21,7 +21,9 @@
 //! f(u) = -v_s(clamp(u)) + penalty * |u - clamp(u)|        (m/s)
 //! ```
 //!
-//! which keeps the simplex from drifting out along a flat plateau. A simulation that fails
+//! which keeps the simplex from drifting out along a flat plateau. With `max_heading_deg`, a
+//! finished run whose net displacement lies further than that off the initial head direction
+//! adds `penalty * (angle - max_heading_deg) / 90` and is never reported as the optimum. A simulation that fails
 //! (a rejected step, an unstable integrator, a non-finite speed, a panic) is recorded with
 //! status `failed` and costs [`FAILED_COST`], worse than any finished run. Parameters without
 //! bounds keep the base problem's value.
