@@ -1383,7 +1383,7 @@ pub fn optimize(
         wall_time_s: start.elapsed().as_secs_f64(),
     };
     write_optimum(study, out, &report)?;
-    write_figures(out, &report)?;
+    write_figures(study, out, &report)?;
     Ok(report)
 }
 
@@ -1498,7 +1498,7 @@ fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(), DesignErro
     std::fs::write(&path, text + "\n").map_err(|source| DesignError::Io { path, source })
 }
 
-fn write_figures(out: &Path, r: &Report) -> Result<(), DesignError> {
+fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(), DesignError> {
     let ok: Vec<&Evaluation> = r
         .visited
         .iter()
@@ -1506,10 +1506,27 @@ fn write_figures(out: &Path, r: &Report) -> Result<(), DesignError> {
         .filter(|e| e.status == Status::Ok)
         .collect();
     let path = out.join("speed_vs_writhe.png");
+    let (within, beyond): (Vec<&Evaluation>, Vec<&Evaluation>) =
+        ok.iter().partition(|e| study.meets_heading(e));
     let mut series: Vec<(String, Vec<(f64, f64)>)> = vec![(
-        format!("finished evaluations ({})", ok.len()),
-        ok.iter().map(|e| (e.writhe_max, e.v_s_over_v_m)).collect(),
+        format!("finished evaluations ({})", within.len()),
+        within
+            .iter()
+            .map(|e| (e.writhe_max, e.v_s_over_v_m))
+            .collect(),
     )];
+    if let (Some(max), false) = (study.max_heading_deg, beyond.is_empty()) {
+        series.push((
+            format!(
+                "more than {max} deg off the head direction ({})",
+                beyond.len()
+            ),
+            beyond
+                .iter()
+                .map(|e| (e.writhe_max, e.v_s_over_v_m))
+                .collect(),
+        ));
+    }
     if r.initial.status == Status::Ok {
         series.push((
             "start".into(),
