@@ -55,6 +55,11 @@ impl Actuation for Natural {
     }
 }
 
+/// Newton iterations allowed to the conic path started where a failed active-set attempt
+/// stopped (close to the solution: a few suffice; beyond that it starts over from the step's
+/// start).
+const WARM_CONIC_CAP: usize = 8;
+
 /// Cumulative solver statistics.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct Stats {
@@ -86,6 +91,9 @@ pub struct Stats {
     pub active_set_steps: usize,
     /// Contact steps where the active-set path failed its checks and the conic path ran.
     pub active_set_fallbacks: usize,
+    /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
+    /// from the step's start.
+    pub warm_conic_restarts: usize,
 }
 
 /// A step that could not be completed.
@@ -587,7 +595,7 @@ impl<'m> Integrator<'m> {
 
     /// Newton iterations on `s.q` (the iterate) for the dynamic step (`h = Some`) or the
     /// static problem. Returns the iteration count.
-    fn newton(&mut self, s: &mut State, h: Option<f64>) -> Result<usize, String> {
+    fn newton(&mut self, s: &mut State, h: Option<f64>, cap: usize) -> Result<usize, String> {
         let m = self.model;
         let n = m.ndof;
         let a = m.diameter;
@@ -595,7 +603,7 @@ impl<'m> Integrator<'m> {
         // forces, so that the gradient it predicted (`pred_grad`) can certify convergence
         // without another conic solve.
         let mut have_pred = false;
-        for it in 1..=m.max_iterations {
+        for it in 1..=cap {
             let t0 = Instant::now();
             let f0 = self.assemble(s, h, true);
             for k in 0..n {
@@ -725,10 +733,7 @@ impl<'m> Integrator<'m> {
                 have_pred = true;
             }
         }
-        Err(format!(
-            "Newton did not converge in {} iterations",
-            m.max_iterations
-        ))
+        Err(format!("Newton did not converge in {cap} iterations"))
     }
 
     /// One implicit Euler step of size `h`, without retries.
@@ -776,6 +781,27 @@ impl<'m> Integrator<'m> {
                         eprintln!("  active set rejected at t = {}: {why}", s.t);
                     }
                     self.stats.active_set_fallbacks += 1;
+                    if s.q.iter().all(|x| x.is_finite()) {
+                        // Start the conic path from where the active set stopped (lifted onto
+                        // the ground), with its normal forces: usually a few conic solves from
+                        // the solution. Should that start fail, the conic path runs again from
+                        // the step's start before the step is rejected.
+                        if let Some(ct) = self.contacts.as_mut() {
+                            for &i in &ct.nodes {
+                                let k = dof::node(i) + 2;
+                                s.q[k] = s.q[k].max(0.5 * m.diameter);
+                            }
+                        }
+                        match self.newton(s, Some(h), m.max_iterations.min(WARM_CONIC_CAP)) {
+                            Ok(it) => return Ok(self.accept_conic(s, h, it)),
+                            Err(why) => {
+                                if self.trace {
+                                    eprintln!("  warm conic start failed at t = {}: {why}", s.t);
+                                }
+                                self.stats.warm_conic_restarts += 1;
+                            }
+                        }
+                    }
                     s.q.copy_from_slice(&self.q_init);
                     if let Some(ct) = self.contacts.as_mut() {
                         ct.normal.clone_from(&self.normal_saved);
@@ -783,18 +809,8 @@ impl<'m> Integrator<'m> {
                 }
             }
         }
-        match self.newton(s, Some(h)) {
-            Ok(it) => {
-                if let Some(ct) = self.contacts.as_mut() {
-                    ct.classify(m, &s.q);
-                }
-                for k in 0..m.ndof {
-                    s.v[k] = (s.q[k] - self.q_prev[k]) / h;
-                }
-                s.update_frames();
-                s.t += h;
-                Ok(it)
-            }
+        match self.newton(s, Some(h), m.max_iterations) {
+            Ok(it) => Ok(self.accept_conic(s, h, it)),
             Err(e) => {
                 s.q.copy_from_slice(&self.q_prev);
                 s.v.copy_from_slice(&self.v_prev);
@@ -804,6 +820,21 @@ impl<'m> Integrator<'m> {
                 Err(e)
             }
         }
+    }
+
+    /// Finish a step solved by [`Self::newton`]: contact statuses from the solution, velocities,
+    /// frames and time. Returns `it`.
+    fn accept_conic(&mut self, s: &mut State, h: f64, it: usize) -> usize {
+        let m = self.model;
+        if let Some(ct) = self.contacts.as_mut() {
+            ct.classify(m, &s.q);
+        }
+        for k in 0..m.ndof {
+            s.v[k] = (s.q[k] - self.q_prev[k]) / h;
+        }
+        s.update_frames();
+        s.t += h;
+        it
     }
 
     /// Advance by `h`, halving on failure (at most `max_halvings` levels).
@@ -841,7 +872,7 @@ impl<'m> Integrator<'m> {
     pub fn solve_static(&mut self, s: &mut State, load: f64) -> Result<usize, StepError> {
         self.load = load;
         self.set_time(s.t);
-        let r = self.newton(s, None);
+        let r = self.newton(s, None, self.model.max_iterations);
         self.load = 1.0;
         match r {
             Ok(it) => {
