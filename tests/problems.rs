@@ -102,3 +102,31 @@ fn s_start_lift_off_stays_on_the_active_set_path() {
     );
     assert_eq!(o.stats.active_set_fallbacks, 0);
 }
+
+/// Pinned: a step that leaves the active-set path (here a contact on the friction cone's
+/// boundary, first at t = 1.22 s) continues with the conic program from where the active set
+/// stopped, so it needs a few conic solves, not a whole Newton solve from the step's start
+/// (40 solves for 19 fallbacks in the first 1.5 s; 227 when each started afresh).
+#[test]
+fn s_start_fallbacks_start_the_conic_path_near_the_solution() {
+    let p = problem::load(Path::new("problems/s_start.toml")).unwrap();
+    let mut m = Model::new(&p);
+    m.duration = 1.5;
+    let o = sim::run(
+        &m,
+        Box::new(slither::gait::Muscles {
+            gait: m.gait.clone(),
+        }),
+        &mut |_| {},
+        &mut |_| {},
+    );
+    assert!(o.error.is_none(), "{:?}", o.error);
+    let (fb, conic) = (o.stats.active_set_fallbacks, o.stats.conic_solves);
+    println!(
+        "{fb} fallbacks, {conic} conic solves, {} halvings",
+        o.stats.step_halvings
+    );
+    assert!(fb >= 5, "the scene must exercise the fallback: {fb}");
+    assert!(conic <= 3 * fb, "{conic} conic solves for {fb} fallbacks");
+    assert_eq!(o.stats.step_halvings, 0);
+}
