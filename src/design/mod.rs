@@ -370,36 +370,10 @@ impl Study {
 /// A study-file error: names the file, the dotted key, its line and what is allowed.
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
-    /// The study file could not be read.
-    #[error("{file}: cannot read: {source}")]
-    Io {
-        /// File.
-        file: PathBuf,
-        /// Cause.
-        source: std::io::Error,
-    },
-    /// TOML syntax, type, unknown or missing key.
-    #[error("{file}: {message}")]
-    Parse {
-        /// File.
-        file: PathBuf,
-        /// toml's message with the key.
-        message: String,
-    },
-    /// A value outside its allowed range.
-    #[error("{file}:{line}: `{key}` = {value} is not allowed: must be {allowed}")]
-    Invalid {
-        /// File.
-        file: PathBuf,
-        /// 1-based line of the key (or of its table).
-        line: usize,
-        /// Dotted key, e.g. `optimize.stress`.
-        key: String,
-        /// The offending value.
-        value: String,
-        /// Allowed range with unit.
-        allowed: String,
-    },
+    /// The study file could not be read, is not valid TOML of the study's shape, or has a value
+    /// outside its allowed range (the same errors as a problem file's).
+    #[error(transparent)]
+    File(#[from] ProblemError),
     /// The base problem file is missing or invalid.
     #[error("{file}:{line}: `study.base` = {value:?}: {source}; must be a valid problem file (path relative to the study file)")]
     Base {
@@ -416,56 +390,40 @@ pub enum StudyError {
 
 /// Read, parse and validate a study file (and its base problem).
 pub fn load_study(path: &Path) -> Result<Study, StudyError> {
-    let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
-        file: path.into(),
-        source,
-    })?;
-    parse_study(&text, path)
+    parse_study(&problem::read(path)?, path)
 }
 
 /// Parse and validate study text; `path` locates the base file and names the study in messages.
 pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
-    let spec: StudySpec = toml::from_str(text).map_err(|e| {
-        let message = e.to_string().trim_end().to_string();
-        let message = match problem::toml_error_key(text, &e) {
-            Some(key) => format!("`{key}`: {message}"),
-            None => message,
-        };
-        StudyError::Parse {
-            file: path.into(),
-            message,
-        }
-    })?;
+    let spec: StudySpec = problem::from_toml(text, path)?;
     let fail = |table: &str, key: &str, value: String, allowed: String| {
         let top = key.split('.').next().unwrap_or(key);
-        StudyError::Invalid {
+        StudyError::from(ProblemError::Invalid {
             file: path.into(),
             line: key_line(text, table, top),
             key: format!("{table}.{key}"),
             value,
             allowed,
-        }
+        })
     };
     let s = &spec.study;
     let base_path = path.parent().unwrap_or_else(|| Path::new("")).join(&s.base);
-    let base_text = std::fs::read_to_string(&base_path)
-        .map_err(|source| ProblemError::Io {
-            file: base_path.clone(),
-            source,
-        })
-        .and_then(|t| problem::parse(&t, &base_path).map(|p| (t, p)));
+    let base_text =
+        problem::read(&base_path).and_then(|t| problem::parse(&t, &base_path).map(|p| (t, p)));
     let (base_text, base) = base_text.map_err(|source| StudyError::Base {
         file: path.into(),
         line: key_line(text, "study", "base"),
         value: s.base.clone(),
         source,
     })?;
-    let base_fail = |allowed: &str| StudyError::Invalid {
-        file: path.into(),
-        line: key_line(text, "study", "base"),
-        key: "study.base".into(),
-        value: format!("{:?}", s.base),
-        allowed: allowed.into(),
+    let base_fail = |allowed: &str| {
+        StudyError::from(ProblemError::Invalid {
+            file: path.into(),
+            line: key_line(text, "study", "base"),
+            key: "study.base".into(),
+            value: format!("{:?}", s.base),
+            allowed: allowed.into(),
+        })
     };
     if base.gait.kind == gait::Kind::None {
         return Err(base_fail(
@@ -481,13 +439,14 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         speed: base.gait.speed,
     };
     let Some(opt) = &spec.optimize else {
-        return Err(StudyError::Invalid {
+        return Err(ProblemError::Invalid {
             file: path.into(),
             line: text.lines().count().max(1),
             key: "optimize".into(),
             value: "(missing)".into(),
             allowed: "a table with at least one of optimize.stress (Pa), optimize.sigma (fraction of L), optimize.speed (m/s)".into(),
-        });
+        }
+        .into());
     };
     let mut dims = Vec::new();
     for param in Param::ALL {
@@ -553,13 +512,14 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         });
     }
     if dims.is_empty() {
-        return Err(StudyError::Invalid {
+        return Err(ProblemError::Invalid {
             file: path.into(),
             line: key_line(text, "optimize", "stress"),
             key: "optimize".into(),
             value: "(no bounds)".into(),
             allowed: "at least one of optimize.stress (Pa), optimize.sigma (fraction of L), optimize.speed (m/s)".into(),
-        });
+        }
+        .into());
     }
     let n = dims.len();
     if !(n + 1..=100_000).contains(&s.max_evaluations) {
@@ -669,7 +629,7 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
 }
 
 /// FNV-1a, 64 bit (stable across Rust versions, unlike `DefaultHasher`).
-fn fnv1a(bytes: &[u8]) -> u64 {
+pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for &b in bytes {
         h ^= b as u64;

@@ -65,29 +65,10 @@ struct PhaseTable {
     torque: Vec<f64>,
 }
 
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf29ce484222325u64, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x100000001b3)
-    })
-}
-
 /// Read and validate a phase file and its base problem.
 pub fn load(path: &Path) -> Result<Phase, ProblemError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
-        file: path.into(),
-        source,
-    })?;
-    let f: PhaseFile = toml::from_str(&text).map_err(|e| {
-        let message = e.to_string().trim_end().to_string();
-        let message = match problem::toml_error_key(&text, &e) {
-            Some(key) => format!("`{key}`: {message}"),
-            None => message,
-        };
-        ProblemError::Parse {
-            file: path.into(),
-            message,
-        }
-    })?;
+    let text = problem::read(path)?;
+    let f: PhaseFile = problem::from_toml(&text, path)?;
     let t = f.phase;
     let invalid = |key: &str, value: String, allowed: &str| ProblemError::Invalid {
         file: path.into(),
@@ -156,7 +137,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
     }
     Ok(Phase {
         file: path.into(),
-        base_hash: fnv1a(base_text.as_bytes()),
+        base_hash: super::fnv1a(base_text.as_bytes()),
         base_path,
         base,
         weight: t.weight,

@@ -298,16 +298,30 @@ pub enum ProblemError {
 
 /// Read, parse and validate a problem file.
 pub fn load(path: &Path) -> Result<Problem, ProblemError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
-        file: path.into(),
-        source,
-    })?;
-    parse(&text, path)
+    parse(&read(path)?, path)
 }
 
 /// Parse and validate problem text; `path` is only used in messages.
 pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
-    let p: Problem = toml::from_str(text).map_err(|e| {
+    let p: Problem = from_toml(text, path)?;
+    validate(&p, text, path)?;
+    Ok(p)
+}
+
+/// The text of an input file (problem, study or phase file).
+pub(crate) fn read(path: &Path) -> Result<String, ProblemError> {
+    std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
+        file: path.into(),
+        source,
+    })
+}
+
+/// Deserialize an input file's text; a TOML error names the file and the dotted key.
+pub(crate) fn from_toml<T: serde::de::DeserializeOwned>(
+    text: &str,
+    path: &Path,
+) -> Result<T, ProblemError> {
+    toml::from_str(text).map_err(|e| {
         let message = e.to_string().trim_end().to_string();
         let message = match toml_error_key(text, &e) {
             Some(key) => format!("`{key}`: {message}"),
@@ -317,9 +331,7 @@ pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
             file: path.into(),
             message,
         }
-    })?;
-    validate(&p, text, path)?;
-    Ok(p)
+    })
 }
 
 /// The dotted key a TOML error is about (e.g. `rod.length`), found from the error's span: the
