@@ -10,7 +10,6 @@
 //! Both codes' speeds are the centroid's net displacement along the initial head direction over
 //! the run time, divided by `v_m`; the heading is the displacement's angle from that direction.
 
-use slither::gait::Muscles;
 use slither::model::Model;
 use slither::{observe, problem, sim};
 use std::path::{Path, PathBuf};
@@ -69,14 +68,8 @@ fn pyelastica(path: &Path) -> Result<Row, String> {
 fn slither_row(path: &Path) -> Result<Row, String> {
     let p = problem::load(path).map_err(|e| e.to_string())?;
     let m = Model::new(&p);
-    let o = sim::run(
-        &m,
-        Box::new(Muscles {
-            gait: m.gait.clone(),
-        }),
-        &mut |_| {},
-        &mut |_| {},
-    );
+    let o = sim::run_gait(&m, p.solver.integrator, &mut |_| {}, &mut |_| {})
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     if let Some(e) = &o.error {
         return Err(format!("{}: {e}", path.display()));
     }

@@ -2,7 +2,7 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use slither::model::Model;
-use slither::{design, gait, observe, output, problem, sim, topology};
+use slither::{design, observe, output, problem, sim, topology};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -161,19 +161,11 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
             b.set_position((frac * 1000.0) as u64);
         }
     };
-    let muscles = Box::new(gait::Muscles {
-        gait: model.gait.clone(),
-    });
-    let o = match p.solver.integrator {
-        problem::IntegratorKind::Implicit => sim::run(&model, muscles, &mut progress, &mut |_| {}),
-        problem::IntegratorKind::Explicit => {
-            match slither::integrator::explicit::run(&model, muscles, &mut progress, &mut |_| {}) {
-                Ok(o) => o,
-                Err(e) => {
-                    eprintln!("error: {}: {e}", path.display());
-                    return ExitCode::from(2);
-                }
-            }
+    let o = match sim::run_gait(&model, p.solver.integrator, &mut progress, &mut |_| {}) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("error: {}: {e}", path.display());
+            return ExitCode::from(2);
         }
     };
     if let Some(b) = bar.take() {

@@ -84,18 +84,7 @@ fn static_cantilever_needs_few_newton_iterations() {
 /// conic program: 99 fallbacks in the first 1.2 s, 3.9 times the wall time.)
 #[test]
 fn s_start_lift_off_stays_on_the_active_set_path() {
-    let p = problem::load(Path::new("problems/s_start.toml")).unwrap();
-    let mut m = Model::new(&p);
-    m.duration = 0.3;
-    let o = sim::run(
-        &m,
-        Box::new(slither::gait::Muscles {
-            gait: m.gait.clone(),
-        }),
-        &mut |_| {},
-        &mut |_| {},
-    );
-    assert!(o.error.is_none(), "{:?}", o.error);
+    let o = s_start_until(0.3);
     println!(
         "{} steps, {} active-set steps, {} fallbacks, {} conic solves",
         o.stats.steps, o.stats.active_set_steps, o.stats.active_set_fallbacks, o.stats.conic_solves
@@ -109,18 +98,7 @@ fn s_start_lift_off_stays_on_the_active_set_path() {
 /// (40 solves for 19 fallbacks in the first 1.5 s; 227 when each started afresh).
 #[test]
 fn s_start_fallbacks_start_the_conic_path_near_the_solution() {
-    let p = problem::load(Path::new("problems/s_start.toml")).unwrap();
-    let mut m = Model::new(&p);
-    m.duration = 1.5;
-    let o = sim::run(
-        &m,
-        Box::new(slither::gait::Muscles {
-            gait: m.gait.clone(),
-        }),
-        &mut |_| {},
-        &mut |_| {},
-    );
-    assert!(o.error.is_none(), "{:?}", o.error);
+    let o = s_start_until(1.5);
     let (fb, conic) = (o.stats.active_set_fallbacks, o.stats.conic_solves);
     println!(
         "{fb} fallbacks, {conic} conic solves, {} halvings",
@@ -129,4 +107,14 @@ fn s_start_fallbacks_start_the_conic_path_near_the_solution() {
     assert!(fb >= 5, "the scene must exercise the fallback: {fb}");
     assert!(conic <= 3 * fb, "{conic} conic solves for {fb} fallbacks");
     assert_eq!(o.stats.step_halvings, 0);
+}
+
+/// The bundled S-start, run to `t` seconds.
+fn s_start_until(t: f64) -> sim::Outcome {
+    let p = problem::load(Path::new("problems/s_start.toml")).unwrap();
+    let mut m = Model::new(&p);
+    m.duration = t;
+    let o = sim::run_gait(&m, p.solver.integrator, &mut |_| {}, &mut |_| {}).unwrap();
+    assert!(o.error.is_none(), "{:?}", o.error);
+    o
 }

@@ -906,16 +906,8 @@ pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Eval
         reason: String::new(),
     };
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        let muscles = Box::new(gait::Muscles {
-            gait: model.gait.clone(),
-        });
-        let outcome = match pr.solver.integrator {
-            problem::IntegratorKind::Implicit => sim::run(&model, muscles, progress, &mut |_| {}),
-            problem::IntegratorKind::Explicit => {
-                crate::integrator::explicit::run(&model, muscles, progress, &mut |_| {})
-                    .map_err(|err| err.to_string())?
-            }
-        };
+        let outcome = sim::run_gait(&model, pr.solver.integrator, progress, &mut |_| {})
+            .map_err(|err| err.to_string())?;
         let fields = observe::fields(&model, &outcome.frames);
         let ob = observe::observe(&model, &outcome.frames, &fields);
         Ok::<_, String>((ob, outcome.error.map(|err| err.to_string())))

@@ -22,7 +22,7 @@
 //! cell whose simulation fails is recorded with status `failed` and its reason, and is not
 //! retried on resume (the failure is deterministic).
 
-use crate::gait::{Kind, Muscles};
+use crate::gait::Kind;
 use crate::model::Model;
 use crate::problem::{self, key_line, Problem, ProblemError};
 use crate::{observe, plot, sim};
@@ -263,25 +263,19 @@ pub fn simulate(base: &Problem, w: f64, g: f64) -> Cell {
     let p = cell_problem(base, w, g);
     let run = std::panic::catch_unwind(|| {
         let m = Model::new(&p);
-        let o = sim::run(
-            &m,
-            Box::new(Muscles {
-                gait: m.gait.clone(),
-            }),
-            &mut |_| {},
-            &mut |_| {},
-        );
+        let o = sim::run_gait(&m, p.solver.integrator, &mut |_| {}, &mut |_| {})?;
         let fl = observe::fields(&m, &o.frames);
-        (observe::observe(&m, &o.frames, &fl), o)
+        Ok::<_, crate::integrator::explicit::Unsupported>((observe::observe(&m, &o.frames, &fl), o))
     });
     match run {
         Err(_) => Cell::failed(w, g, "the simulation panicked".into()),
-        Ok((_, o)) if o.error.is_some() => {
+        Ok(Err(e)) => Cell::failed(w, g, e.to_string()),
+        Ok(Ok((_, o))) if o.error.is_some() => {
             let mut c = Cell::failed(w, g, o.error.unwrap().to_string());
             c.wall_time_s = o.wall_time_s;
             c
         }
-        Ok((ob, o)) => Cell {
+        Ok(Ok((ob, o))) => Cell {
             weight: w,
             torque: g,
             status: "ok".into(),

@@ -59,7 +59,7 @@ use crate::energy::{Assembly, Ctx, Term};
 use crate::model::Model;
 use crate::problem::Mode;
 use crate::rod::{dof, frames, vec3::f, V3};
-use crate::sim::{Frame, Outcome, Progress};
+use crate::sim::{Outcome, Progress};
 use crate::state::State;
 use nalgebra::SVector;
 use num_dual::DualSVec64;
@@ -520,35 +520,22 @@ pub fn run(
 ) -> Result<Outcome, Unsupported> {
     let start = Instant::now();
     let mut integ = Explicit::new(model, actuation)?;
-    let mut s = State::initial(model);
-    let zero = vec![0.0; model.real.len()];
-    let mut frames = vec![Frame::of(model, &s, 0.0, zero.clone())];
-    let mut max_strain = s.max_strain(model);
-    let mut error = None;
-    let n_steps = (model.duration / model.dt).round().max(1.0) as usize;
-    let every = ((model.output_interval / model.dt).round() as usize).max(1);
-    for k in 1..=n_steps {
-        if let Err(e) = integ.step(&mut s, model.dt) {
-            error = Some(e);
-            break;
-        }
-        max_strain = max_strain.max(s.max_strain(model));
-        on_step(&s);
-        if k % every == 0 || k == n_steps {
-            frames.push(Frame::of(model, &s, s.t, zero.clone()));
-        }
-        progress(k as f64 / n_steps as f64);
+    Ok(crate::sim::drive(
+        model, &mut integ, start, progress, on_step,
+    ))
+}
+
+impl crate::sim::Stepper for Explicit<'_> {
+    fn step(&mut self, s: &mut State, h: f64) -> Result<(), StepError> {
+        Explicit::step(self, s, h)
     }
-    let energies = integ.energies(&s);
-    Ok(Outcome {
-        state: s,
-        frames,
-        stats: integ.stats.clone(),
-        wall_time_s: start.elapsed().as_secs_f64(),
-        max_strain,
-        energies,
-        error,
-        max_penetration: 0.0,
-        slip_speed_max: 0.0,
-    })
+    fn normal_forces(&self) -> Vec<f64> {
+        vec![0.0; self.model.real.len()]
+    }
+    fn energies(&mut self, s: &State) -> Energies {
+        Explicit::energies(self, s)
+    }
+    fn stats(&self) -> &Stats {
+        &self.stats
+    }
 }
