@@ -260,6 +260,27 @@ fn canvas<'a>(
     Ok((root, body))
 }
 
+/// The series legend, in the house style, at `corner`.
+fn legend<'a, 'b: 'a, X, Y>(
+    chart: &mut ChartContext<'a, BitMapBackend<'b>, Cartesian2d<X, Y>>,
+    corner: SeriesLabelPosition,
+    margin: u32,
+) -> Result<(), PlotError>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    chart
+        .configure_series_labels()
+        .position(corner)
+        .margin(margin)
+        .label_font((FONT, LEGEND_PX))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.5))
+        .draw()
+        .map_err(draw_err)
+}
+
 fn frame_plot<X, Y>(
     chart: &mut ChartContext<'_, BitMapBackend<'_>, Cartesian2d<X, Y>>,
 ) -> Result<(), PlotError>
@@ -599,15 +620,7 @@ pub fn snapshots(
                 .flat_map(|(_, p)| p.iter().map(|q| (q[0], q[1])))
                 .chain(head_pts.iter().copied());
             let corner = best_corner(pts, xrange, yrange, false, false);
-            chart
-                .configure_series_labels()
-                .position(corner)
-                .margin(10)
-                .label_font((FONT, LEGEND_PX))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK.mix(0.5))
-                .draw()
-                .map_err(draw_err)?;
+            legend(&mut chart, corner, 10)?;
         }
         frame_plot(&mut chart)?;
     }
@@ -883,15 +896,7 @@ pub fn scatter(
     }
     if series.iter().any(|(n, _)| !n.is_empty()) {
         let corner = best_corner(pts(), xr, yr, false, false);
-        chart
-            .configure_series_labels()
-            .position(corner)
-            .margin(12)
-            .label_font((FONT, LEGEND_PX))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.5))
-            .draw()
-            .map_err(draw_err)?;
+        legend(&mut chart, corner, 12)?;
     }
     frame_plot(&mut chart)?;
     root.present().map_err(draw_err)
@@ -991,15 +996,7 @@ where
             logs.0,
             logs.1,
         );
-        chart
-            .configure_series_labels()
-            .position(corner)
-            .margin(12)
-            .label_font((FONT, LEGEND_PX))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.5))
-            .draw()
-            .map_err(draw_err)?;
+        legend(&mut chart, corner, 12)?;
     }
     frame_plot(&mut chart)
 }
