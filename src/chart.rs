@@ -31,6 +31,7 @@ use crate::model::Model;
 use crate::plot::{self, PlotError};
 use crate::problem::Problem;
 use crate::rod::{dof, vec3::f};
+use crate::sim::{drive, Schedule};
 use crate::state::State;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -106,41 +107,30 @@ pub fn simulate(
     let actuation = Box::new(Muscles {
         gait: model.gait.clone(),
     });
-    let mut s = State::initial(model);
     let start = Instant::now();
-    let (r, newton_iterations, step_halvings) = match method {
+    let schedule = Schedule::fixed(h, n);
+    let o = match method {
         Method::Implicit => {
             let mut integ = Integrator::new(model, actuation);
-            let mut r = Ok(());
-            for _ in 0..n {
-                r = integ.step(&mut s, h);
-                if r.is_err() {
-                    break;
-                }
-            }
-            (r, integ.stats.newton_iterations, integ.stats.step_halvings)
+            drive(model, &mut integ, schedule, start, &mut |_| {}, &mut |_| {})
         }
         Method::Explicit => {
             let mut integ = Explicit::new(model, actuation)?;
-            let mut r = Ok(());
-            for _ in 0..n {
-                r = integ.step(&mut s, h);
-                if r.is_err() {
-                    break;
-                }
-            }
-            (r, 0, 0)
+            drive(model, &mut integ, schedule, start, &mut |_| {}, &mut |_| {})
         }
     };
-    let wall_s = start.elapsed().as_secs_f64();
-    Ok(r.map(|_| RunResult {
-        x: model.real.clone().map(|i| s.node(i)).collect(),
-        t: s.t,
-        wall_s,
-        steps: n,
-        newton_iterations,
-        step_halvings,
-    }))
+    let s = &o.state;
+    Ok(match o.error {
+        Some(e) => Err(e),
+        None => Ok(RunResult {
+            x: model.real.clone().map(|i| s.node(i)).collect(),
+            t: s.t,
+            wall_s: o.wall_time_s,
+            steps: n,
+            newton_iterations: o.stats.newton_iterations,
+            step_halvings: o.stats.step_halvings,
+        }),
+    })
 }
 
 /// Largest distance between corresponding nodes (m).

@@ -29,6 +29,7 @@ pub mod fd;
 pub mod gait;
 pub mod integrator;
 pub mod model;
+pub mod newton;
 pub mod observe;
 pub mod output;
 pub mod plot;

@@ -77,8 +77,46 @@ enum Cmd {
     },
 }
 
+/// Diagnostics of the library (`log` crate) on stderr, at debug level when `SLITHER_DEBUG` is
+/// set (every Newton iteration), else warnings only.
+struct StderrLog;
+
+impl log::Log for StderrLog {
+    fn enabled(&self, meta: &log::Metadata) -> bool {
+        meta.level() <= log::max_level()
+    }
+    fn log(&self, record: &log::Record) {
+        if self.enabled(record.metadata()) {
+            eprintln!("{}", record.args());
+        }
+    }
+    fn flush(&self) {}
+}
+
+/// Read the environment once: the logger and the solver overrides.
+fn configure_from_env() {
+    static LOGGER: StderrLog = StderrLog;
+    if log::set_logger(&LOGGER).is_ok() {
+        log::set_max_level(if std::env::var_os("SLITHER_DEBUG").is_some() {
+            log::LevelFilter::Debug
+        } else {
+            log::LevelFilter::Warn
+        });
+    }
+    problem::set_overrides(problem::Overrides {
+        contact: std::env::var("SLITHER_CONTACT")
+            .ok()
+            .map(|v| match v.as_str() {
+                "conic" => problem::ContactKind::Conic,
+                _ => problem::ContactKind::ActiveSet,
+            }),
+        clarabel_method: std::env::var("SLITHER_CLARABEL_METHOD").ok(),
+    });
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    configure_from_env();
     match cli.cmd {
         Cmd::Run {
             problem,

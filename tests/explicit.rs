@@ -9,7 +9,7 @@ mod common;
 use common::{model, Rng};
 use slither::chart::{self, Method};
 use slither::fd;
-use slither::integrator::explicit::{self, Explicit, Unsupported};
+use slither::integrator::explicit::{Explicit, Unsupported};
 use slither::integrator::{Integrator, Natural, StepError};
 use slither::model::Model;
 use slither::state::State;
@@ -321,7 +321,7 @@ fn explicit_rejects_ground_and_static_scenes() {
         Some(Unsupported::Ground)
     );
     assert!(matches!(
-        explicit::run(&with_ground, Box::new(Natural), &mut |_| {}, &mut |_| {}),
+        slither::sim::run_explicit(&with_ground, Box::new(Natural), &mut |_| {}, &mut |_| {}),
         Err(Unsupported::Ground)
     ));
     let mut stat = ground;

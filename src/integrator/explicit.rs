@@ -59,7 +59,6 @@ use crate::energy::{Assembly, Ctx, Term};
 use crate::model::Model;
 use crate::problem::Mode;
 use crate::rod::{dof, frames, vec3::f, V3};
-use crate::sim::{Outcome, Progress};
 use crate::state::State;
 use nalgebra::SVector;
 use num_dual::DualSVec64;
@@ -509,28 +508,15 @@ fn stencil_gradient<E: StencilEnergy>(e: &E, y: [f64; 8]) -> (f64, SVector<f64, 
     )
 }
 
-/// Run a model to the end with the explicit integrator (or to the first instability, which
-/// is kept in [`Outcome::error`] with everything computed before it). Frames are recorded at
-/// the output interval as in [`crate::sim::run`].
-pub fn run(
-    model: &Model,
-    actuation: Box<dyn Actuation>,
-    progress: Progress,
-    on_step: &mut dyn FnMut(&State),
-) -> Result<Outcome, Unsupported> {
-    let start = Instant::now();
-    let mut integ = Explicit::new(model, actuation)?;
-    Ok(crate::sim::drive(
-        model, &mut integ, start, progress, on_step,
-    ))
-}
-
-impl crate::sim::Stepper for Explicit<'_> {
+impl super::Stepper for Explicit<'_> {
     fn step(&mut self, s: &mut State, h: f64) -> Result<(), StepError> {
         Explicit::step(self, s, h)
     }
-    fn normal_forces(&self) -> Vec<f64> {
-        vec![0.0; self.model.real.len()]
+    fn normal_forces_into(&self, out: &mut [f64]) {
+        out.fill(0.0);
+    }
+    fn has_contact(&self) -> bool {
+        false
     }
     fn energies(&mut self, s: &State) -> Energies {
         Explicit::energies(self, s)
