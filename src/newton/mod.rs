@@ -186,6 +186,7 @@ pub struct Inertia<'a> {
 }
 
 /// The rod's energy at the step's rest strains, plus the inertial term in a dynamic step.
+#[derive(Clone, Copy)]
 pub struct Potential<'a> {
     /// The model (masses).
     pub model: &'a Model,
