@@ -21,6 +21,11 @@
 //! optimiser, argmin's Nelder-Mead over simulations); [`fd`] (the finite-difference checker
 //! used by the tests).
 #![warn(missing_docs)]
+// Numerical kernels index several arrays (coordinates, masses, flags, predictor) with one dof
+// index `k`; the index loop states that correspondence more plainly than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+// `!(x > y)` is deliberate where a NaN must take the "not satisfied" branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 pub mod chart;
 pub mod contact;
 pub mod design;

@@ -65,6 +65,27 @@ pub struct Outcome {
     pub slip_speed_max: f64,
 }
 
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunStatus {
+    /// Every step accepted to the end.
+    Completed,
+    /// Stopped by a failed step ([`Outcome::error`]).
+    Failed,
+}
+
+impl Outcome {
+    /// How the run ended.
+    pub fn status(&self) -> RunStatus {
+        if self.error.is_some() {
+            RunStatus::Failed
+        } else {
+            RunStatus::Completed
+        }
+    }
+}
+
 /// Progress callback: fraction done in [0, 1].
 pub type Progress<'a> = &'a mut dyn FnMut(f64);
 

@@ -73,7 +73,7 @@ fn gradient_only_forces_match_the_assembled_gradient_and_finite_differences() {
              [time]\ndt = 1e-3\nduration = 1.0\n"
         );
         let m = model(&text);
-        let mut r = Rng(seed * 0x9E37_79B9_7F4A_7C15 | 1);
+        let mut r = Rng((seed * 0x9E37_79B9_7F4A_7C15) | 1);
         let mut s = State::initial(&m);
         let l0 = m.rest_len[0];
         for k in 0..m.ndof {

@@ -1,6 +1,8 @@
 //! The core's seams are real: a time integrator and a contact model written here, outside the
 //! crate, plug into the implicit stepper through the public traits ([`Scheme`],
 //! [`ContactModel`]) and run through the one run loop ([`sim::drive`]).
+// Index loops over dof indices read as the math does.
+#![allow(clippy::needless_range_loop)]
 mod common;
 
 use common::model;

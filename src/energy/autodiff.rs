@@ -68,7 +68,7 @@ pub fn derivatives<E: StencilEnergy>(
 ) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
     hessian(
         |v: SVector<Dual2SVec64<8>, 8>| {
-            let arr: [Dual2SVec64<8>; 8] = std::array::from_fn(|k| v[k].clone());
+            let arr: [Dual2SVec64<8>; 8] = std::array::from_fn(|k| v[k]);
             e.eval(&arr)
         },
         &SVector::from(y),
