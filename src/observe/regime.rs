@@ -129,8 +129,11 @@ pub struct Thresholds {
     /// U: the body is thrown above this fraction of its length `L` (default 0.25: a quarter of
     /// the body in the air is flailing whatever the pulse does).
     pub flail_height_over_length: f64,
-    /// U: lifted off at least this many diameters `a` ... (default 0.5: the lift-off level also
-    /// used for arcs; a body lying on the ground cannot flail).
+    /// U: lifted off at least this many diameters `a` ... (default 1: a flailing body is thrown
+    /// clear of the ground by at least its own thickness; a bend lifted less than that is the
+    /// muscles raising it against the weight. At 0.5, the level used before, the heavy
+    /// `W = 3000, G = 15` cell of the bundled phase study, a single bend at 0.51 a moving
+    /// 0.0016 v_m, was labelled U, where the paper has heavy weak snakes in N).
     pub flail_lift_over_a: f64,
     /// U: ... while the pulse fit's `R^2` is below this (default 0.5: less than half of the
     /// peak's motion explained by steady travel).
@@ -164,7 +167,7 @@ impl Thresholds {
     /// The defaults (documented per field).
     pub const DEFAULT: Thresholds = Thresholds {
         flail_height_over_length: 0.25,
-        flail_lift_over_a: 0.5,
+        flail_lift_over_a: 1.0,
         flail_pulse_r2: 0.5,
         still_speed: 0.01,
         move_speed: 0.02,
@@ -550,6 +553,19 @@ mod tests {
             ..x
         };
         assert_eq!(classify(&flat).0, Regime::M);
+
+        // A heavy weak body raising one bend half a diameter, with a noisy pulse, does not
+        // flail: N (the bundled phase study's W = 3000, G = 15 cell).
+        let heavy = RegimeInputs {
+            v_s_over_v_m: 0.0016,
+            displacement_angle_deg: 62.1,
+            max_elevation_over_a: 0.51,
+            max_elevation_over_length: 0.0102,
+            two_arc_lift_over_a: 0.07,
+            lambda_pulse_r2: 0.48,
+            lambda_pulse_speed_over_v_m: 0.5,
+        };
+        assert_eq!(classify(&heavy).0, Regime::N);
 
         // Little, zero and backward motion.
         let n = RegimeInputs {
