@@ -602,8 +602,8 @@ fn regime_map(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotE
             0.5 * (ye[j] + ye[j + 1]),
             0.15 * (ye[j + 1] - ye[j]),
         );
-        let detail =
-            (c.regime == Some(Regime::M)).then(|| c.regime_detail.replace(['_', ';'], " "));
+        let detail = (c.regime == Some(Regime::M))
+            .then(|| c.regime_detail.replace('_', " ").replace(';', ", "));
         let y_label = if detail.is_some() { y + dy } else { y };
         chart
             .draw_series(std::iter::once(Text::new(label, (x, y_label), centred(17))))

@@ -304,9 +304,9 @@ pub fn classify_with(x: &RegimeInputs, t: &Thresholds) -> (Regime, RegimeReason)
         ">=",
         t.flail_lift_over_a,
     );
-    // NaN (no fit) counts as incoherent: compare the negation.
+    // NaN (no fit) counts as incoherent.
     let incoherent = Check {
-        holds: !(x.lambda_pulse_r2 >= t.flail_pulse_r2),
+        holds: x.lambda_pulse_r2.is_nan() || x.lambda_pulse_r2 < t.flail_pulse_r2,
         ..check("lambda_pulse_r2", x.lambda_pulse_r2, "<", t.flail_pulse_r2)
     };
     let (h, l, i) = (high.holds, lifted.holds, incoherent.holds);
