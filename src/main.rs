@@ -574,7 +574,7 @@ fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
                 "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a, {:.1} s",
                 c.weight,
                 c.torque,
-                c.regime,
+                c.regime.map_or("-", |r| r.as_str()),
                 c.v_s_over_v_m,
                 c.displacement_angle_deg,
                 c.max_elevation_over_a,
