@@ -273,7 +273,9 @@ pub fn run_gait(
         gait: model.gait.clone(),
     });
     match integrator {
-        crate::problem::IntegratorKind::Implicit => Ok(run(model, muscles, progress, on_step)),
+        crate::problem::IntegratorKind::Implicit | crate::problem::IntegratorKind::Bdf2 => {
+            Ok(run(model, muscles, progress, on_step))
+        }
         crate::problem::IntegratorKind::Explicit => run_explicit(model, muscles, progress, on_step),
     }
 }

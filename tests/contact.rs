@@ -12,6 +12,18 @@ const G: f64 = 9.81;
 const MU: [f64; 3] = [0.11, 0.14, 0.20];
 
 fn scene(heading: f64, velocity: [f64; 3], incline: f64, height: f64, duration: f64) -> Model {
+    scene_with(heading, velocity, incline, height, duration, "implicit")
+}
+
+/// The scene with `[solver] integrator = integrator`.
+fn scene_with(
+    heading: f64,
+    velocity: [f64; 3],
+    incline: f64,
+    height: f64,
+    duration: f64,
+    integrator: &str,
+) -> Model {
     model(&format!(
         r#"
 [rod]
@@ -31,6 +43,8 @@ incline_deg = {incline}
 [time]
 dt = 1e-3
 duration = {duration}
+[solver]
+integrator = "{integrator}"
 "#,
         velocity[0], velocity[1], velocity[2], MU[0], MU[1], MU[2]
     ))
@@ -94,7 +108,11 @@ fn stop_distance(heading: f64, v: [f64; 3], mu: f64) {
 }
 
 fn stop_distance_path(heading: f64, v: [f64; 3], mu: f64, active: bool) {
-    let m = scene(heading, v, 0.0, 0.0, 1.1 * f::norm(v) / (mu * G));
+    stop_distance_with(heading, v, mu, active, "implicit");
+}
+
+fn stop_distance_with(heading: f64, v: [f64; 3], mu: f64, active: bool, integrator: &str) {
+    let m = scene_with(heading, v, 0.0, 0.0, 1.1 * f::norm(v) / (mu * G), integrator);
     let c0 = State::initial(&m).centroid(&m);
     let ceiling = 0.5 * m.diameter * (1.0 + 2e-6);
     let (s, integ) = simulate_path(&m, active, |s, _| {
@@ -131,10 +149,14 @@ fn incline(heading: f64, mu: f64) {
 }
 
 fn incline_path(heading: f64, mu: f64, active: bool) {
+    incline_with(heading, mu, active, "implicit");
+}
+
+fn incline_with(heading: f64, mu: f64, active: bool, integrator: &str) {
     let critical = mu.atan().to_degrees();
     // Below the threshold: stays put.
     let below = critical - 2.0;
-    let m = scene(heading, [0.0; 3], below, 0.0, 1.0);
+    let m = scene_with(heading, [0.0; 3], below, 0.0, 1.0, integrator);
     let c0 = State::initial(&m).centroid(&m);
     let (s, _) = simulate_path(&m, active, |_, _| {});
     let drift = f::norm(f::sub(s.centroid(&m), c0));
@@ -142,7 +164,7 @@ fn incline_path(heading: f64, mu: f64, active: bool) {
     assert!(drift < 1e-9, "crept by {drift} m below the threshold");
     // Above: slides down with acceleration g (sin - mu cos).
     let above = critical + 4.0;
-    let m = scene(heading, [0.0; 3], above, 0.0, 0.5);
+    let m = scene_with(heading, [0.0; 3], above, 0.0, 0.5, integrator);
     let (s, _) = simulate_path(&m, active, |_, _| {});
     let vx: f64 = m.real.clone().map(|i| s.node_velocity(i)[0]).sum::<f64>() / m.real.len() as f64;
     let acc = -vx / s.t;
@@ -209,4 +231,13 @@ fn conic_path_alone_stops_and_sticks_and_slides_correctly() {
     stop_distance_path(0.0, [0.5, 0.0, 0.0], MU[0], false);
     stop_distance_path(90.0, [0.5, 0.0, 0.0], MU[2], false);
     incline_path(0.0, MU[1], false);
+}
+
+#[test]
+fn bdf2_slides_to_the_same_stop_distances_and_sticks_below_the_friction_angle() {
+    stop_distance_with(0.0, [0.5, 0.0, 0.0], MU[0], true, "bdf2");
+    stop_distance_with(0.0, [-0.5, 0.0, 0.0], MU[1], true, "bdf2");
+    stop_distance_with(90.0, [0.5, 0.0, 0.0], MU[2], true, "bdf2");
+    incline_with(0.0, MU[1], true, "bdf2");
+    incline_with(90.0, MU[2], true, "bdf2");
 }

@@ -22,7 +22,7 @@ impl Scheme for ToyEuler {
     fn name(&self) -> &'static str {
         "toy-euler"
     }
-    fn predictor(&self, m: &Model, s: &State, h: f64, qhat: &mut [f64]) {
+    fn predictor(&mut self, m: &Model, s: &State, h: f64, qhat: &mut [f64]) {
         for k in 0..m.ndof {
             qhat[k] = if m.fixed[k] {
                 s.q[k]
@@ -49,7 +49,7 @@ impl Scheme for QuasiStatic {
     fn name(&self) -> &'static str {
         "quasi-static"
     }
-    fn predictor(&self, m: &Model, s: &State, _h: f64, qhat: &mut [f64]) {
+    fn predictor(&mut self, m: &Model, s: &State, _h: f64, qhat: &mut [f64]) {
         qhat[..m.ndof].copy_from_slice(&s.q);
     }
     fn inertia_weight(&self, _h: f64) -> f64 {

@@ -13,7 +13,7 @@ impl Scheme for ImplicitEuler {
         "implicit"
     }
 
-    fn predictor(&self, m: &Model, s: &State, h: f64, qhat: &mut [f64]) {
+    fn predictor(&mut self, m: &Model, s: &State, h: f64, qhat: &mut [f64]) {
         for k in 0..m.ndof {
             qhat[k] = if m.fixed[k] {
                 s.q[k]

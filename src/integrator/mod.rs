@@ -18,6 +18,7 @@
 //!
 //! The rest strains at a time come from an [`Actuation`] ([`crate::gait`]).
 
+pub mod bdf2;
 pub mod euler;
 pub mod explicit;
 pub mod statics;
@@ -58,7 +59,7 @@ pub trait Scheme: Send {
     /// Name in files and messages.
     fn name(&self) -> &'static str;
     /// The predictor `qhat` of a step of size `h` from `s` (fixed coordinates stay put).
-    fn predictor(&self, m: &Model, s: &State, h: f64, qhat: &mut [f64]);
+    fn predictor(&mut self, m: &Model, s: &State, h: f64, qhat: &mut [f64]);
     /// The inertia weight `w` of a step of size `h` (1/s^2).
     fn inertia_weight(&self, h: f64) -> f64;
     /// Where contact slip is measured from: the velocity at the solution is
@@ -75,6 +76,7 @@ pub trait Scheme: Send {
 pub fn scheme_for(kind: crate::problem::IntegratorKind) -> Option<Box<dyn Scheme>> {
     match kind {
         crate::problem::IntegratorKind::Implicit => Some(Box::new(euler::ImplicitEuler)),
+        crate::problem::IntegratorKind::Bdf2 => Some(Box::new(bdf2::Bdf2::default())),
         crate::problem::IntegratorKind::Explicit => None,
     }
 }
@@ -211,10 +213,13 @@ pub struct Integrator<'m> {
 }
 
 impl<'m> Integrator<'m> {
-    /// An implicit Euler stepper for `model` driven by `actuation`, with the problem's contact
-    /// model.
+    /// An implicit stepper for `model` driven by `actuation`, with the problem's time
+    /// integrator (`[solver] integrator`: implicit Euler, or BDF2; implicit Euler when the
+    /// problem asks for the explicit one) and contact model.
     pub fn new(model: &'m Model, actuation: Box<dyn Actuation>) -> Self {
-        Self::with_scheme(model, actuation, Box::new(euler::ImplicitEuler))
+        let scheme =
+            scheme_for(model.solver.integrator).unwrap_or_else(|| Box::new(euler::ImplicitEuler));
+        Self::with_scheme(model, actuation, scheme)
     }
 
     /// A stepper with the given time integration scheme.

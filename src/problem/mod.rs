@@ -646,6 +646,14 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             "an integer in [0, 30]",
         ));
     }
+    if p.solver.integrator == IntegratorKind::Bdf2 && t.mode == Mode::Static {
+        return Err(c.fail(
+            "solver",
+            "integrator",
+            "\"bdf2\"".into(),
+            "\"implicit\" in static mode (BDF2 only steps in time)",
+        ));
+    }
     if let Err((key, value, allowed)) = p.solver.check_settings() {
         return Err(c.fail("solver", key, value, allowed));
     }

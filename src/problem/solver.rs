@@ -19,7 +19,7 @@ pub struct SolverSpec {
     #[serde(default = "d_halvings")]
     pub max_halvings: usize,
     /// Time integrator: "implicit" (default: variational implicit Euler by Newton, with
-    /// contact) or "explicit" (velocity Verlet on the same discrete model,
+    /// contact), "bdf2" (second order, the same Newton and contact machinery) or "explicit" (velocity Verlet on the same discrete model,
     /// [`crate::integrator::explicit`]; dynamic mode without a `[ground]` only, stable only
     /// below a step limit: see `slither chart stability`).
     #[serde(default)]
@@ -96,6 +96,9 @@ pub enum IntegratorKind {
     Implicit,
     /// Velocity Verlet, the explicit symplectic reference (no contact).
     Explicit,
+    /// Second-order backward differentiation (BDF2) as an incremental potential, with contact
+    /// ([`crate::integrator::bdf2`]).
+    Bdf2,
 }
 
 /// `[solver] contact`.

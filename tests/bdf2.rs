@@ -1,0 +1,48 @@
+//! BDF2 ([`slither::integrator::bdf2`]): second order in time on the contact-free swing.
+mod common;
+
+use slither::model::Model;
+use slither::problem;
+use slither::sim;
+
+/// `problems/cantilever_swing.toml` with the given integrator and step (0.5 s).
+fn swing(integrator: &str, dt: f64) -> Model {
+    let text = std::fs::read_to_string("problems/cantilever_swing.toml").unwrap();
+    let mut p = problem::parse(&text, std::path::Path::new("cantilever_swing.toml")).unwrap();
+    p.solver.integrator = match integrator {
+        "bdf2" => problem::IntegratorKind::Bdf2,
+        _ => problem::IntegratorKind::Implicit,
+    };
+    p.time.dt = Some(dt);
+    p.time.duration = Some(0.5);
+    Model::new(&p)
+}
+
+/// Final real-node positions at the end of the swing.
+fn final_nodes(m: &Model) -> Vec<[f64; 3]> {
+    let o = sim::run_gait(m, m.solver.integrator, &mut |_| {}, &mut |_| {}).unwrap();
+    assert!(o.error.is_none(), "{:?}", o.error);
+    assert_eq!(o.stats.step_halvings, 0);
+    m.real.clone().map(|i| o.state.node(i)).collect()
+}
+
+/// Observed order from three runs at h, h/2, h/4: `log2(|x_h - x_{h/2}| / |x_{h/2} - x_{h/4}|)`.
+fn observed_order(integrator: &str) -> f64 {
+    let x: Vec<Vec<[f64; 3]>> = [4e-3, 2e-3, 1e-3]
+        .iter()
+        .map(|&dt| final_nodes(&swing(integrator, dt)))
+        .collect();
+    let d1 = slither::chart::max_distance(&x[0], &x[1]);
+    let d2 = slither::chart::max_distance(&x[1], &x[2]);
+    (d1 / d2).log2()
+}
+
+#[test]
+fn bdf2_is_second_order_on_the_cantilever_swing() {
+    let p2 = observed_order("bdf2");
+    let p1 = observed_order("implicit");
+    println!("observed order: BDF2 {p2:.3}, implicit Euler {p1:.3}");
+    assert!(p2 >= 1.8, "BDF2 order {p2}");
+    // The measurement tells the methods apart.
+    assert!(p1 < 1.3, "implicit Euler order {p1}");
+}
