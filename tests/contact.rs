@@ -112,7 +112,14 @@ fn stop_distance_path(heading: f64, v: [f64; 3], mu: f64, active: bool) {
 }
 
 fn stop_distance_with(heading: f64, v: [f64; 3], mu: f64, active: bool, integrator: &str) {
-    let m = scene_with(heading, v, 0.0, 0.0, 1.1 * f::norm(v) / (mu * G), integrator);
+    let m = scene_with(
+        heading,
+        v,
+        0.0,
+        0.0,
+        1.1 * f::norm(v) / (mu * G),
+        integrator,
+    );
     let c0 = State::initial(&m).centroid(&m);
     let ceiling = 0.5 * m.diameter * (1.0 + 2e-6);
     let (s, integ) = simulate_path(&m, active, |s, _| {
