@@ -1,0 +1,43 @@
+//! The whole S-start (`problems/s_start.toml`, 50 elements, dt 2e-3) over its first 0.5 s of
+//! simulated time (lift-off, the first contact changes and the pulse forming), end to end through
+//! the run loop: assembly, factorisations, active-set and conic contact, frames. Beside it the
+//! same window with BDF2, and the time of one simulated second is printed from the statistics.
+use criterion::{criterion_group, criterion_main, Criterion};
+use slither::model::Model;
+use slither::{problem, sim};
+use std::path::Path;
+
+fn model(integrator: problem::IntegratorKind) -> Model {
+    let mut p = problem::load(Path::new("problems/s_start.toml")).expect("bundled problem");
+    p.time.duration = Some(0.5);
+    p.solver.integrator = integrator;
+    Model::new(&p)
+}
+
+fn bench_s_start(c: &mut Criterion) {
+    let mut g = c.benchmark_group("s_start_0.5s");
+    g.sample_size(10);
+    for (name, kind) in [
+        ("implicit_euler", problem::IntegratorKind::Implicit),
+        ("bdf2", problem::IntegratorKind::Bdf2),
+    ] {
+        let m = model(kind);
+        let o = sim::run_gait(&m, kind, &mut |_| {}, &mut |_| {}).unwrap();
+        let st = &o.stats;
+        println!(
+            "{name}: {} steps, {:.2} Newton iterations/step, {} conic solves, {} fallbacks, {} halvings",
+            st.steps,
+            st.newton_iterations as f64 / st.steps as f64,
+            st.conic_solves,
+            st.active_set_fallbacks,
+            st.step_halvings
+        );
+        g.bench_function(name, |b| {
+            b.iter(|| sim::run_gait(&m, kind, &mut |_| {}, &mut |_| {}).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_s_start);
+criterion_main!(benches);
