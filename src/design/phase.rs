@@ -110,16 +110,25 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         "scaled torques G >= 0",
     )?;
     let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
-    let base_text = std::fs::read_to_string(&base_path).map_err(|_| {
-        invalid(
-            "base",
-            format!("\"{}\"", t.base),
-            &format!(
-                "a readable problem file (relative to the phase file; {} not found)",
-                base_path.display()
-            ),
-        )
-    })?;
+    let base_text = match problem::read(&base_path) {
+        Ok(text) => text,
+        Err(ProblemError::Io { source, .. }) => {
+            let why = if source.kind() == std::io::ErrorKind::NotFound {
+                "not found".to_string()
+            } else {
+                source.to_string()
+            };
+            return Err(invalid(
+                "base",
+                format!("\"{}\"", t.base),
+                &format!(
+                    "a readable problem file (relative to the phase file; {}: {why})",
+                    base_path.display()
+                ),
+            ));
+        }
+        Err(e) => return Err(e),
+    };
     let base = problem::parse(&base_text, &base_path)?;
     if base.gait.kind == Kind::None {
         return Err(invalid(

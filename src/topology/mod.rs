@@ -296,6 +296,12 @@ fn vertex_angle(t_prev: &V3, d_prev: &V3, t: &V3, d: &V3) -> f64 {
     dot(t, &cross(&p, &q)).atan2(dot(&p, &q))
 }
 
+/// Relative tolerance below which a segment pair counts as coplanar in
+/// [`pair_solid_angle`]: `|r_13 . (r_12 x r_34)| <= 1e-12 |r_12| |r_34| max|r_ij|`, i.e. the
+/// two segments lie in one plane to about 1e-12 of their size (round-off of coordinates that
+/// are coplanar by construction, such as a planar curve rotated in space).
+pub const COPLANAR_TOL: f64 = 1e-12;
+
 /// Signed solid angle of the triangle `(a, b, c)` seen from the origin
 /// (Van Oosterom & Strackee 1983): `tan(W/2) = a.(b x c) / (|a||b||c| +
 /// (a.b)|c| + (a.c)|b| + (b.c)|a|)`; result in `(-2 pi, 2 pi)`.
@@ -327,6 +333,17 @@ fn pair_solid_angle(p1: &V3, p2: &V3, p3: &V3, p4: &V3) -> f64 {
     let r14 = sub(p4, p1);
     let r23 = sub(p3, p2);
     let r24 = sub(p4, p2);
+    // Coplanar pairs (to round-off, `COPLANAR_TOL` relative) contribute their principal
+    // value 0: the integrand `(x - y) . (dx x dy)` vanishes on the plane, and for segments that
+    // cross each other the two one-sided limits (+2 pi, -2 pi, the curve passing just above or
+    // just below) average to 0. Without this a crossing gives +-2 pi from the sign of a
+    // rounded zero (a planar figure eight got writhe 1).
+    let r12 = sub(p2, p1);
+    let r34 = sub(p4, p3);
+    let scale_ = norm(&r12) * norm(&r34) * norm(&r13).max(norm(&r14)).max(norm(&r23));
+    if dot(&r13, &cross(&r12, &r34)).abs() <= COPLANAR_TOL * scale_ {
+        return 0.0;
+    }
     // The parallelogram r_13 -> r_14 -> r_24 -> r_23 is traversed clockwise as
     // seen from the origin when K-L's sign is positive, hence the minus sign.
     let w = -(triangle_solid_angle(&r13, &r14, &r24) + triangle_solid_angle(&r13, &r24, &r23));
@@ -480,9 +497,76 @@ pub fn gauss_link(c: &FramedCurve, eps: f64) -> f64 {
 /// `delta <= total length`). Returns empty vectors if `delta` is not positive
 /// and finite or no window fits.
 ///
+/// *Cost.* The writhe of consecutive windows is computed by sliding: the sum
+/// over the window's whole edges is updated by adding the pairs of the edge
+/// entering the window and removing those of the edge leaving it, and only the
+/// pairs of the interpolated last (partial) edge are summed afresh. With `w`
+/// edges per window this is `O(n w)` pair evaluations for all windows
+/// (`O(n^2)` at most), not `O(n w^2)`. The result equals [`writhe`] of each
+/// window's sub-polygon up to round-off (the sliding sum adds and subtracts
+/// the same terms; `tests` checks it against the direct sum to 1e-12).
+///
 /// # Panics
 /// If `c.d1.len()` does not match the edge count.
 pub fn densities(c: &FramedCurve, delta: f64) -> Densities {
+    densities_windows(c, delta, None)
+}
+
+/// Like [`densities`] for an open curve, but with exactly `count` windows, starting at nodes
+/// `0 .. count` (at most one per node but the last): a window that would run past the
+/// curve's end is **shortened** to end there, and its densities are divided by its actual
+/// length `total - s` instead of `delta`. A run's kymographs use this so that every frame has
+/// the same windows even when the body is compressed slightly and the last window no longer
+/// fits (the windows are laid out once, on the rest length). Closed curves: as [`densities`].
+///
+/// # Panics
+/// If `c.d1.len()` does not match the edge count.
+pub fn densities_shortened(c: &FramedCurve, delta: f64, count: usize) -> Densities {
+    if c.closed {
+        return densities(c, delta);
+    }
+    densities_windows(c, delta, Some(count))
+}
+
+/// Sliding sum of the solid angles of all non-adjacent pairs of the whole edges
+/// `lo .. hi` (unwrapped edge indices, edge `k` = edge `k mod m`) of a polygon.
+struct SlidingWrithe<'a> {
+    nodes: &'a [V3],
+    m: usize,
+    lo: usize,
+    hi: usize,
+    sum: f64,
+}
+
+impl SlidingWrithe<'_> {
+    fn edge(&self, k: usize) -> (V3, V3) {
+        let n = self.nodes.len();
+        let e = k % self.m;
+        (self.nodes[e], self.nodes[(e + 1) % n])
+    }
+
+    /// Grow the window to the whole edges `lo .. hi`, then drop edges below `lo`.
+    fn slide_to(&mut self, lo: usize, hi: usize) {
+        while self.hi < hi {
+            let (b0, b1) = self.edge(self.hi);
+            for a in self.lo..self.hi.saturating_sub(1) {
+                let (a0, a1) = self.edge(a);
+                self.sum += pair_solid_angle(&a0, &a1, &b0, &b1);
+            }
+            self.hi += 1;
+        }
+        while self.lo < lo {
+            let (a0, a1) = self.edge(self.lo);
+            for b in self.lo + 2..self.hi {
+                let (b0, b1) = self.edge(b);
+                self.sum -= pair_solid_angle(&a0, &a1, &b0, &b1);
+            }
+            self.lo += 1;
+        }
+    }
+}
+
+fn densities_windows(c: &FramedCurve, delta: f64, count: Option<usize>) -> Densities {
     check_curve(c);
     let mut out = Densities::default();
     let n = c.nodes.len();
@@ -503,8 +587,17 @@ pub fn densities(c: &FramedCurve, delta: f64) -> Densities {
         return out;
     }
     let tol = 1e-12 * total.max(delta);
+    // Arc length of unwrapped node k (closed curves continue past the end).
+    let s_u = |k: usize| {
+        if k <= m {
+            s_node[k]
+        } else {
+            total + s_node[k - m]
+        }
+    };
 
-    // piecewise-constant twist density: (start, end, rad per length)
+    // piecewise-constant twist density, as sorted contiguous cells (start, end, rad per
+    // length) covering [0, total], with the cumulative integral at each cell start.
     let mut cells: Vec<(f64, f64, f64)> = Vec::new();
     let rho = |prev: usize, e: usize| {
         let lbar = 0.5 * (lens[prev] + lens[e]);
@@ -515,16 +608,16 @@ pub fn densities(c: &FramedCurve, delta: f64) -> Densities {
         }
     };
     if c.closed {
-        for j in 0..m {
-            let prev = (j + m - 1) % m;
-            let r = rho(prev, j);
-            if j == 0 {
-                cells.push((0.0, 0.5 * lens[0], r));
-                cells.push((total - 0.5 * lens[m - 1], total, r));
-            } else {
-                cells.push((s_node[j] - 0.5 * lens[j - 1], s_node[j] + 0.5 * lens[j], r));
-            }
+        let r0 = rho(m - 1, 0);
+        cells.push((0.0, 0.5 * lens[0], r0));
+        for j in 1..m {
+            cells.push((
+                s_node[j] - 0.5 * lens[j - 1],
+                s_node[j] + 0.5 * lens[j],
+                rho(j - 1, j),
+            ));
         }
+        cells.push((total - 0.5 * lens[m - 1], total, r0));
     } else {
         for j in 1..m {
             let a = if j == 1 {
@@ -540,55 +633,77 @@ pub fn densities(c: &FramedCurve, delta: f64) -> Densities {
             cells.push((a, b, rho(j - 1, j)));
         }
     }
-    let integrate = |a: f64, b: f64| -> f64 {
-        cells
-            .iter()
-            .map(|&(ca, cb, r)| r * (cb.min(b) - ca.max(a)).max(0.0))
-            .sum::<f64>()
+    let mut cum = Vec::with_capacity(cells.len() + 1);
+    cum.push(0.0);
+    for &(a, b, r) in &cells {
+        cum.push(cum.last().unwrap() + r * (b - a));
+    }
+    // Integral of the twist density from 0 to x (clamped to [0, total]).
+    let upto = |x: f64| -> f64 {
+        if cells.is_empty() || x <= 0.0 {
+            return 0.0;
+        }
+        let k = cells.partition_point(|&(a, _, _)| a <= x).saturating_sub(1);
+        let (a, b, r) = cells[k];
+        cum[k] + r * (x.min(b) - a).max(0.0)
     };
+    let integrate = |a: f64, b: f64| upto(b) - upto(a);
 
     if c.closed && delta > total + tol {
         return out;
     }
-    let mut sub_nodes: Vec<V3> = Vec::new();
-    for (i, &a) in s_node.iter().enumerate().take(n) {
-        let b = a + delta;
+    let mut slide = SlidingWrithe {
+        nodes: &c.nodes,
+        m,
+        lo: 0,
+        hi: 0,
+        sum: 0.0,
+    };
+    let last_start = match count {
+        Some(k) => k.min(m),
+        None => n,
+    };
+    let mut j = 0;
+    for i in 0..last_start {
+        let a = s_node[i];
+        let mut b = a + delta;
         if !c.closed && b > total + tol {
-            break;
+            if count.is_none() {
+                break;
+            }
+            b = total;
         }
         let twist_rad = if b > total {
             integrate(a, total) + integrate(0.0, b - total)
         } else {
             integrate(a, b)
         };
-
-        // sub-polygon of the window
-        sub_nodes.clear();
-        sub_nodes.push(c.nodes[i]);
-        let mut pos = a;
-        let mut k = i;
-        while k < i + m {
-            let e = k % m;
-            let end = pos + lens[e];
+        // The window's sub-polygon: nodes i ..= j (unwrapped), then the point at arc
+        // length b on edge j if it lies beyond node j.
+        j = j.max(i);
+        while !(s_u(j + 1) >= b - tol || j + 1 == i + m) {
+            j += 1;
+        }
+        slide.slide_to(i, j);
+        let mut w = slide.sum;
+        if b - s_u(j) > tol {
+            let e = j % m;
             let start = &c.nodes[e];
             let stop = &c.nodes[(e + 1) % n];
-            if end >= b - tol || k + 1 == i + m {
-                if b - pos > tol {
-                    let frac = if lens[e] > 0.0 {
-                        ((b - pos) / lens[e]).clamp(0.0, 1.0)
-                    } else {
-                        0.0
-                    };
-                    sub_nodes.push(add(start, &scale(&sub(stop, start), frac)));
-                }
-                break;
+            let frac = if lens[e] > 0.0 {
+                ((b - s_u(j)) / lens[e]).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let p = add(start, &scale(&sub(stop, start), frac));
+            for k in i..j.saturating_sub(1) {
+                let (a0, a1) = slide.edge(k);
+                w += pair_solid_angle(&a0, &a1, start, &p);
             }
-            sub_nodes.push(*stop);
-            pos = end;
-            k += 1;
         }
-        let tau = twist_rad / (2.0 * PI) / delta;
-        let omega = writhe(&sub_nodes, false) / delta;
+        let len = b - a;
+        let tau = twist_rad / (2.0 * PI) / len;
+        let omega = w / (2.0 * PI) / len;
         out.s.push(a);
         out.tau.push(tau);
         out.omega.push(omega);
@@ -596,6 +711,15 @@ pub fn densities(c: &FramedCurve, delta: f64) -> Densities {
     }
     out
 }
+
+/// A closed curve's last row repeats its first node when they are closer than this fraction of
+/// the mean edge length (such a row is dropped by [`parse_curve_csv`]).
+pub const REPEAT_TOL: f64 = 1e-9;
+
+/// [`parse_curve_csv`] rejects a director whose component perpendicular to its edge is at most
+/// this fraction of its length (within about 1e-6 rad of the tangent): twist is measured from
+/// that component, so it would be round-off.
+pub const ALONG_TANGENT_TOL: f64 = 1e-6;
 
 /// Parse CSV text: a header row, then rows `x,y,z,d1x,d1y,d1z` (row `i`'s
 /// `d1` is the director of the edge starting at node `i`; for an open curve
@@ -606,7 +730,11 @@ pub fn densities(c: &FramedCurve, delta: f64) -> Densities {
 /// Errors carry the 1-based line number and say what is wrong: wrong field
 /// count, a field that is not a number, a non-finite value, a zero director
 /// (for rows whose director is used), a first line that looks like data
-/// instead of a header, or fewer than 3 data rows.
+/// instead of a header, fewer than 3 data rows, a zero-length edge (a node repeated), or a
+/// director along its edge's tangent (see [`ALONG_TANGENT_TOL`]).
+///
+/// With `closed`, a last row that repeats the first node (within [`REPEAT_TOL`] of the mean
+/// edge length) is dropped: the closing edge is implied and must not be written twice.
 pub fn parse_curve_csv(text: &str, closed: bool) -> Result<FramedCurve, CsvError> {
     const NAMES: [&str; 6] = ["x", "y", "z", "d1x", "d1y", "d1z"];
     let mut nodes: Vec<V3> = Vec::new();
@@ -677,14 +805,47 @@ pub fn parse_curve_csv(text: &str, closed: bool) -> Result<FramedCurve, CsvError
             message: format!("fewer than 3 data rows (found {})", nodes.len()),
         });
     }
+    if closed && nodes.len() > 3 {
+        // A closed curve written with its first node repeated at the end: the repeated node
+        // (and the director of the zero-length edge it would start) is dropped.
+        let n = nodes.len();
+        let mean_edge = (0..n - 1)
+            .map(|i| norm(&sub(&nodes[i + 1], &nodes[i])))
+            .sum::<f64>()
+            / (n - 1) as f64;
+        if norm(&sub(&nodes[n - 1], &nodes[0])) <= REPEAT_TOL * mean_edge {
+            nodes.pop();
+            d1.pop();
+            row_lines.pop();
+        }
+    }
     if !closed {
         d1.pop();
     }
+    let n = nodes.len();
     for (k, d) in d1.iter().enumerate() {
         if norm(d) == 0.0 {
             return Err(CsvError {
                 line: row_lines[k],
                 message: "director d1 is the zero vector".to_string(),
+            });
+        }
+        let e = sub(&nodes[(k + 1) % n], &nodes[k]);
+        let Some(t) = unit(&e) else {
+            return Err(CsvError {
+                line: row_lines[k],
+                message: format!(
+                    "the edge from this row's node to the node of line {} has zero length (a repeated node)",
+                    row_lines[(k + 1) % n]
+                ),
+            });
+        };
+        if norm(&reject(d, &t)) <= ALONG_TANGENT_TOL * norm(d) {
+            return Err(CsvError {
+                line: row_lines[k],
+                message: format!(
+                    "director d1 = {d:?} lies along its edge's tangent {t:?}; it must have a component perpendicular to the edge (more than {ALONG_TANGENT_TOL} of its length)"
+                ),
             });
         }
     }
@@ -1176,6 +1337,177 @@ mod tests {
             c2.d1[i] = director(r0, r1, &c.d1[i], 0.7);
         }
         assert!((twist(&c) - twist(&c2)).abs() < 1e-10);
+    }
+
+    /// The windows' writhe computed directly: the sub-polygon of each window (its whole edges
+    /// and the interpolated last point), summed pair by pair with [`writhe`].
+    fn direct_window_writhe(c: &FramedCurve, d: &Densities, delta: f64) -> Vec<f64> {
+        let n = c.nodes.len();
+        let m = edge_count(n, c.closed);
+        let lens: Vec<f64> = (0..m)
+            .map(|e| norm(&sub(&c.nodes[(e + 1) % n], &c.nodes[e])))
+            .collect();
+        let total: f64 = lens.iter().sum();
+        d.s.iter()
+            .enumerate()
+            .map(|(w, &a)| {
+                let i = (0..n)
+                    .position(|k| lens[..k].iter().sum::<f64>() == a)
+                    .unwrap();
+                let b = (a + delta).min(if c.closed { f64::INFINITY } else { total });
+                let mut pts = vec![c.nodes[i]];
+                let mut pos = a;
+                for k in i..i + m {
+                    let e = k % m;
+                    let (p, q) = (c.nodes[e], c.nodes[(e + 1) % n]);
+                    if pos + lens[e] >= b - 1e-12 * total.max(delta) {
+                        let f = ((b - pos) / lens[e]).clamp(0.0, 1.0);
+                        pts.push(add(&p, &scale(&sub(&q, &p), f)));
+                        break;
+                    }
+                    pts.push(q);
+                    pos += lens[e];
+                }
+                let _ = w;
+                writhe(&pts, false)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn sliding_window_writhe_equals_the_direct_sum() {
+        // A random walk (open) and a trefoil (closed), windows of several sizes, some ending
+        // inside an edge and one exactly at nodes.
+        let mut rng = Rng(99);
+        let mut walk = vec![[0.0; 3]];
+        for _ in 0..80 {
+            let last = *walk.last().unwrap();
+            let step = scale(
+                &unit(&[rng.sym(), rng.sym(), rng.sym()]).unwrap(),
+                0.5 + rng.next(),
+            );
+            walk.push(add(&last, &step));
+        }
+        let d1: Vec<V3> = (0..walk.len() - 1)
+            .map(|i| director(&walk[i], &walk[i + 1], &[0.3, -0.2, 1.0], 0.1 * i as f64))
+            .collect();
+        let open = FramedCurve {
+            nodes: walk,
+            d1,
+            closed: false,
+        };
+        let knot = torus_knot(2.0, 3.0, 90, 1);
+        for (c, deltas) in [(&open, [3.3, 10.0, 25.7]), (&knot, [1.1, 4.0, 9.5])] {
+            for delta in deltas {
+                let d = densities(c, delta);
+                assert!(d.s.len() > 10, "{delta}: {} windows", d.s.len());
+                let direct = direct_window_writhe(c, &d, delta);
+                let mut largest: f64 = 0.0;
+                for (k, wr) in direct.iter().enumerate() {
+                    largest = largest.max(wr.abs());
+                    let got = d.omega[k] * delta;
+                    assert!((got - wr).abs() < 1e-12, "window {k}: {got} vs {wr}");
+                }
+                assert!(largest > 1e-4, "windows should writhe: {largest}");
+            }
+        }
+    }
+
+    #[test]
+    fn shortened_last_window_keeps_the_count_and_divides_by_its_length() {
+        // A uniformly twisted straight rod of 10 unit edges, windows of 3: at rest 8 windows
+        // fit; compressed by 1e-4 only 7 do, and the 8th is shortened, not NaN or missing.
+        let rod = |scale_: f64| {
+            let nodes: Vec<V3> = (0..=10).map(|i| [scale_ * i as f64, 0.0, 0.0]).collect();
+            let d1 = (0..10)
+                .map(|e| {
+                    let a = 0.5 * (e as f64 + 0.5);
+                    [0.0, a.cos(), a.sin()]
+                })
+                .collect();
+            FramedCurve {
+                nodes,
+                d1,
+                closed: false,
+            }
+        };
+        assert_eq!(densities(&rod(1.0), 3.0).s.len(), 8);
+        let squeezed = rod(1.0 - 1e-4);
+        assert_eq!(densities(&squeezed, 3.0).s.len(), 7);
+        let d = densities_shortened(&squeezed, 3.0, 8);
+        assert_eq!(d.s.len(), 8);
+        let rate = 0.5 / (1.0 - 1e-4) / (2.0 * PI);
+        for k in 0..8 {
+            assert!((d.tau[k] - rate).abs() < 1e-9, "tau[{k}] = {}", d.tau[k]);
+            assert!(d.lambda[k].is_finite());
+        }
+    }
+
+    #[test]
+    fn planar_figure_eight_has_zero_writhe() {
+        // A lemniscate in the plane z = 0 crosses itself once: its writhe is 0 (the crossing
+        // pair's principal value), also after a rotation in space.
+        let n = 120;
+        let eight: Vec<V3> = (0..n)
+            .map(|i| {
+                let t = 2.0 * PI * (i as f64 + 0.25) / n as f64;
+                [t.sin(), t.sin() * t.cos(), 0.0]
+            })
+            .collect();
+        assert!(
+            writhe(&eight, true).abs() < 1e-12,
+            "{}",
+            writhe(&eight, true)
+        );
+        let mut rng = Rng(5);
+        let rot = random_rotation(&mut rng);
+        let moved: Vec<V3> = eight
+            .iter()
+            .map(|r| [dot(&rot[0], r), dot(&rot[1], r), dot(&rot[2], r)])
+            .collect();
+        assert!(
+            writhe(&moved, true).abs() < 1e-9,
+            "{}",
+            writhe(&moved, true)
+        );
+        // Lifting the crossing by +-h gives writhe of opposite signs, symmetric about 0.
+        let lift = |h: f64| -> Vec<V3> {
+            eight
+                .iter()
+                .enumerate()
+                .map(|(i, r)| {
+                    let t = 2.0 * PI * (i as f64 + 0.25) / n as f64;
+                    [r[0], r[1], h * t.cos()]
+                })
+                .collect()
+        };
+        let (up, down) = (writhe(&lift(1e-3), true), writhe(&lift(-1e-3), true));
+        assert!(up.abs() > 1e-3 && (up + down).abs() < 1e-9, "{up} {down}");
+    }
+
+    #[test]
+    fn csv_closed_repeated_closing_node_is_dropped() {
+        let ring = twisted_ring(40, -1);
+        let mut text = to_csv(&ring);
+        let r = ring.nodes[0];
+        let d = ring.d1[0];
+        text += &format!("{},{},{},{},{},{}\n", r[0], r[1], r[2], d[0], d[1], d[2]);
+        let c = parse_curve_csv(&text, true).unwrap();
+        assert_eq!(c, ring);
+        assert!((gauss_link(&c, 1e-3) + 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn csv_rejects_a_director_along_the_tangent_and_a_zero_edge() {
+        let h = "x,y,z,d1x,d1y,d1z\n";
+        let text = format!("{h}0,0,0,0,0,1\n1,0,0,0,0,1\n1,1,0,0,0,1\n0,1,0,0,-3,0\n");
+        let e = parse_curve_csv(&text, true).unwrap_err();
+        assert_eq!(e.line, 5, "{e}");
+        assert!(e.message.contains("along its edge's tangent"), "{e}");
+        let text = format!("{h}0,0,0,0,1,0\n1,0,0,0,1,0\n1,0,0,0,1,0\n0,1,0,1,0,0\n");
+        let e = parse_curve_csv(&text, false).unwrap_err();
+        assert_eq!(e.line, 3, "{e}");
+        assert!(e.message.contains("zero length"), "{e}");
     }
 
     #[test]
