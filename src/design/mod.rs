@@ -136,7 +136,8 @@ fn d_penalty() -> f64 {
 pub struct OptimizeTable {
     /// Bounds of the muscle stress `Gamma` (Pa), `0 <= lo < hi`.
     pub stress: Option<[f64; 2]>,
-    /// Bounds of the couple width `sigma` (fraction of L), `0 < lo < hi <= 1`.
+    /// Bounds of the couple width `sigma` (fraction of L), `1/N <= lo < hi <= 1` for the base
+    /// file's `N = rod.elements` (at least one element).
     pub sigma: Option<[f64; 2]>,
     /// Bounds of the travelling speed `v_m` (m/s), `0 < lo < hi`.
     pub speed: Option<[f64; 2]>,
@@ -396,6 +397,7 @@ pub fn load_study(path: &Path) -> Result<Study, StudyError> {
 /// Parse and validate study text; `path` locates the base file and names the study in messages.
 pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
     let spec: StudySpec = problem::from_toml(text, path)?;
+    problem::ranges::check_lengths(text, path)?;
     let fail = |table: &str, key: &str, value: String, allowed: String| {
         let top = key.split('.').next().unwrap_or(key);
         StudyError::from(ProblemError::Invalid {
@@ -473,10 +475,18 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
                 lo.is_finite() && hi.is_finite() && lo >= 0.0 && lo < hi,
                 format!("[lo, hi] with 0 <= lo < hi, finite ({unit})"),
             ),
-            Param::Sigma => (
-                lo > 0.0 && lo < hi && hi <= 1.0,
-                format!("[lo, hi] with 0 < lo < hi <= 1 ({unit})"),
-            ),
+            Param::Sigma => {
+                // At least one element of the base mesh (a narrower Gaussian falls between
+                // the nodes and the muscles do nothing).
+                let min = 1.0 / base.rod.elements as f64;
+                (
+                    lo >= min && lo < hi && hi <= 1.0,
+                    format!(
+                        "[lo, hi] with 1/rod.elements = {min} <= lo < hi <= 1 ({unit}; the base has {} elements)",
+                        base.rod.elements
+                    ),
+                )
+            }
             Param::Speed => (
                 lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi,
                 format!("[lo, hi] with 0 < lo < hi, finite ({unit})"),
@@ -677,7 +687,8 @@ pub struct Evaluation {
     /// Scaled weight `W = rho g a^2 L^3 / B`.
     #[serde(rename = "W")]
     pub w: f64,
-    /// Mean forward speed of the centroid (m/s); for a failed run, up to the failure.
+    /// Mean forward speed of the centroid (m/s); NaN for a failed run (its observables are
+    /// not measured: NaN, regime "-").
     pub v_s: f64,
     /// `v_s / v_m`.
     pub v_s_over_v_m: f64,
@@ -900,7 +911,7 @@ pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Eval
         writhe_max: f64::NAN,
         writhe_mean: f64::NAN,
         displacement_angle_deg: f64::NAN,
-        regime: String::new(),
+        regime: "-".into(),
         status: Status::Failed,
         wall_time_s: 0.0,
         reason: String::new(),
@@ -913,17 +924,22 @@ pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Eval
         Ok::<_, String>((ob, outcome.error.map(|err| err.to_string())))
     }));
     match run {
-        Ok(Ok((ob, error))) => {
+        // A run cut short has not measured the gait: its observables stay NaN (regime "-").
+        Ok(Ok((_, Some(reason)))) => {
+            e.reason = reason;
+            e.regime = "-".into();
+        }
+        Ok(Ok((ob, None))) => {
             e.v_s = ob.v_s;
             e.v_s_over_v_m = ob.v_s_over_v_m;
             e.writhe_max = ob.writhe_max;
             e.writhe_mean = ob.writhe_mean;
             e.displacement_angle_deg = ob.displacement_angle_deg;
             e.regime = ob.regime;
-            match error {
-                Some(reason) => e.reason = reason,
-                None if !ob.v_s.is_finite() => e.reason = "v_s is not finite".into(),
-                None => e.status = Status::Ok,
+            if ob.v_s.is_finite() {
+                e.status = Status::Ok;
+            } else {
+                e.reason = "v_s is not finite".into();
             }
         }
         Ok(Err(reason)) => e.reason = reason,

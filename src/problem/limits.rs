@@ -9,7 +9,8 @@
 //! * [`MAX_STEPS`] time steps (`ceil(duration / dt)`): about 3 hours at the S-start's
 //!   6 ms per step;
 //! * [`MAX_FRAMES`] stored frames, and [`MAX_FRAME_VALUES`] frames x nodes (every stored
-//!   node carries 12 numbers plus its kymograph values: about 2 GB of memory at the limit);
+//!   node carries 12 numbers, its kymograph values and its share of the npz, assembled in
+//!   memory: about 1 GB at the limit);
 //! * [`MAX_TOPOLOGY_PAIRS`] segment pairs of the post-processing (the writhe of every frame
 //!   and its local densities cost about `frames x 0.6 N^2` pair evaluations at `N` elements;
 //!   roughly 50 ns each: about 15 minutes at the limit).
@@ -22,7 +23,7 @@ pub const MAX_STEPS: f64 = 2.0e6;
 /// Most stored frames (including the initial one) without `--force`.
 pub const MAX_FRAMES: f64 = 1.0e5;
 /// Most stored frames x nodes without `--force`.
-pub const MAX_FRAME_VALUES: f64 = 2.0e7;
+pub const MAX_FRAME_VALUES: f64 = 5.0e6;
 /// Most segment-pair evaluations of the post-processing (`frames x 0.6 N^2`) without `--force`.
 pub const MAX_TOPOLOGY_PAIRS: f64 = 2.0e10;
 
@@ -51,7 +52,9 @@ pub fn run_size(p: &Problem) -> RunSize {
             let steps = (d / dt * (1.0 - 1e-12)).ceil().max(1.0);
             let interval = p.output.interval.unwrap_or(d / 100.0);
             let every = (interval / dt).round().max(1.0);
-            (steps, (steps / every).floor() + 2.0)
+            // The first frame, one every `every` steps, and the last step's.
+            let last = if steps % every == 0.0 { 0.0 } else { 1.0 };
+            (steps, 1.0 + (steps / every).floor() + last)
         }
     };
     RunSize {
