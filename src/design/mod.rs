@@ -136,8 +136,9 @@ fn d_penalty() -> f64 {
 pub struct OptimizeTable {
     /// Bounds of the muscle stress `Gamma` (Pa), `0 <= lo < hi`.
     pub stress: Option<[f64; 2]>,
-    /// Bounds of the couple width `sigma` (fraction of L), `1/N <= lo < hi <= 1` for the base
-    /// file's `N = rod.elements` (at least one element).
+    /// Bounds of the couple width `sigma` (fraction of L), `0 < lo < hi <= 1`; for the
+    /// Gaussian gaits (s-start, sidewinding) also `lo >= 1/N`, one element of the base file's
+    /// `N = rod.elements`.
     pub sigma: Option<[f64; 2]>,
     /// Bounds of the travelling speed `v_m` (m/s), `0 < lo < hi`.
     pub speed: Option<[f64; 2]>,
@@ -476,15 +477,20 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
                 format!("[lo, hi] with 0 <= lo < hi, finite ({unit})"),
             ),
             Param::Sigma => {
-                // At least one element of the base mesh (a narrower Gaussian falls between
-                // the nodes and the muscles do nothing).
+                // The Gaussian gaits need at least one element of the base mesh (a narrower
+                // Gaussian falls between the nodes and the muscles do nothing).
+                let gaussian =
+                    matches!(base.gait.kind, gait::Kind::SStart | gait::Kind::Sidewinding);
                 let min = 1.0 / base.rod.elements as f64;
                 (
-                    lo >= min && lo < hi && hi <= 1.0,
-                    format!(
-                        "[lo, hi] with 1/rod.elements = {min} <= lo < hi <= 1 ({unit}; the base has {} elements)",
-                        base.rod.elements
-                    ),
+                    lo > 0.0 && lo < hi && hi <= 1.0 && (!gaussian || lo >= min),
+                    if gaussian {
+                        format!(
+                            "[lo, hi] with 0 < lo < hi <= 1 and lo at least one element, 1/rod.elements = {min} ({unit})"
+                        )
+                    } else {
+                        format!("[lo, hi] with 0 < lo < hi <= 1 ({unit})")
+                    },
                 )
             }
             Param::Speed => (

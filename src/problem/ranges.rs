@@ -54,7 +54,7 @@ const ALLOWED: &[(&str, &str)] = &[
     ("gait.stress", "a finite number >= 0 (Pa)"),
     (
         "gait.sigma",
-        "a number in (0, 1], at least one element length 1/rod.elements (fraction of rod.length)",
+        "a number in (0, 1], for s-start and sidewinding at least one element length 1/rod.elements (fraction of rod.length)",
     ),
     ("gait.speed", "a finite number > 0 (m/s)"),
     (
@@ -90,7 +90,7 @@ const ALLOWED: &[(&str, &str)] = &[
     ("optimize.stress", "[lo, hi] with 0 <= lo < hi, finite (Pa)"),
     (
         "optimize.sigma",
-        "[lo, hi] with 1/rod.elements <= lo < hi <= 1 (fraction of rod.length)",
+        "[lo, hi] with 0 < lo < hi <= 1, lo >= 1/rod.elements for s-start and sidewinding (fraction of rod.length)",
     ),
     ("optimize.speed", "[lo, hi] with 0 < lo < hi, finite (m/s)"),
     (
