@@ -664,8 +664,7 @@ fn densities_windows(c: &FramedCurve, delta: f64, count: Option<usize>) -> Densi
         None => n,
     };
     let mut j = 0;
-    for i in 0..last_start {
-        let a = s_node[i];
+    for (i, &a) in s_node.iter().enumerate().take(last_start) {
         let mut b = a + delta;
         if !c.closed && b > total + tol {
             if count.is_none() {
