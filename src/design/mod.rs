@@ -1469,7 +1469,9 @@ fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(), DesignErro
         path: path.clone(),
         source: std::io::Error::other(e),
     })?;
-    std::fs::write(&path, text + "\n").map_err(|source| DesignError::Io { path, source })
+    // Through a temporary name: a full disk leaves no truncated optimum.json.
+    crate::output::write_atomic(&path, (text + "\n").as_bytes())
+        .map_err(|source| DesignError::Io { path, source })
 }
 
 fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(), DesignError> {
