@@ -1,5 +1,7 @@
 //! Assembly of the energy, gradient and (projected) Hessian of all rod terms on a bent,
 //! twisted rod whose frozen frames belong to an earlier shape, at 50 and 200 elements.
+// Index loops over dof indices read as the math does.
+#![allow(clippy::needless_range_loop)]
 use criterion::{criterion_group, criterion_main, Criterion};
 use slither::energy::{self, Assembly, Ctx};
 use slither::model::Model;

@@ -48,14 +48,16 @@ fn bench(c: &mut Criterion) {
         // every Newton iterate (the fallback path alone), for comparison.
         for active_set in [true, false] {
             let mut integ = Integrator::new(&m, Box::new(Natural));
-            integ.active_set = active_set;
+            if !active_set {
+                integ.set_contact(Some(Box::new(slither::contact::Conic::new(&m))));
+            }
             let mut s = s0.clone();
             let t = std::time::Instant::now();
             for _ in 0..200 {
                 integ.step(&mut s, m.dt).unwrap();
             }
             let wall = t.elapsed().as_secs_f64();
-            let st = &integ.stats;
+            let st = integ.stats();
             println!(
                 "{n} elements, {}: {:.3} ms/step, {:.2} Newton it/step, {:.2} conic solves/step, {} active-set steps, {} fallbacks, {:.1} Clarabel iterations/solve, Clarabel {:.0}% of step time, assembly {:.0}%",
                 if active_set { "active set" } else { "conic only" },

@@ -51,7 +51,7 @@ fn bench_step(c: &mut Criterion) {
         for _ in 0..200 {
             integ.step(&mut s, m.dt).unwrap();
         }
-        let st = &integ.stats;
+        let st = integ.stats();
         let it = st.newton_iterations as f64;
         println!(
             "{n} elements: {:.2} Newton iterations/step; per iteration: assembly {:.1} us, factorization {:.1} us, solve {:.1} us, line search {:.1} us",

@@ -12,15 +12,43 @@
 //! second-order-cone program (Clarabel) or, when the contact modes are settled, as an
 //! active-set Newton iteration checked against the Coulomb conditions.
 //!
-//! Module map: [`problem`] (TOML schema and validation) -> [`model`] (immutable model) and
-//! [`state`]; [`rod`] (dof layout, frames, strains); [`energy`] (stretch, bend, twist,
-//! gravity); [`gait`] (muscles as moving natural curvature); [`contact`] (gaps, friction,
-//! conic program, active set); [`integrator`] (the step, halving, static solve); [`sim`]
-//! (the run loop); [`topology`] (twist, writhe, link, densities); [`observe`] (speeds,
-//! kymograph fields, regimes); [`output`] and [`plot`] (files and figures); [`design`] (the gait
-//! optimiser, argmin's Nelder-Mead over simulations); [`fd`] (the finite-difference checker
-//! used by the tests).
+//! Module map, in layers: a module uses only modules of its own or lower layers, so the
+//! top-level modules import each other without cycles (`shared/tools/modcycles.py src`).
+//!
+//! 0. [`rod`] (dof layout, vectors, frames) and [`fd`] (the finite-difference checker of the
+//!    tests): leaves.
+//! 1. [`problem`]: problem files (TOML schema with defaults, validation, the `[gait]` and
+//!    `[solver]` tables).
+//! 2. [`model`] (the immutable model: geometry, masses, ground, the compiled gait) and
+//!    [`state`] (positions, velocities, reference frames).
+//! 3. Physics: [`energy`] (stretch, bend, twist, gravity; the per-node stencil and its
+//!    derivatives), [`gait`] (muscles as time-dependent rest strains: [`gait::Actuation`]).
+//! 4. [`newton`]: Newton's method on an objective (assembly, faer Cholesky, line search,
+//!    statistics, typed failures), and the incremental potential of a step.
+//! 5. [`contact`]: contact models behind [`contact::ContactModel`] (conic program by Clarabel,
+//!    active set), solving a step's problem with Newton's building blocks.
+//! 6. [`integrator`]: time steppers behind [`integrator::Stepper`]: the implicit stepper with
+//!    a time integration [`integrator::Scheme`] (implicit Euler), static equilibrium, and the
+//!    explicit velocity Verlet reference.
+//! 7. [`sim`]: the one run loop.
+//! 8. Observables and output: [`topology`] (twist, writhe, link, densities), [`observe`]
+//!    (speeds, kymograph fields, regimes), [`output`] (files), [`plot`] (figures).
+//! 9. Studies: [`design`] (gait optimiser, phase diagram) and [`chart`] (speed against
+//!    accuracy).
+//! 10. The command line (`main.rs`), the only place that reads the environment and prints.
+//!
+//! Where to add things: a time integrator is a [`integrator::Scheme`] in one new file under
+//! `integrator/` plus a variant of [`problem::IntegratorKind`] (mapped in
+//! [`integrator::scheme_for`]); an energy term is a [`energy::Term`] in one new file under
+//! `energy/` plus a line in [`energy::rod_terms`] (the implicit and the explicit integrator
+//! both use that list); a contact model is a [`contact::ContactModel`] in one new file under
+//! `contact/` plus a variant of [`problem::ContactKind`] (mapped in [`contact::model_for`]).
 #![warn(missing_docs)]
+// Numerical kernels index several arrays (coordinates, masses, flags, predictor) with one dof
+// index `k`; the index loop states that correspondence more plainly than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+// `!(x > y)` is deliberate where a NaN must take the "not satisfied" branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 pub mod chart;
 pub mod contact;
 pub mod design;
@@ -29,6 +57,7 @@ pub mod fd;
 pub mod gait;
 pub mod integrator;
 pub mod model;
+pub mod newton;
 pub mod observe;
 pub mod output;
 pub mod plot;

@@ -81,8 +81,46 @@ enum Cmd {
     },
 }
 
+/// Diagnostics of the library (`log` crate) on stderr, at debug level when `SLITHER_DEBUG` is
+/// set (every Newton iteration), else warnings only.
+struct StderrLog;
+
+impl log::Log for StderrLog {
+    fn enabled(&self, meta: &log::Metadata) -> bool {
+        meta.level() <= log::max_level()
+    }
+    fn log(&self, record: &log::Record) {
+        if self.enabled(record.metadata()) {
+            eprintln!("{}", record.args());
+        }
+    }
+    fn flush(&self) {}
+}
+
+/// Read the environment once: the logger and the solver overrides.
+fn configure_from_env() {
+    static LOGGER: StderrLog = StderrLog;
+    if log::set_logger(&LOGGER).is_ok() {
+        log::set_max_level(if std::env::var_os("SLITHER_DEBUG").is_some() {
+            log::LevelFilter::Debug
+        } else {
+            log::LevelFilter::Warn
+        });
+    }
+    problem::set_overrides(problem::Overrides {
+        contact: std::env::var("SLITHER_CONTACT")
+            .ok()
+            .map(|v| match v.as_str() {
+                "conic" => problem::ContactKind::Conic,
+                _ => problem::ContactKind::ActiveSet,
+            }),
+        clarabel_method: std::env::var("SLITHER_CLARABEL_METHOD").ok(),
+    });
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    configure_from_env();
     match cli.cmd {
         Cmd::Run {
             problem,
@@ -595,7 +633,7 @@ fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
                 "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a, {:.1} s",
                 c.weight,
                 c.torque,
-                c.regime,
+                c.regime.map_or("-", |r| r.as_str()),
                 c.v_s_over_v_m,
                 c.displacement_angle_deg,
                 c.max_elevation_over_a,

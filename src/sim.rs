@@ -1,9 +1,11 @@
 //! The run loop: steps a [`Model`] from its initial state to the end of the run (dynamic) or
 //! through its load increments (static), records frames at the output interval and keeps
-//! everything computed so far when a step fails.
+//! everything computed so far when a step fails. Every time stepper ([`Stepper`]: implicit,
+//! explicit) runs through [`drive`]; the charts run it with their own [`Schedule`].
 
-use crate::contact::Contacts;
-use crate::integrator::{Actuation, Energies, Integrator, Stats, StepError};
+use crate::integrator::explicit::{Explicit, Unsupported};
+use crate::integrator::statics::Static;
+use crate::integrator::{Actuation, Energies, Integrator, Stats, StepError, Stepper};
 use crate::model::Model;
 use crate::problem::Mode;
 use crate::rod::dof;
@@ -63,41 +65,60 @@ pub struct Outcome {
     pub slip_speed_max: f64,
 }
 
-/// Progress callback: fraction done in [0, 1].
-pub type Progress<'a> = &'a mut dyn FnMut(f64);
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunStatus {
+    /// Every step accepted to the end.
+    Completed,
+    /// Stopped by a failed step ([`Outcome::error`]).
+    Failed,
+}
 
-/// What the run loop needs of an integrator (the implicit [`Integrator`] and the explicit
-/// [`crate::integrator::explicit::Explicit`]).
-pub trait Stepper {
-    /// Advance `s` by `h`.
-    fn step(&mut self, s: &mut State, h: f64) -> Result<(), StepError>;
-    /// Normal contact force on each real node (N).
-    fn normal_forces(&self) -> Vec<f64>;
-    /// Energies of `s`.
-    fn energies(&mut self, s: &State) -> Energies;
-    /// Statistics so far.
-    fn stats(&self) -> &Stats;
-    /// Ground contacts, if the integrator has any.
-    fn contacts(&self) -> Option<&Contacts> {
-        None
+impl Outcome {
+    /// How the run ended.
+    pub fn status(&self) -> RunStatus {
+        if self.error.is_some() {
+            RunStatus::Failed
+        } else {
+            RunStatus::Completed
+        }
     }
 }
 
-impl Stepper for Integrator<'_> {
-    fn step(&mut self, s: &mut State, h: f64) -> Result<(), StepError> {
-        Integrator::step(self, s, h)
+/// Progress callback: fraction done in [0, 1].
+pub type Progress<'a> = &'a mut dyn FnMut(f64);
+
+/// The steps of a dynamic run: `steps` steps of `dt`, a frame recorded every `every` steps
+/// (and after the last).
+#[derive(Clone, Copy, Debug)]
+pub struct Schedule {
+    /// Step (s).
+    pub dt: f64,
+    /// Number of steps.
+    pub steps: usize,
+    /// Steps between recorded frames.
+    pub every: usize,
+}
+
+impl Schedule {
+    /// The model's own schedule: `duration / dt` steps (rounded, at least one), frames at the
+    /// output interval.
+    pub fn of(model: &Model) -> Self {
+        Schedule {
+            dt: model.dt,
+            steps: (model.duration / model.dt).round().max(1.0) as usize,
+            every: ((model.output_interval / model.dt).round() as usize).max(1),
+        }
     }
-    fn normal_forces(&self) -> Vec<f64> {
-        Integrator::normal_forces(self)
-    }
-    fn energies(&mut self, s: &State) -> Energies {
-        Integrator::energies(self, s)
-    }
-    fn stats(&self) -> &Stats {
-        &self.stats
-    }
-    fn contacts(&self) -> Option<&Contacts> {
-        self.contacts.as_ref()
+
+    /// `steps` steps of `dt`, recording only the first and last frames.
+    pub fn fixed(dt: f64, steps: usize) -> Self {
+        Schedule {
+            dt,
+            steps,
+            every: steps.max(1),
+        }
     }
 }
 
@@ -109,79 +130,100 @@ pub fn run(
     on_step: &mut dyn FnMut(&State),
 ) -> Outcome {
     let start = Instant::now();
-    let mut integ = Integrator::new(model, actuation);
     match model.mode {
-        Mode::Dynamic => drive(model, &mut integ, start, progress, on_step),
-        Mode::Static => {
-            let mut s = State::initial(model);
-            let mut frames = vec![Frame::of(model, &s, 0.0, integ.normal_forces())];
-            let mut max_strain = s.max_strain(model);
-            let mut error = None;
-            let n = model.load_steps;
-            for k in 1..=n {
-                let load = k as f64 / n as f64;
-                if let Err(e) = integ.solve_static(&mut s, load) {
-                    error = Some(e);
-                    break;
-                }
-                max_strain = max_strain.max(s.max_strain(model));
-                on_step(&s);
-                frames.push(Frame::of(model, &s, load, integ.normal_forces()));
-                progress(load);
-            }
-            let energies = integ.energies(&s);
-            Outcome {
-                state: s,
-                frames,
-                stats: integ.stats.clone(),
-                wall_time_s: start.elapsed().as_secs_f64(),
-                max_strain,
-                energies,
-                error,
-                max_penetration: 0.0,
-                slip_speed_max: 0.0,
-            }
+        Mode::Dynamic => {
+            let mut integ = Integrator::new(model, actuation);
+            drive(
+                model,
+                &mut integ,
+                Schedule::of(model),
+                start,
+                progress,
+                on_step,
+            )
         }
+        Mode::Static => run_static(model, actuation, start, progress, on_step),
     }
 }
 
-/// The time-stepping loop shared by both integrators: steps to the end of the run (or the first
-/// unrecoverable failure), records frames at the output interval and watches the contacts.
+/// Static mode: the load ramped over `load_steps` increments, one frame per increment.
+fn run_static(
+    model: &Model,
+    actuation: Box<dyn Actuation>,
+    start: Instant,
+    progress: Progress,
+    on_step: &mut dyn FnMut(&State),
+) -> Outcome {
+    let mut integ = Static::new(model, actuation);
+    let mut s = State::initial(model);
+    let zeros = vec![0.0; model.real.len()];
+    let mut frames = vec![Frame::of(model, &s, 0.0, zeros.clone())];
+    let mut max_strain = s.max_strain(model);
+    let mut error = None;
+    let n = model.load_steps;
+    for k in 1..=n {
+        let load = k as f64 / n as f64;
+        if let Err(e) = integ.solve(&mut s, load) {
+            error = Some(e);
+            break;
+        }
+        max_strain = max_strain.max(s.max_strain(model));
+        on_step(&s);
+        frames.push(Frame::of(model, &s, load, zeros.clone()));
+        progress(load);
+    }
+    let energies = integ.energies(&s);
+    Outcome {
+        state: s,
+        frames,
+        stats: integ.stats().clone(),
+        wall_time_s: start.elapsed().as_secs_f64(),
+        max_strain,
+        energies,
+        error,
+        max_penetration: 0.0,
+        slip_speed_max: 0.0,
+    }
+}
+
+/// The time-stepping loop shared by every stepper: steps by `schedule` (or to the first
+/// unrecoverable failure), records frames and watches the contacts.
 pub fn drive(
     model: &Model,
     integ: &mut dyn Stepper,
+    schedule: Schedule,
     start: Instant,
     progress: Progress,
     on_step: &mut dyn FnMut(&State),
 ) -> Outcome {
     let mut s = State::initial(model);
-    let mut frames = vec![Frame::of(model, &s, 0.0, integ.normal_forces())];
+    let mut normal = vec![0.0; model.real.len()];
+    integ.normal_forces_into(&mut normal);
+    let mut frames = vec![Frame::of(model, &s, 0.0, normal.clone())];
     let mut max_strain = s.max_strain(model);
     let mut error = None;
     let mut max_penetration: f64 = 0.0;
     let mut slip_speed_max: f64 = 0.0;
-    let n_steps = (model.duration / model.dt).round().max(1.0) as usize;
-    let every = ((model.output_interval / model.dt).round() as usize).max(1);
+    let n_steps = schedule.steps;
     for k in 1..=n_steps {
-        if let Err(e) = integ.step(&mut s, model.dt) {
+        if let Err(e) = integ.step(&mut s, schedule.dt) {
             error = Some(e);
             break;
         }
         max_strain = max_strain.max(s.max_strain(model));
-        if let Some(ct) = integ.contacts() {
-            for i in model.real.clone() {
+        integ.normal_forces_into(&mut normal);
+        if integ.has_contact() {
+            for (r, i) in model.real.clone().enumerate() {
                 max_penetration = max_penetration.max(0.5 * model.diameter - s.node(i)[2]);
-            }
-            for (&i, &n) in ct.nodes.iter().zip(&ct.normal) {
-                if n > 0.0 {
+                if normal[r] > 0.0 {
                     let v = s.node_velocity(i);
                     slip_speed_max = slip_speed_max.max((v[0] * v[0] + v[1] * v[1]).sqrt());
                 }
             }
         }
         on_step(&s);
-        if k % every == 0 || k == n_steps {
-            frames.push(Frame::of(model, &s, s.t, integ.normal_forces()));
+        if k % schedule.every == 0 || k == n_steps {
+            frames.push(Frame::of(model, &s, s.t, normal.clone()));
         }
         progress(k as f64 / n_steps as f64);
     }
@@ -199,6 +241,26 @@ pub fn drive(
     }
 }
 
+/// Run a model with the explicit integrator (or to the first instability, which is kept in
+/// [`Outcome::error`] with everything computed before it).
+pub fn run_explicit(
+    model: &Model,
+    actuation: Box<dyn Actuation>,
+    progress: Progress,
+    on_step: &mut dyn FnMut(&State),
+) -> Result<Outcome, Unsupported> {
+    let start = Instant::now();
+    let mut integ = Explicit::new(model, actuation)?;
+    Ok(drive(
+        model,
+        &mut integ,
+        Schedule::of(model),
+        start,
+        progress,
+        on_step,
+    ))
+}
+
 /// Run a problem's model driven by its own gait ([`crate::gait::Muscles`]) with the integrator
 /// the problem asks for (`[solver] integrator`).
 pub fn run_gait(
@@ -206,14 +268,12 @@ pub fn run_gait(
     integrator: crate::problem::IntegratorKind,
     progress: Progress,
     on_step: &mut dyn FnMut(&State),
-) -> Result<Outcome, crate::integrator::explicit::Unsupported> {
+) -> Result<Outcome, Unsupported> {
     let muscles = Box::new(crate::gait::Muscles {
         gait: model.gait.clone(),
     });
     match integrator {
         crate::problem::IntegratorKind::Implicit => Ok(run(model, muscles, progress, on_step)),
-        crate::problem::IntegratorKind::Explicit => {
-            crate::integrator::explicit::run(model, muscles, progress, on_step)
-        }
+        crate::problem::IntegratorKind::Explicit => run_explicit(model, muscles, progress, on_step),
     }
 }

@@ -9,7 +9,7 @@ mod common;
 use common::{model, Rng};
 use slither::chart::{self, Method};
 use slither::fd;
-use slither::integrator::explicit::{self, Explicit, Unsupported};
+use slither::integrator::explicit::{Explicit, Unsupported};
 use slither::integrator::{Integrator, Natural, StepError};
 use slither::model::Model;
 use slither::state::State;
@@ -73,7 +73,7 @@ fn gradient_only_forces_match_the_assembled_gradient_and_finite_differences() {
              [time]\ndt = 1e-3\nduration = 1.0\n"
         );
         let m = model(&text);
-        let mut r = Rng(seed * 0x9E37_79B9_7F4A_7C15 | 1);
+        let mut r = Rng((seed * 0x9E37_79B9_7F4A_7C15) | 1);
         let mut s = State::initial(&m);
         let l0 = m.rest_len[0];
         for k in 0..m.ndof {
@@ -321,7 +321,7 @@ fn explicit_rejects_ground_and_static_scenes() {
         Some(Unsupported::Ground)
     );
     assert!(matches!(
-        explicit::run(&with_ground, Box::new(Natural), &mut |_| {}, &mut |_| {}),
+        slither::sim::run_explicit(&with_ground, Box::new(Natural), &mut |_| {}, &mut |_| {}),
         Err(Unsupported::Ground)
     ));
     let mut stat = ground;

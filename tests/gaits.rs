@@ -3,7 +3,7 @@
 //! These are full 4-5 s simulations (tens of seconds each in release).
 use slither::gait::Muscles;
 use slither::model::Model;
-use slither::observe::{self, Observables};
+use slither::observe::{self, Observables, Regime};
 use slither::{problem, sim};
 use std::path::Path;
 
@@ -58,14 +58,30 @@ fn juvenile_s_starts_forward() {
         "amplitude variation {}",
         ob.lambda_amplitude_variation
     );
-    assert_eq!(ob.regime, "S");
+    assert_eq!(ob.regime, Regime::S, "{}", ob.regime_reason.text);
+    assert!(ob.regime_reason.not_s.is_empty());
+    assert!(ob.two_arc_lift_over_a >= 0.5, "{}", ob.two_arc_lift_over_a);
+    // The writhe snapshot: when couple b (0.35 L) reaches mid-body, (0.5 - 0.35) L / v_m,
+    // to within half an output interval; a frame's writhe, so within the largest |writhe|.
+    let t_star = (0.5 - 0.35) * m.length / m.gait.speed;
+    assert!(
+        (ob.writhe_snapshot_t - t_star).abs() <= 0.5 * 0.036 + 1e-12,
+        "snapshot at {} s, not {t_star} s",
+        ob.writhe_snapshot_t
+    );
+    assert!(ob.writhe_snapshot.is_finite() && ob.writhe_snapshot.abs() <= ob.writhe_max);
 }
 
 #[test]
 fn heavy_adult_cannot_s_start() {
     let (_, ob, _) = run("problems/s_start_heavy.toml");
     assert!(ob.v_s_over_v_m.abs() < 0.01, "v_s/v_m {}", ob.v_s_over_v_m);
-    assert!(ob.regime == "F" || ob.regime == "N", "regime {}", ob.regime);
+    assert!(
+        ob.regime == Regime::F || ob.regime == Regime::N,
+        "regime {}: {}",
+        ob.regime,
+        ob.regime_reason.text
+    );
     assert!(
         ob.max_elevation_over_a < 0.5,
         "lifted to {} a",

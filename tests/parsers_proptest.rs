@@ -212,8 +212,12 @@ proptest! {
         let out = d.join("out");
         std::fs::create_dir_all(&out).unwrap();
         let csv = out.join("phase.csv");
-        let header = "weight,torque,W_over_G,status,regime,v_s_over_v_m,displacement_angle_deg,max_elevation_over_a,lifted_arcs_max,writhe_max,lambda_pulse_r2,wall_time_s,base_hash,reason";
-        let text = format!("{header}\n3e2,1.5e1,2e1,ok,S,3e-1,2.9e1,6e0,2,4e-1,9.9e-1,12.500,00000000000000ab,\n1e2,5e0,2e1,failed,-,NaN,NaN,NaN,0,NaN,NaN,0.000,00000000000000ab,step rejected\n");
+        let header = design::phase::HEADER;
+        let text = format!("{header}\n3e2,1.5e1,2e1,ok,S,3e-1,2.9e1,6e0,2,4e-1,9.9e-1,S,1.2e-1,6e0,9.6e-1,4e-1,12.500,00000000000000ab,\n1e2,5e0,2e1,failed,-,NaN,NaN,NaN,0,NaN,NaN,-,NaN,NaN,NaN,NaN,0.000,00000000000000ab,step rejected\n");
+        // The unmutated file reads back both rows.
+        let unmutated = d.join("unmutated.csv");
+        std::fs::write(&unmutated, &text).unwrap();
+        prop_assert_eq!(design::phase::read_phase_csv(&unmutated, 0xab).unwrap().cells.len(), 2);
         std::fs::write(&csv, mutate(&text, &muts)).unwrap();
         let _ = design::phase::read_phase_csv(&csv, 0xab);
     }

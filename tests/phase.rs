@@ -74,12 +74,25 @@ fn grid_runs_writes_every_cell_and_resumes() {
     assert!(o.status.success(), "{err}");
     assert!(err.contains("4 simulated, 0 reused"), "{err}");
     let csv = std::fs::read_to_string(out.join("phase.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    for col in [
+        "regime",
+        "regime_detail",
+        "writhe_max",
+        "writhe_snapshot",
+        "two_arc_lift_over_a",
+        "lambda_pulse_speed_over_v_m",
+    ] {
+        assert!(header.contains(&col), "{col} not in {header:?}");
+    }
     let rows: Vec<&str> = csv.lines().skip(1).collect();
     assert_eq!(rows.len(), 4, "{csv}");
     for r in &rows {
         let f: Vec<&str> = r.split(',').collect();
         assert_eq!(f[3], "ok", "{r}");
-        assert!(["S", "F", "N", "U"].contains(&f[4]), "{r}");
+        assert!(["S", "M", "F", "N", "U"].contains(&f[4]), "{r}");
+        // The M sub-reason column is "-" unless the cell is M.
+        assert_eq!(f[11] == "-", f[4] != "M", "{r}");
     }
     // No torque, no motion: the G = 0 cells are regime N with v_s/v_m below 1e-6.
     for r in rows

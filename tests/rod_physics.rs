@@ -176,7 +176,7 @@ duration = 0.4
     }
     // Something happened: the rod bent (elastic energy moved) and implicit Euler dissipated.
     assert!(dissipated > 0.0);
-    assert_eq!(integ.stats.step_halvings, 0);
+    assert_eq!(integ.stats().step_halvings, 0);
 }
 
 #[test]

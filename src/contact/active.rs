@@ -18,9 +18,11 @@
 //! the anisotropic friction set, every sliding contact still slides and no free contact
 //! reached the ground. Otherwise the integrator falls back to the conic program.
 
-use super::{Contacts, Ground};
+use super::{Conic, ContactModel, Contacts, Ground};
 use crate::model::Model;
+use crate::newton::{Failure, Newton, Objective, Path, Potential};
 use crate::rod::{dof, vec3::f};
+use std::time::Instant;
 
 /// Status of a contact candidate in the active-set mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,10 +35,9 @@ pub enum Mode {
     Slide,
 }
 
-/// Slip below which a contact counts as sticking, relative to the rod diameter.
-const STICK_SLIP: f64 = 1e-9;
-/// Gap below which a contact counts as touching, relative to the rod diameter.
-const TOUCH_GAP: f64 = 1e-9;
+/// Slip, relative to the rod diameter, given to a contact that starts sliding from a stick,
+/// along the direction its friction force drives (so the dissipation is differentiable).
+const SLIDE_START: f64 = 1e-6;
 
 impl Contacts {
     /// Tangential slip `(dx . f, dx . s)` of contact `c` at `q` since the start of the step.
@@ -49,14 +50,15 @@ impl Contacts {
     /// Classify every contact from a converged step at `q` (after a conic solve).
     pub fn classify(&mut self, m: &Model, q: &[f64]) {
         let a = m.diameter;
+        let tol = m.solver.contact_tolerance;
         for c in 0..self.nodes.len() {
             let k = dof::node(self.nodes[c]);
             let gap = q[k + 2] - 0.5 * a;
-            self.mode[c] = if gap > TOUCH_GAP * a {
+            self.mode[c] = if gap > tol * a {
                 Mode::Free
             } else {
                 let s = self.slip(c, q);
-                if s[0].hypot(s[1]) <= STICK_SLIP * a {
+                if s[0].hypot(s[1]) <= tol * a {
                     Mode::Stick
                 } else {
                     Mode::Slide
@@ -71,11 +73,12 @@ impl Contacts {
     /// step verifies (and corrects) the guess.
     pub fn guess_modes(&mut self, m: &Model, q: &[f64], v: &[f64], h: f64) {
         let a = m.diameter;
+        let tol = m.solver.contact_tolerance;
         for c in 0..self.nodes.len() {
             let k = dof::node(self.nodes[c]);
-            self.mode[c] = if q[k + 2] - 0.5 * a > TOUCH_GAP * a {
+            self.mode[c] = if q[k + 2] - 0.5 * a > tol * a {
                 Mode::Free
-            } else if h * v[k].hypot(v[k + 1]) > STICK_SLIP * a {
+            } else if h * v[k].hypot(v[k + 1]) > tol * a {
                 Mode::Slide
             } else {
                 Mode::Stick
@@ -192,7 +195,7 @@ impl Contacts {
                 held[k + 2] = true;
                 if old == Mode::Stick {
                     let d = self.slip_dir[c];
-                    let eps = 1e-6 * a;
+                    let eps = SLIDE_START * a;
                     q[k] = self.x_start[c][0] + eps * d[0];
                     q[k + 1] = self.x_start[c][1] + eps * d[1];
                 }
@@ -230,5 +233,332 @@ impl Contacts {
             hff * fw[i] * fw[j] + hfs * (fw[i] * sd[j] + sd[i] * fw[j]) + hss * sd[i] * sd[j]
         };
         (grad, [hx(0, 0), hx(0, 1), hx(1, 1)], f::norm([vf, vs, 0.0]))
+    }
+}
+
+/// The active-set contact model: each step first runs [`ActiveSet::iterate`] with the
+/// statuses of the last step (guessed from the state before any conic solve); if its checks
+/// fail, the conic path continues from where it stopped (at most
+/// `[solver] warm_conic_iterations`), then from the step's start.
+pub struct ActiveSet {
+    /// The conic model: contact data and the fallback.
+    pub conic: Conic,
+    held: Vec<bool>,
+    q_init: Vec<f64>,
+    last_conic: bool,
+}
+
+impl ActiveSet {
+    /// The active-set model of `m`.
+    pub fn new(m: &Model) -> Self {
+        ActiveSet {
+            conic: Conic::new(m),
+            held: vec![false; m.ndof],
+            q_init: vec![0.0; m.ndof],
+            last_conic: false,
+        }
+    }
+
+    /// Newton iterations with every contact's status held (touching gaps and sticking
+    /// positions eliminated, their reactions the contact forces, sliding dissipation with
+    /// exact derivatives). `Err`: the statuses no longer fit (or Newton failed); the caller
+    /// then falls back to the conic program.
+    pub fn iterate(
+        &mut self,
+        nw: &mut Newton,
+        obj: &Potential,
+        q: &mut Vec<f64>,
+    ) -> Result<usize, Failure> {
+        let m = obj.model;
+        let set = &m.solver;
+        let ct = &mut self.conic.ct;
+        let held = &mut self.held;
+        let path = Path::ActiveSet;
+        let n = m.ndof;
+        let a = m.diameter;
+        let nc = ct.nodes.len();
+        let ground = m.ground.as_ref().expect("a contact model needs a ground");
+        let scale = ct.weight_scale(m);
+        let force_tol = set.contact_force_tolerance;
+        held.copy_from_slice(&m.fixed);
+        ct.hold(m, q, held);
+        // Iterations (each one assembly) and status changes allowed before the conic
+        // program takes over.
+        let cap = m.max_iterations.min(set.active_set_max_iterations);
+        let switch_cap = nc + set.active_set_extra_switches;
+        let mut switches = 0;
+        // Exact (unprojected) Hessians converge quadratically; the projected one is the
+        // fallback when the exact one is not positive definite.
+        let mut project = false;
+        let mut it = 0;
+        while it < cap {
+            it += 1;
+            let t0 = Instant::now();
+            let mut f0 = obj.assemble(q, &mut nw.asm, project);
+            if !f0.is_finite() || nw.asm.grad.iter().any(|g| !g.is_finite()) {
+                return Err(Failure::NonFiniteObjective {
+                    path,
+                    iteration: it,
+                });
+            }
+            // Reactions at the held coordinates: normal forces (updating the lagged values
+            // of the sliding dissipation) and sticking friction forces.
+            let mut dn: f64 = 0.0;
+            let mut n_min = f64::INFINITY;
+            let mut worst_ratio: f64 = 0.0;
+            for c in 0..nc {
+                ct.react[c] = 0.0;
+                ct.ratio[c] = 0.0;
+                if ct.mode[c] == Mode::Free {
+                    continue;
+                }
+                let k = dof::node(ct.nodes[c]);
+                let nn = nw.asm.grad[k + 2];
+                // Against the clamped value: a pulling contact (nn < 0) keeps N = 0 and must
+                // count as settled, so that the Coulomb check below can free it.
+                dn = dn.max((nn.max(0.0) - ct.normal[c]).abs());
+                n_min = n_min.min(nn);
+                ct.react[c] = nn;
+                ct.normal[c] = nn.max(0.0);
+                if ct.mode[c] == Mode::Stick {
+                    let (r, mag, dir) = ct.stick_ratio(
+                        ground,
+                        c,
+                        [nw.asm.grad[k], nw.asm.grad[k + 1]],
+                        ct.normal[c],
+                    );
+                    if mag > force_tol * scale {
+                        ct.ratio[c] = r;
+                        ct.slip_dir[c] = dir;
+                        worst_ratio = worst_ratio.max(r);
+                    }
+                }
+            }
+            // Sliding dissipation; a contact whose slip vanished sticks.
+            let mut switched = 0;
+            for c in 0..nc {
+                if ct.mode[c] != Mode::Slide {
+                    continue;
+                }
+                let (g2, h3, slip) = ct.slide_derivatives(ground, c, q);
+                let k = dof::node(ct.nodes[c]);
+                if slip <= set.contact_tolerance * a {
+                    ct.set_mode(m, c, Mode::Stick, q, held);
+                    switched += 1;
+                    continue;
+                }
+                nw.asm.grad[k] += g2[0];
+                nw.asm.grad[k + 1] += g2[1];
+                nw.asm.add_h(k, k, h3[0]);
+                nw.asm.add_h(k, k + 1, h3[1]);
+                nw.asm.add_h(k + 1, k + 1, h3[2]);
+            }
+            if switched > 0 {
+                switches += switched;
+                nw.stats.assembly_s += t0.elapsed().as_secs_f64();
+                if switches > switch_cap {
+                    return Err(Failure::ContactSwitches { iteration: it });
+                }
+                continue;
+            }
+            f0 += ct.dissipation(ground, q);
+            for k in 0..n {
+                if held[k] {
+                    nw.asm.fix(k);
+                }
+            }
+            let t1 = Instant::now();
+            nw.stats.assembly_s += (t1 - t0).as_secs_f64();
+            if project {
+                nw.factor_shifted(m, it)?;
+            } else if nw.lin.factor(&nw.asm).is_err() {
+                // Indefinite: redo this iterate with the projected Hessian.
+                project = true;
+                it -= 1;
+                nw.stats.factor_s += t1.elapsed().as_secs_f64();
+                continue;
+            }
+            let t2 = Instant::now();
+            nw.stats.factor_s += (t2 - t1).as_secs_f64();
+            nw.solve_direction();
+            let t3 = Instant::now();
+            nw.stats.solve_s += (t3 - t2).as_secs_f64();
+            if nw.dq.iter().any(|d| !d.is_finite()) {
+                return Err(Failure::NonFiniteStep {
+                    path,
+                    iteration: it,
+                });
+            }
+            let (dx, dth) = nw.correction_norms();
+            let small = dx <= m.tolerance * a && dth <= m.tolerance;
+            let settled = dn <= set.normal_force_tolerance * scale;
+            log::debug!("  active it {it}: dx {dx:.3e} dth {dth:.3e} dN {dn:.3e} N_min {n_min:.3e} stick ratio {worst_ratio:.6} switches {switches}");
+            if small && settled {
+                // Exact Coulomb conditions at the converged point; a contact that violates
+                // them changes status (pulling: lifts off; friction outside the cone: slides
+                // in the direction its force dictates) and Newton continues.
+                let mut switched = 0;
+                for c in 0..nc {
+                    if ct.mode[c] != Mode::Free && ct.react[c] < -force_tol * scale {
+                        ct.set_mode(m, c, Mode::Free, q, held);
+                        switched += 1;
+                    } else if ct.mode[c] == Mode::Stick && ct.ratio[c] > 1.0 + force_tol {
+                        ct.set_mode(m, c, Mode::Slide, q, held);
+                        switched += 1;
+                    }
+                }
+                if switched == 0 {
+                    for k in 0..n {
+                        q[k] += nw.dq[k];
+                    }
+                    nw.stats.line_search_s += t3.elapsed().as_secs_f64();
+                    return Ok(it);
+                }
+                switches += switched;
+                if switches > switch_cap {
+                    return Err(Failure::ContactSwitches { iteration: it });
+                }
+                continue;
+            }
+            // A sliding contact whose full step reverses its slip stops (sticks); a free
+            // contact that the full step takes below the ground lands.
+            let mut switched = 0;
+            for c in 0..nc {
+                let k = dof::node(ct.nodes[c]);
+                match ct.mode[c] {
+                    Mode::Slide => {
+                        let s0 = ct.slip(c, q);
+                        for kk in 0..3 {
+                            nw.trial[k + kk] = q[k + kk] + nw.dq[k + kk];
+                        }
+                        let s1 = ct.slip(c, &nw.trial);
+                        if s0[0] * s1[0] + s0[1] * s1[1] <= 0.0 {
+                            ct.set_mode(m, c, Mode::Stick, q, held);
+                            switched += 1;
+                        }
+                    }
+                    Mode::Free => {
+                        if q[k + 2] + nw.dq[k + 2] < 0.5 * a {
+                            let sl = ct.slip(c, q);
+                            let mode = if sl[0].hypot(sl[1]) > set.contact_tolerance * a {
+                                Mode::Slide
+                            } else {
+                                Mode::Stick
+                            };
+                            ct.set_mode(m, c, mode, q, held);
+                            switched += 1;
+                        }
+                    }
+                    Mode::Stick => {}
+                }
+            }
+            if switched > 0 {
+                switches += switched;
+                nw.stats.line_search_s += t3.elapsed().as_secs_f64();
+                if switches > switch_cap {
+                    return Err(Failure::ContactSwitches { iteration: it });
+                }
+                continue;
+            }
+            let slope: f64 = nw.asm.grad.iter().zip(&nw.dq).map(|(g, d)| g * d).sum();
+            let alpha = {
+                let ct: &Contacts = ct;
+                nw.backtrack(m, q, f0, slope, small, &|x| {
+                    obj.value(x) + ct.dissipation(ground, x)
+                })
+            };
+            nw.stats.line_search_s += t3.elapsed().as_secs_f64();
+            if alpha.is_none() {
+                return Err(Failure::LineSearch {
+                    path,
+                    iteration: it,
+                    slope,
+                });
+            }
+            std::mem::swap(q, &mut nw.trial);
+        }
+        Err(Failure::NotConverged {
+            path,
+            iterations: cap,
+        })
+    }
+}
+
+impl ContactModel for ActiveSet {
+    fn begin_step(
+        &mut self,
+        m: &Model,
+        q_start: &[f64],
+        slip_origin: &[f64],
+        v_start: &[f64],
+        h: f64,
+        q: &mut [f64],
+    ) {
+        self.conic
+            .begin_step(m, q_start, slip_origin, v_start, h, q);
+        let ct = &mut self.conic.ct;
+        if !ct.modes_valid {
+            ct.guess_modes(m, q_start, v_start, h);
+        }
+    }
+
+    fn solve(
+        &mut self,
+        nw: &mut Newton,
+        obj: &Potential,
+        q: &mut Vec<f64>,
+    ) -> Result<usize, Failure> {
+        let m = obj.model;
+        if self.conic.ct.modes_valid {
+            self.q_init.copy_from_slice(q);
+            match self.iterate(nw, obj, q) {
+                Ok(it) => {
+                    nw.stats.active_set_steps += 1;
+                    self.last_conic = false;
+                    return Ok(it);
+                }
+                Err(why) => {
+                    log::debug!("  active set rejected: {why}");
+                    nw.stats.active_set_fallbacks += 1;
+                    if q.iter().all(|x| x.is_finite()) {
+                        // Start the conic path from where the active set stopped (lifted onto
+                        // the ground), with its normal forces: usually a few conic solves from
+                        // the solution. Should that start fail, the conic path runs again from
+                        // the step's start before the step is rejected.
+                        self.conic.ct.lift(m, q);
+                        let cap = m.max_iterations.min(m.solver.warm_conic_iterations);
+                        match self.conic.iterate(nw, obj, q, cap) {
+                            Ok(it) => {
+                                self.last_conic = true;
+                                return Ok(it);
+                            }
+                            Err(why) => {
+                                log::debug!("  warm conic start failed: {why}");
+                                nw.stats.warm_conic_restarts += 1;
+                            }
+                        }
+                    }
+                    q.copy_from_slice(&self.q_init);
+                    self.conic.restore_normals();
+                }
+            }
+        }
+        let it = self.conic.iterate(nw, obj, q, m.max_iterations)?;
+        self.last_conic = true;
+        Ok(it)
+    }
+
+    fn accept(&mut self, m: &Model, q: &[f64]) {
+        if self.last_conic {
+            self.conic.ct.classify(m, q);
+        }
+    }
+
+    fn reject(&mut self) {
+        self.conic.reject();
+    }
+
+    fn normal_forces(&self, m: &Model, out: &mut [f64]) {
+        self.conic.ct.normal_forces(m, out);
     }
 }

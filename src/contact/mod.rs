@@ -26,26 +26,95 @@
 //! the conic program runs only when that fails (and its solution resets the statuses).
 
 pub mod active;
+pub mod conic;
 
-pub use active::Mode;
+pub use active::{ActiveSet, Mode};
+pub use conic::Conic;
+
+pub use crate::model::Ground;
 
 use crate::energy::Assembly;
 use crate::model::Model;
+use crate::newton::{Failure, Newton, Potential};
 use crate::rod::{dof, vec3::f};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
 
-/// Ground parameters.
+/// A contact model: what a time step needs of ground contact. The integrator calls
+/// [`ContactModel::begin_step`] once per step, [`ContactModel::solve`] to solve the step problem
+/// (the incremental potential plus friction, subject to the contact constraints) with Newton's
+/// building blocks, then [`ContactModel::accept`] or [`ContactModel::reject`]; the run loop reads
+/// the normal forces. Implementations: [`Conic`] (one conic program per Newton iterate) and
+/// [`ActiveSet`] (contact statuses held and verified, the conic program as the fallback).
+pub trait ContactModel: Send {
+    /// Freeze the contact frames at `q_start` and the slip origin `slip_origin` (slip is
+    /// `x - x_origin`: the time integrator's velocity times its effective step), and put the
+    /// iterate `q` on the feasible side of the ground. `v_start`, `h`: the state and step.
+    fn begin_step(
+        &mut self,
+        m: &Model,
+        q_start: &[f64],
+        slip_origin: &[f64],
+        v_start: &[f64],
+        h: f64,
+        q: &mut [f64],
+    );
+    /// Solve the step problem `min obj + friction` from the iterate `q` (overwritten with the
+    /// solution). Returns the Newton iteration count.
+    fn solve(
+        &mut self,
+        newton: &mut Newton,
+        obj: &Potential,
+        q: &mut Vec<f64>,
+    ) -> Result<usize, Failure>;
+    /// The step's solution `q` was accepted.
+    fn accept(&mut self, m: &Model, q: &[f64]);
+    /// The step was rejected: restore what `begin_step` saved.
+    fn reject(&mut self);
+    /// Normal force on every real node (N; zero off the ground), into `out`.
+    fn normal_forces(&self, m: &Model, out: &mut [f64]);
+}
+
+/// The contact model a problem asks for (`[solver] contact`).
+pub fn model_for(m: &Model) -> Option<Box<dyn ContactModel>> {
+    m.ground.as_ref()?;
+    Some(match m.solver.contact {
+        crate::problem::ContactKind::ActiveSet => Box::new(ActiveSet::new(m)),
+        crate::problem::ContactKind::Conic => Box::new(Conic::new(m)),
+    })
+}
+
+/// Why a conic program was not solved.
 #[derive(Clone, Debug)]
-pub struct Ground {
-    /// Kinetic coefficient against forward sliding.
-    pub mu_f: f64,
-    /// Against backward sliding.
-    pub mu_b: f64,
-    /// Against sideways sliding.
-    pub mu_s: f64,
+pub enum ConicError {
+    /// Clarabel refused the settings or the problem.
+    Setup(String),
+    /// Clarabel ended with another status than `Solved`.
+    Status {
+        /// The status.
+        status: String,
+        /// Interior-point iterations.
+        iterations: u32,
+    },
+}
+
+impl ConicError {
+    /// As a Newton failure at iteration `it`.
+    pub fn at(self, it: usize) -> Failure {
+        match self {
+            ConicError::Setup(message) => Failure::ConicSetup {
+                message,
+                iteration: it,
+            },
+            ConicError::Status { status, iterations } => Failure::Conic {
+                status,
+                conic_iterations: iterations,
+                iteration: it,
+            },
+        }
+    }
 }
 
 /// Per-step contact data and the normal-force fixed point.
@@ -64,6 +133,8 @@ pub struct Contacts {
     /// Clarabel solve time of the last solve (s).
     pub last_time: f64,
     direct_method: String,
+    conic_tolerance: f64,
+    conic_max_iterations: u32,
     /// Status of every contact for the active-set path (valid after a conic solve).
     pub mode: Vec<Mode>,
     /// Whether `mode` holds a status from a converged step.
@@ -103,7 +174,6 @@ impl Contacts {
                 }
             })
             .collect();
-        let method = std::env::var("SLITHER_CLARABEL_METHOD").unwrap_or_else(|_| "qdldl".into());
         Contacts {
             nodes,
             pending: normal.clone(),
@@ -113,7 +183,9 @@ impl Contacts {
             x_start: vec![[0.0; 3]; nc],
             last_iterations: 0,
             last_time: 0.0,
-            direct_method: method,
+            direct_method: m.solver.clarabel_method.clone(),
+            conic_tolerance: m.solver.conic_tolerance,
+            conic_max_iterations: m.solver.conic_max_iterations,
             mode: vec![Mode::Free; nc],
             modes_valid: false,
             react: vec![0.0; nc],
@@ -127,8 +199,9 @@ impl Contacts {
         (m.total_mass() * f::norm(m.gravity) / self.nodes.len().max(1) as f64).max(1e-300)
     }
 
-    /// Freeze the contact frames and start positions at the beginning of a step.
-    pub fn begin_step(&mut self, m: &Model, q: &[f64]) {
+    /// Freeze the contact frames (from `q`) and the slip origins (from `origin`) at the
+    /// beginning of a step.
+    pub fn begin_step(&mut self, m: &Model, q: &[f64], origin: &[f64]) {
         for (c, &i) in self.nodes.iter().enumerate() {
             let x = |k: usize| [q[dof::node(k)], q[dof::node(k) + 1], q[dof::node(k) + 2]];
             // Toward the head: from node i+1 to node i-1 (ends one-sided), on the ground.
@@ -142,7 +215,8 @@ impl Contacts {
             let fw = f::unit(fw);
             self.forward[c] = fw;
             self.side[c] = f::cross([0.0, 0.0, 1.0], fw);
-            self.x_start[c] = x(i);
+            let k = dof::node(i);
+            self.x_start[c] = [origin[k], origin[k + 1], origin[k + 2]];
         }
     }
 
@@ -163,9 +237,25 @@ impl Contacts {
         d // h D = h N mu |v| = N mu |dx|
     }
 
-    /// Solve the conic subproblem at the iterate `q`: writes the step into `dq` and updates the
-    /// normal forces.
-    pub fn solve(
+    /// Lift the iterate's predicted penetrations onto the ground (a feasible start).
+    pub fn lift(&self, m: &Model, q: &mut [f64]) {
+        for &i in &self.nodes {
+            let k = dof::node(i) + 2;
+            q[k] = q[k].max(0.5 * m.diameter);
+        }
+    }
+
+    /// Normal force on every real node (N), into `out`.
+    pub fn normal_forces(&self, m: &Model, out: &mut [f64]) {
+        out.fill(0.0);
+        for (c, &i) in self.nodes.iter().enumerate() {
+            out[i - m.real.start] = self.normal[c];
+        }
+    }
+
+    /// Solve the conic subproblem at the iterate `q`: writes the step into `dq` and the new
+    /// normal forces into `pending`.
+    pub fn conic_program(
         &mut self,
         m: &Model,
         g: &Ground,
@@ -173,7 +263,7 @@ impl Contacts {
         q: &[f64],
         h: f64,
         dq: &mut [f64],
-    ) -> Result<ConicStep, String> {
+    ) -> Result<ConicStep, ConicError> {
         let n = asm.n();
         let nc = self.nodes.len();
         let nv = n + 4 * nc;
@@ -295,24 +385,24 @@ impl Contacts {
         cones.extend(std::iter::repeat_n(SupportedConeT::SecondOrderConeT(4), nc));
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
-            .tol_gap_abs(1e-10)
-            .tol_gap_rel(1e-10)
-            .tol_feas(1e-10)
-            .max_iter(100)
+            .tol_gap_abs(self.conic_tolerance)
+            .tol_gap_rel(self.conic_tolerance)
+            .tol_feas(self.conic_tolerance)
+            .max_iter(self.conic_max_iterations)
             .direct_solve_method(self.direct_method.clone())
             .build()
-            .map_err(|e| format!("Clarabel settings: {e:?}"))?;
+            .map_err(|e| ConicError::Setup(format!("Clarabel settings: {e:?}")))?;
         let mut solver = DefaultSolver::new(&p, &lin, &a, &b, &cones, settings)
-            .map_err(|e| format!("Clarabel setup: {e:?}"))?;
+            .map_err(|e| ConicError::Setup(format!("Clarabel setup: {e:?}")))?;
         solver.solve();
         let sol = &solver.solution;
         self.last_iterations = sol.iterations;
         self.last_time = sol.solve_time;
         if sol.status != SolverStatus::Solved {
-            return Err(format!(
-                "conic solve ended with status {:?} after {} iterations",
-                sol.status, sol.iterations
-            ));
+            return Err(ConicError::Status {
+                status: format!("{:?}", sol.status),
+                iterations: sol.iterations,
+            });
         }
         for k in 0..n {
             dq[k] = sol.x[k] * d[k];

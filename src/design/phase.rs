@@ -1,5 +1,5 @@
-//! The regime phase diagram (MODEL section 6): the locomotion regime (S, F, N, U; criteria in
-//! [`crate::observe`]) and the forward speed over scaled weight `W = rho g a^2 L^3 / B` and
+//! The regime phase diagram (MODEL section 6): the locomotion regime (S, M, F, N, U; criteria
+//! in [`crate::observe::regime`]) and the forward speed over scaled weight `W = rho g a^2 L^3 / B` and
 //! scaled torque `G = Gamma a^3 L / B`.
 //!
 //! A phase file names a base problem with a gait and the grid:
@@ -24,8 +24,9 @@
 
 use crate::gait::Kind;
 use crate::model::Model;
+use crate::observe::{self, Regime, RegimeInputs};
 use crate::problem::{self, key_line, Problem, ProblemError};
-use crate::{observe, plot, sim};
+use crate::{plot, sim};
 use plotters::prelude::*;
 use rayon::prelude::*;
 use serde::Deserialize;
@@ -176,8 +177,11 @@ pub struct Cell {
     pub torque: f64,
     /// "ok" or "failed".
     pub status: String,
-    /// Regime ("S", "F", "N", "U"; "-" when failed).
-    pub regime: String,
+    /// Regime (`None` when failed; written "-").
+    pub regime: Option<Regime>,
+    /// For `M`: the S criteria it missed, `;`-separated (e.g. "pulse_speed;heading"); "-"
+    /// otherwise.
+    pub regime_detail: String,
     /// `v_s / v_m`.
     pub v_s_over_v_m: f64,
     /// Angle of the net displacement from the initial head direction (degrees).
@@ -190,13 +194,26 @@ pub struct Cell {
     pub writhe_max: f64,
     /// `R^2` of the `lambda` pulse fit.
     pub lambda_pulse_r2: f64,
+    /// Largest elevation over `L`.
+    pub max_elevation_over_length: f64,
+    /// Height over `a` of the lower of two arcs around a ground contact (see
+    /// [`observe::Observables::two_arc_lift_over_a`]).
+    pub two_arc_lift_over_a: f64,
+    /// Speed of the `lambda` pulse over `v_m`.
+    pub lambda_pulse_speed_over_v_m: f64,
+    /// Writhe when couple b is at mid-body (turns; [`observe::Observables::writhe_snapshot`]).
+    pub writhe_snapshot: f64,
     /// Wall time of the simulation (s).
     pub wall_time_s: f64,
     /// Why it failed (empty when ok).
     pub reason: String,
 }
 
-const HEADER: &str = "weight,torque,W_over_G,status,regime,v_s_over_v_m,displacement_angle_deg,max_elevation_over_a,lifted_arcs_max,writhe_max,lambda_pulse_r2,wall_time_s,base_hash,reason";
+/// Header of `phase.csv` (the column order is fixed; units in the README).
+pub const HEADER: &str = "weight,torque,W_over_G,status,regime,v_s_over_v_m,displacement_angle_deg,max_elevation_over_a,lifted_arcs_max,writhe_max,lambda_pulse_r2,regime_detail,max_elevation_over_length,two_arc_lift_over_a,lambda_pulse_speed_over_v_m,writhe_snapshot,wall_time_s,base_hash,reason";
+
+/// Number of columns of [`HEADER`].
+const COLUMNS: usize = 19;
 
 impl Cell {
     fn failed(w: f64, g: f64, reason: String) -> Self {
@@ -204,15 +221,33 @@ impl Cell {
             weight: w,
             torque: g,
             status: "failed".into(),
-            regime: "-".into(),
+            regime: None,
+            regime_detail: "-".into(),
             v_s_over_v_m: f64::NAN,
             displacement_angle_deg: f64::NAN,
             max_elevation_over_a: f64::NAN,
             lifted_arcs_max: 0,
             writhe_max: f64::NAN,
             lambda_pulse_r2: f64::NAN,
+            max_elevation_over_length: f64::NAN,
+            two_arc_lift_over_a: f64::NAN,
+            lambda_pulse_speed_over_v_m: f64::NAN,
+            writhe_snapshot: f64::NAN,
             wall_time_s: 0.0,
             reason,
+        }
+    }
+
+    /// The stored values the regime depends on (relabelling without simulating).
+    pub fn regime_inputs(&self) -> RegimeInputs {
+        RegimeInputs {
+            v_s_over_v_m: self.v_s_over_v_m,
+            displacement_angle_deg: self.displacement_angle_deg,
+            max_elevation_over_a: self.max_elevation_over_a,
+            max_elevation_over_length: self.max_elevation_over_length,
+            two_arc_lift_over_a: self.two_arc_lift_over_a,
+            lambda_pulse_r2: self.lambda_pulse_r2,
+            lambda_pulse_speed_over_v_m: self.lambda_pulse_speed_over_v_m,
         }
     }
 
@@ -231,18 +266,23 @@ impl Cell {
             })
             .collect();
         format!(
-            "{:e},{:e},{:e},{},{},{:e},{:e},{:e},{},{:e},{:e},{:.3},{:016x},{}",
+            "{:e},{:e},{:e},{},{},{:e},{:e},{:e},{},{:e},{:e},{},{:e},{:e},{:e},{:e},{:.3},{:016x},{}",
             self.weight,
             self.torque,
             self.weight / self.torque,
             self.status,
-            self.regime,
+            self.regime.map_or("-", Regime::as_str),
             self.v_s_over_v_m,
             self.displacement_angle_deg,
             self.max_elevation_over_a,
             self.lifted_arcs_max,
             self.writhe_max,
             self.lambda_pulse_r2,
+            self.regime_detail,
+            self.max_elevation_over_length,
+            self.two_arc_lift_over_a,
+            self.lambda_pulse_speed_over_v_m,
+            self.writhe_snapshot,
             self.wall_time_s,
             hash,
             clean
@@ -250,8 +290,8 @@ impl Cell {
     }
 
     fn parse(line: &str) -> Option<(Cell, u64)> {
-        let f: Vec<&str> = line.splitn(14, ',').collect();
-        if f.len() != 14 {
+        let f: Vec<&str> = line.splitn(COLUMNS, ',').collect();
+        if f.len() != COLUMNS {
             return None;
         }
         let num = |i: usize| f[i].parse::<f64>().ok();
@@ -260,17 +300,25 @@ impl Cell {
                 weight: num(0)?,
                 torque: num(1)?,
                 status: f[3].into(),
-                regime: f[4].into(),
+                regime: match f[4] {
+                    "-" => None,
+                    r => Some(r.parse().ok()?),
+                },
+                regime_detail: f[11].into(),
                 v_s_over_v_m: num(5)?,
                 displacement_angle_deg: num(6)?,
                 max_elevation_over_a: num(7)?,
                 lifted_arcs_max: f[8].parse().ok()?,
                 writhe_max: num(9)?,
                 lambda_pulse_r2: num(10)?,
-                wall_time_s: num(11)?,
-                reason: f[13].into(),
+                max_elevation_over_length: num(12)?,
+                two_arc_lift_over_a: num(13)?,
+                lambda_pulse_speed_over_v_m: num(14)?,
+                writhe_snapshot: num(15)?,
+                wall_time_s: num(16)?,
+                reason: f[18].into(),
             },
-            u64::from_str_radix(f[12], 16).ok()?,
+            u64::from_str_radix(f[17], 16).ok()?,
         ))
     }
 }
@@ -296,7 +344,13 @@ pub fn simulate(base: &Problem, w: f64, g: f64) -> Cell {
             weight: w,
             torque: g,
             status: "ok".into(),
-            regime: ob.regime,
+            regime: Some(ob.regime),
+            regime_detail: if ob.regime_reason.not_s.is_empty() {
+                "-".into()
+            } else {
+                let names: Vec<&str> = ob.regime_reason.not_s.iter().map(|c| c.as_str()).collect();
+                names.join(";")
+            },
             // Defined at G = 0 too (the observable is NaN without a gait): v_m is the base's.
             v_s_over_v_m: ob.v_s / p.gait.speed,
             displacement_angle_deg: ob.displacement_angle_deg,
@@ -304,6 +358,10 @@ pub fn simulate(base: &Problem, w: f64, g: f64) -> Cell {
             lifted_arcs_max: ob.lifted_arcs_max,
             writhe_max: ob.writhe_max,
             lambda_pulse_r2: ob.lambda_pulse_r2,
+            max_elevation_over_length: ob.max_elevation_over_length,
+            two_arc_lift_over_a: ob.two_arc_lift_over_a,
+            lambda_pulse_speed_over_v_m: ob.lambda_pulse_speed_over_v_m,
+            writhe_snapshot: ob.writhe_snapshot,
             wall_time_s: o.wall_time_s,
             reason: String::new(),
         },
@@ -507,15 +565,25 @@ pub fn sweep(
     Ok(sw)
 }
 
-/// Colour of a regime in the map.
-fn regime_color(r: &str) -> RGBColor {
+/// Colour of a regime in the map (dark grey for a failed cell).
+pub fn regime_color(r: Option<Regime>) -> RGBColor {
     match r {
-        "S" => RGBColor(90, 180, 100),
-        "F" => RGBColor(240, 170, 80),
-        "N" => RGBColor(190, 190, 190),
-        "U" => RGBColor(220, 80, 80),
-        _ => RGBColor(60, 60, 60),
+        Some(Regime::S) => RGBColor(90, 180, 100),
+        Some(Regime::M) => RGBColor(100, 150, 230),
+        Some(Regime::F) => RGBColor(240, 170, 80),
+        Some(Regime::N) => RGBColor(190, 190, 190),
+        Some(Regime::U) => RGBColor(220, 80, 80),
+        None => RGBColor(60, 60, 60),
     }
+}
+
+/// How many cells have each regime (in [`Regime::ALL`] order), and how many failed.
+pub fn regime_counts(cells: &[Cell]) -> ([(Regime, usize); 5], usize) {
+    let count = |r: Regime| cells.iter().filter(|c| c.regime == Some(r)).count();
+    (
+        Regime::ALL.map(|r| (r, count(r))),
+        cells.iter().filter(|c| c.regime.is_none()).count(),
+    )
 }
 
 /// Cell edges on a log axis: geometric midpoints, the ends mirrored.
@@ -546,17 +614,20 @@ fn lin_edges(c: &[f64]) -> Vec<f64> {
 }
 
 /// The regime map: one coloured rectangle per cell (log W across, G up), labelled with the
-/// regime and `v_s / v_m`.
+/// regime and `v_s / v_m` (and, for `M`, the S criteria it missed), with a legend of the
+/// regimes and their cell counts on the right.
 fn regime_map(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotError> {
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
     plot::register_fonts()?;
     let err = |e: &dyn std::fmt::Display| plot::PlotError::Draw(e.to_string());
     let xe = log_edges(&ph.weight);
     let ye = lin_edges(&ph.torque);
-    let root = BitMapBackend::new(path, (1000, 750)).into_drawing_area();
+    let root = BitMapBackend::new(path, (1300, 750)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let mut chart = ChartBuilder::on(&root)
+    let (left, right) = root.split_horizontally(1000);
+    let mut chart = ChartBuilder::on(&left)
         .caption(
-            "Regime over scaled weight and scaled torque (S start, F friction, N none, U unstable)",
+            "Regime over scaled weight and scaled torque",
             ("sans-serif", 24),
         )
         .margin(20)
@@ -576,13 +647,19 @@ fn regime_map(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotE
         .axis_desc_style(("sans-serif", 22))
         .draw()
         .map_err(|e| err(&e))?;
+    let centred = |px: u32| {
+        ("sans-serif", px)
+            .into_font()
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Center))
+    };
     let nt = ph.torque.len();
     for (k, c) in cells.iter().enumerate() {
         let (i, j) = (k / nt, k % nt);
         chart
             .draw_series(std::iter::once(Rectangle::new(
                 [(xe[i], ye[j]), (xe[i + 1], ye[j + 1])],
-                regime_color(&c.regime).filled(),
+                regime_color(c.regime).filled(),
             )))
             .map_err(|e| err(&e))?;
         chart
@@ -591,23 +668,51 @@ fn regime_map(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotE
                 WHITE.stroke_width(2),
             )))
             .map_err(|e| err(&e))?;
-        let label = if c.status == "ok" {
-            format!("{} {:.3}", c.regime, c.v_s_over_v_m)
-        } else {
-            "failed".into()
+        let label = match c.regime {
+            Some(r) if c.status == "ok" => format!("{r} {:.3}", c.v_s_over_v_m),
+            _ => "failed".into(),
         };
-        let style = ("sans-serif", 17).into_font().color(&BLACK).pos(
-            plotters::style::text_anchor::Pos::new(
-                plotters::style::text_anchor::HPos::Center,
-                plotters::style::text_anchor::VPos::Center,
-            ),
+        let (x, y, dy) = (
+            (xe[i] * xe[i + 1]).sqrt(),
+            0.5 * (ye[j] + ye[j + 1]),
+            0.15 * (ye[j + 1] - ye[j]),
         );
+        let detail = (c.regime == Some(Regime::M))
+            .then(|| c.regime_detail.replace('_', " ").replace(';', ", "));
+        let y_label = if detail.is_some() { y + dy } else { y };
         chart
-            .draw_series(std::iter::once(Text::new(
-                label,
-                ((xe[i] * xe[i + 1]).sqrt(), 0.5 * (ye[j] + ye[j + 1])),
-                style,
-            )))
+            .draw_series(std::iter::once(Text::new(label, (x, y_label), centred(17))))
+            .map_err(|e| err(&e))?;
+        if let Some(d) = detail {
+            chart
+                .draw_series(std::iter::once(Text::new(d, (x, y - dy), centred(14))))
+                .map_err(|e| err(&e))?;
+        }
+    }
+    // Legend: a swatch, the regime and its count per line.
+    let (counts, failed) = regime_counts(cells);
+    let left_style = ("sans-serif", 18)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    let mut y = 80;
+    right
+        .draw(&Text::new("regime (cells)", (10, y), left_style.clone()))
+        .map_err(|e| err(&e))?;
+    let rows = counts
+        .iter()
+        .map(|&(r, n)| (Some(r), format!("{r}: {} ({n})", r.description())))
+        .chain((failed > 0).then(|| (None, format!("failed ({failed})"))));
+    for (r, text) in rows {
+        y += 34;
+        right
+            .draw(&Rectangle::new(
+                [(10, y - 11), (34, y + 11)],
+                regime_color(r).filled(),
+            ))
+            .map_err(|e| err(&e))?;
+        right
+            .draw(&Text::new(text, (44, y), left_style.clone()))
             .map_err(|e| err(&e))?;
     }
     root.present().map_err(|e| err(&e))
@@ -671,22 +776,60 @@ mod tests {
             weight: 300.0,
             torque: 15.0,
             status: "failed".into(),
-            regime: "-".into(),
+            regime: None,
+            regime_detail: "-".into(),
             v_s_over_v_m: f64::NAN,
             displacement_angle_deg: 12.5,
             max_elevation_over_a: 0.25,
             lifted_arcs_max: 2,
             writhe_max: 0.1,
             lambda_pulse_r2: 0.9,
+            max_elevation_over_length: 0.005,
+            two_arc_lift_over_a: 0.125,
+            lambda_pulse_speed_over_v_m: 1.32,
+            writhe_snapshot: -0.375,
             wall_time_s: 1.5,
             reason: "step rejected, at t = 1\nagain".into(),
         };
-        let (d, h) = Cell::parse(&c.row(0xabc)).unwrap();
+        let row = c.row(0xabc);
+        assert_eq!(row.split(',').count(), HEADER.split(',').count(), "{row}");
+        let (d, h) = Cell::parse(&row).unwrap();
         assert_eq!(h, 0xabc);
         assert_eq!((d.weight, d.torque, d.lifted_arcs_max), (300.0, 15.0, 2));
         assert!(d.v_s_over_v_m.is_nan());
+        assert_eq!(d.regime, None);
         assert_eq!(d.displacement_angle_deg, 12.5);
+        let (di, ci) = (d.regime_inputs(), c.regime_inputs());
+        assert!(di.v_s_over_v_m.is_nan());
+        assert_eq!(
+            RegimeInputs {
+                v_s_over_v_m: 0.0,
+                ..di
+            },
+            RegimeInputs {
+                v_s_over_v_m: 0.0,
+                ..ci
+            }
+        );
+        assert_eq!(d.writhe_snapshot, -0.375);
         assert_eq!(d.reason, "step rejected; at t = 1;again");
+        // An M cell keeps its label and the criteria it missed.
+        let m = Cell {
+            status: "ok".into(),
+            regime: Some(Regime::M),
+            regime_detail: "heading;pulse_speed".into(),
+            v_s_over_v_m: 0.29,
+            reason: String::new(),
+            ..c
+        };
+        let (d, _) = Cell::parse(&m.row(1)).unwrap();
+        assert_eq!(d.regime, Some(Regime::M));
+        assert_eq!(d.regime_detail, "heading;pulse_speed");
+        assert_eq!(d.v_s_over_v_m, 0.29);
+        assert_eq!(d.regime_inputs(), m.regime_inputs());
+        // A label that is not a regime is not a row.
+        let bad = m.row(1).replacen(",M,", ",X,", 1);
+        assert!(Cell::parse(&bad).is_none());
     }
 
     #[test]

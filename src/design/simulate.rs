@@ -48,7 +48,7 @@ pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Eval
             e.writhe_max = ob.writhe_max;
             e.writhe_mean = ob.writhe_mean;
             e.displacement_angle_deg = ob.displacement_angle_deg;
-            e.regime = ob.regime;
+            e.regime = ob.regime.to_string();
             if ob.v_s.is_finite() {
                 e.status = Status::Ok;
             } else {

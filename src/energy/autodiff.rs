@@ -11,30 +11,36 @@ pub trait StencilEnergy {
     fn eval<T: DualNum<Primitive = f64>>(&self, y: &[T; 8]) -> T;
 }
 
-/// Value of node `i`'s stencil energy at `q`; with `out`, also adds its gradient and
-/// Hessian (projected to positive semi-definite when `project`) at the node coordinates.
-/// `derivs` gives value, gradient and Hessian in the intrinsic coordinates.
-pub fn add_stencil<E: StencilEnergy>(
-    st: &E,
-    derivs: impl FnOnce(&E, [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>),
+/// Add node `i`'s stencil value, gradient and Hessian in intrinsic coordinates (`local`),
+/// the Hessian projected to positive semi-definite when `project`, to `asm` at the node
+/// coordinates. Returns the value.
+pub fn add_local(
+    asm: &mut crate::energy::Assembly,
     i: usize,
-    q: &[f64],
-    out: Option<&mut crate::energy::Assembly>,
+    local: (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>),
     project: bool,
 ) -> f64 {
-    let y = intrinsic(q, i);
-    match out {
-        None => st.eval(&y),
-        Some(asm) => {
-            let (v, g, mut h) = derivs(st, y);
-            if project {
-                project_psd(&mut h);
-            }
-            let (gx, hx) = to_nodes(&g, &h);
-            asm.add_local(&crate::rod::dof::stencil(i), &gx, &hx);
-            v
-        }
+    let (v, g, mut h) = local;
+    if project {
+        project_psd(&mut h);
     }
+    let (gx, hx) = to_nodes(&g, &h);
+    asm.add_local(&crate::rod::dof::stencil(i), &gx, &hx);
+    v
+}
+
+/// Add node `i`'s stencil gradient in intrinsic coordinates to `grad` at the node coordinates
+/// (chain rule: `e0 = x_i - x_{i-1}`, `e1 = x_{i+1} - x_i`).
+pub fn add_gradient(grad: &mut [f64], i: usize, g: &[f64; 8]) {
+    use crate::rod::dof;
+    let [a, b, c] = [dof::node(i - 1), dof::node(i), dof::node(i + 1)];
+    for r in 0..3 {
+        grad[a + r] -= g[r];
+        grad[b + r] += g[r] - g[3 + r];
+        grad[c + r] += g[3 + r];
+    }
+    grad[dof::edge(i - 1)] += g[6];
+    grad[dof::edge(i)] += g[7];
 }
 
 /// Intrinsic coordinates of node `i`'s stencil from `q`.
@@ -62,7 +68,7 @@ pub fn derivatives<E: StencilEnergy>(
 ) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
     hessian(
         |v: SVector<Dual2SVec64<8>, 8>| {
-            let arr: [Dual2SVec64<8>; 8] = std::array::from_fn(|k| v[k].clone());
+            let arr: [Dual2SVec64<8>; 8] = std::array::from_fn(|k| v[k]);
             e.eval(&arr)
         },
         &SVector::from(y),

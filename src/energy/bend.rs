@@ -3,13 +3,14 @@
 //! curvature `kappa0_i` (integrated, dimensionless) that may change with time (muscles).
 
 use super::autodiff::{self, StencilEnergy};
+use super::stencil::{EdgeJets, Jets, StencilDerivatives};
 use super::{Assembly, Ctx, Term};
 use crate::rod::{frames, frames::StencilFrame, V3};
 use nalgebra::{SMatrix, SVector};
 use num_dual::DualNum;
 
-/// The bending term.
-pub struct Bend;
+/// The bending term, with its stencil derivatives from `D` ([`Jets`] by default).
+pub struct Bend<D: StencilDerivatives = Jets>(pub D);
 
 /// One node's bending energy.
 pub struct BendStencil<'a> {
@@ -40,10 +41,20 @@ impl BendStencil<'_> {
     /// `kappa = 1/2 sum_j (cos theta^j (kb.a1^j) + sin theta^j (kb.a2^j), ...)` over all 8.
     /// Equal to [`autodiff::derivatives`] of [`StencilEnergy::eval`] up to round-off.
     pub fn derivatives(&self, y: [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
-        use autodiff::jet::{cross, dot, edge_frame, embed, scale, to_na, Jet, JV};
-        let f = self.frame;
-        let (n0, _, a0, b0) = edge_frame([y[0], y[1], y[2]], f.t_old[0], f.a1_old[0]);
-        let (n1, _, a1, b1) = edge_frame([y[3], y[4], y[5]], f.t_old[1], f.a1_old[1]);
+        let [e0, e1] = EdgeJets::of_stencil(self.frame, &y);
+        self.derivatives_with([&e0, &e1], &y)
+    }
+
+    /// [`Self::derivatives`] with the two edges' frame jets given (shared with the twist
+    /// stencil and the neighbouring node, [`super::stencil`]).
+    pub fn derivatives_with(
+        &self,
+        edges: [&EdgeJets; 2],
+        y: &[f64; 8],
+    ) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
+        use autodiff::jet::{cross, dot, embed, scale, to_na, Jet, JV};
+        let (n0, a0, b0) = (edges[0].len, edges[0].a1, edges[0].a2);
+        let (n1, a1, b1) = (edges[1].len, edges[1].a1, edges[1].a2);
         let e0: JV<6> = [Jet::var(y[0], 0), Jet::var(y[1], 1), Jet::var(y[2], 2)];
         let e1: JV<6> = [Jet::var(y[3], 3), Jet::var(y[4], 4), Jet::var(y[5], 5)];
         let n0: Jet<6> = Jet::embed(&n0, 0);
@@ -66,11 +77,35 @@ impl BendStencil<'_> {
     }
 }
 
-impl Term for Bend {
+impl<D: StencilDerivatives> Term for Bend<D> {
     fn name(&self) -> &'static str {
         "bend"
     }
-    fn eval(&self, ctx: &Ctx, q: &[f64], mut out: Option<&mut Assembly>, project: bool) -> f64 {
+    fn eval(&self, ctx: &Ctx, q: &[f64], out: Option<&mut Assembly>, project: bool) -> f64 {
+        let m = ctx.model;
+        let stencil = |i: usize| BendStencil {
+            frame: &ctx.frames[i - 1],
+            kappa0: ctx.kappa0[i],
+            coef: m.bend / (2.0 * m.voronoi[i]),
+        };
+        let Some(asm) = out else {
+            let mut e = 0.0;
+            for i in 1..m.nodes - 1 {
+                e += stencil(i).eval(&autodiff::intrinsic(q, i));
+            }
+            return e;
+        };
+        let edges = asm.take_edges(ctx, q);
+        let mut e = 0.0;
+        for i in 1..m.nodes - 1 {
+            let y = autodiff::intrinsic(q, i);
+            let local = self.0.bend(&stencil(i), [&edges[i - 1], &edges[i]], &y);
+            e += autodiff::add_local(asm, i, local, project);
+        }
+        asm.put_edges(edges);
+        e
+    }
+    fn gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64], _scratch: &mut Assembly) -> f64 {
         let m = ctx.model;
         let mut e = 0.0;
         for i in 1..m.nodes - 1 {
@@ -79,14 +114,9 @@ impl Term for Bend {
                 kappa0: ctx.kappa0[i],
                 coef: m.bend / (2.0 * m.voronoi[i]),
             };
-            e += autodiff::add_stencil(
-                &st,
-                |st, y| st.derivatives(y),
-                i,
-                q,
-                out.as_deref_mut(),
-                project,
-            );
+            let (v, g) = self.0.bend_gradient(&st, &autodiff::intrinsic(q, i));
+            e += v;
+            autodiff::add_gradient(grad, i, &g);
         }
         e
     }

@@ -17,6 +17,7 @@
 pub mod autodiff;
 pub mod bend;
 pub mod gravity;
+pub mod stencil;
 pub mod stretch;
 pub mod twist;
 
@@ -45,14 +46,24 @@ pub trait Term: Send + Sync {
     /// Energy at `q`. With `out`, also adds the gradient and Hessian there; `project` makes
     /// every stencil's Hessian positive semi-definite.
     fn eval(&self, ctx: &Ctx, q: &[f64], out: Option<&mut Assembly>, project: bool) -> f64;
+    /// Energy at `q`, its gradient added to `grad` (no Hessian: explicit integration). The
+    /// default assembles into `scratch` and copies the gradient.
+    fn gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64], scratch: &mut Assembly) -> f64 {
+        scratch.clear();
+        let e = self.eval(ctx, q, Some(scratch), false);
+        for (g, s) in grad.iter_mut().zip(&scratch.grad) {
+            *g += s;
+        }
+        e
+    }
 }
 
 /// All elastic and gravitational terms of the rod.
 pub fn rod_terms() -> Vec<Box<dyn Term>> {
     vec![
         Box::new(stretch::Stretch),
-        Box::new(bend::Bend),
-        Box::new(twist::Twist),
+        Box::new(bend::Bend(stencil::Jets)),
+        Box::new(twist::Twist(stencil::Jets)),
         Box::new(gravity::Gravity),
     ]
 }
@@ -71,6 +82,11 @@ pub struct Assembly {
     /// Values of the upper triangle.
     pub values: Vec<f64>,
     w: usize,
+    /// Frame jets of every edge for the current assembly ([`stencil`]), shared by the bending
+    /// and twist terms, and what they were computed for.
+    edges: Vec<stencil::EdgeJets>,
+    edges_key: Option<(u64, usize, Vec<f64>)>,
+    generation: u64,
 }
 
 impl Assembly {
@@ -93,16 +109,59 @@ impl Assembly {
             row_idx,
             values,
             w,
+            edges: Vec::new(),
+            edges_key: None,
+            generation: 0,
         }
     }
     /// Dimension.
     pub fn n(&self) -> usize {
         self.grad.len()
     }
-    /// Zero gradient and Hessian.
+    /// Zero gradient and Hessian (a new assembly: cached edge frames are recomputed).
     pub fn clear(&mut self) {
         self.grad.fill(0.0);
         self.values.fill(0.0);
+        self.generation += 1;
+    }
+
+    /// The frame jets of every edge at `q` with the frozen frames of `ctx`: computed once per
+    /// assembly (between two [`Assembly::clear`]s, for the same `q` and frames) and shared by
+    /// the stencil terms. Give them back with [`Assembly::put_edges`].
+    pub fn take_edges(&mut self, ctx: &Ctx, q: &[f64]) -> Vec<stencil::EdgeJets> {
+        let frames_id = ctx.frames.as_ptr() as usize;
+        let fresh = matches!(&self.edges_key,
+            Some((g, f, kq)) if *g == self.generation && *f == frames_id && kq.as_slice() == q);
+        let mut edges = std::mem::take(&mut self.edges);
+        if !fresh {
+            let ne = ctx.model.nodes - 1;
+            edges.clear();
+            for j in 0..ne {
+                let (t_old, a1_old) = if j == 0 {
+                    (ctx.frames[0].t_old[0], ctx.frames[0].a1_old[0])
+                } else {
+                    (ctx.frames[j - 1].t_old[1], ctx.frames[j - 1].a1_old[1])
+                };
+                let (a, b) = (dof::node(j), dof::node(j + 1));
+                let e = [q[b] - q[a], q[b + 1] - q[a + 1], q[b + 2] - q[a + 2]];
+                edges.push(stencil::EdgeJets::new(e, t_old, a1_old));
+            }
+            match &mut self.edges_key {
+                Some((g, f, kq)) => {
+                    *g = self.generation;
+                    *f = frames_id;
+                    kq.clear();
+                    kq.extend_from_slice(q);
+                }
+                None => self.edges_key = Some((self.generation, frames_id, q.to_vec())),
+            }
+        }
+        edges
+    }
+
+    /// Return the edge frames taken by [`Assembly::take_edges`].
+    pub fn put_edges(&mut self, edges: Vec<stencil::EdgeJets>) {
+        self.edges = edges;
     }
     #[inline]
     fn pos(&self, i: usize, j: usize) -> usize {

@@ -3,13 +3,14 @@
 //! twist `m0_i` (integrated, rad) that may change with time (muscles).
 
 use super::autodiff::{self, StencilEnergy};
+use super::stencil::{EdgeJets, Jets, StencilDerivatives};
 use super::{Assembly, Ctx, Term};
 use crate::rod::{frames, frames::StencilFrame, V3};
 use nalgebra::{SMatrix, SVector};
 use num_dual::DualNum;
 
-/// The twist term.
-pub struct Twist;
+/// The twist term, with its stencil derivatives from `D` ([`Jets`] by default).
+pub struct Twist<D: StencilDerivatives = Jets>(pub D);
 
 /// One node's twist energy.
 pub struct TwistStencil<'a> {
@@ -37,10 +38,21 @@ impl TwistStencil<'_> {
     /// coordinates, and `m = theta^1 - theta^0 + r` over all 8. Equal to
     /// [`autodiff::derivatives`] of [`StencilEnergy::eval`] up to round-off.
     pub fn derivatives(&self, y: [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
-        use autodiff::jet::{cross, dot, edge_frame, embed, to_na, transport, Jet, JV};
+        let [e0, e1] = EdgeJets::of_stencil(self.frame, &y);
+        self.derivatives_with([&e0, &e1], &y)
+    }
+
+    /// [`Self::derivatives`] with the two edges' frame jets given (shared with the bending
+    /// stencil and the neighbouring node, [`super::stencil`]).
+    pub fn derivatives_with(
+        &self,
+        edges: [&EdgeJets; 2],
+        y: &[f64; 8],
+    ) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
+        use autodiff::jet::{cross, dot, embed, to_na, transport, Jet, JV};
         let f = self.frame;
-        let (_, t0, a0, _) = edge_frame([y[0], y[1], y[2]], f.t_old[0], f.a1_old[0]);
-        let (_, t1, a1, _) = edge_frame([y[3], y[4], y[5]], f.t_old[1], f.a1_old[1]);
+        let (t0, a0) = (edges[0].t, edges[0].a1);
+        let (t1, a1) = (edges[1].t, edges[1].a1);
         let (t0, a0): (JV<6>, JV<6>) = (embed(&t0, 0), embed(&a0, 0));
         let (t1, a1): (JV<6>, JV<6>) = (embed(&t1, 3), embed(&a1, 3));
         let u = transport(&t0, &t1, &a0);
@@ -56,11 +68,35 @@ impl TwistStencil<'_> {
     }
 }
 
-impl Term for Twist {
+impl<D: StencilDerivatives> Term for Twist<D> {
     fn name(&self) -> &'static str {
         "twist"
     }
-    fn eval(&self, ctx: &Ctx, q: &[f64], mut out: Option<&mut Assembly>, project: bool) -> f64 {
+    fn eval(&self, ctx: &Ctx, q: &[f64], out: Option<&mut Assembly>, project: bool) -> f64 {
+        let m = ctx.model;
+        let stencil = |i: usize| TwistStencil {
+            frame: &ctx.frames[i - 1],
+            m0: ctx.m0[i],
+            coef: m.twist / (2.0 * m.voronoi[i]),
+        };
+        let Some(asm) = out else {
+            let mut e = 0.0;
+            for i in 1..m.nodes - 1 {
+                e += stencil(i).eval(&autodiff::intrinsic(q, i));
+            }
+            return e;
+        };
+        let edges = asm.take_edges(ctx, q);
+        let mut e = 0.0;
+        for i in 1..m.nodes - 1 {
+            let y = autodiff::intrinsic(q, i);
+            let local = self.0.twist(&stencil(i), [&edges[i - 1], &edges[i]], &y);
+            e += autodiff::add_local(asm, i, local, project);
+        }
+        asm.put_edges(edges);
+        e
+    }
+    fn gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64], _scratch: &mut Assembly) -> f64 {
         let m = ctx.model;
         let mut e = 0.0;
         for i in 1..m.nodes - 1 {
@@ -69,14 +105,9 @@ impl Term for Twist {
                 m0: ctx.m0[i],
                 coef: m.twist / (2.0 * m.voronoi[i]),
             };
-            e += autodiff::add_stencil(
-                &st,
-                |st, y| st.derivatives(y),
-                i,
-                q,
-                out.as_deref_mut(),
-                project,
-            );
+            let (v, g) = self.0.twist_gradient(&st, &autodiff::intrinsic(q, i));
+            e += v;
+            autodiff::add_gradient(grad, i, &g);
         }
         e
     }

@@ -18,184 +18,28 @@
 //!   couple `Gamma a^3 sin(2 pi (s - v_m t) / lambda)` (wave travelling head to tail),
 //!   `lambda = wavelength * L`, ramped in the same way.
 
-use crate::integrator::Actuation;
 use crate::model::Model;
-use serde::Deserialize;
 
-/// Gait kinds.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Kind {
-    /// No muscles.
-    #[default]
-    None,
-    /// One travelling triplet.
-    SStart,
-    /// Triplets launched periodically.
-    Sidewinding,
-    /// Travelling in-plane sine wave.
-    Serpenoid,
+pub use crate::model::Gait;
+pub use crate::problem::{GaitSpec, Kind};
+
+/// Time-dependent natural strains (muscle activation enters here, MODEL 1.2).
+pub trait Actuation: Send + Sync {
+    /// Fill the integrated natural curvature `kappa0[i]` and twist `m0[i]` of every interior
+    /// node `i` at time `t`.
+    fn rest_strains(&self, t: f64, m: &Model, kappa0: &mut [[f64; 2]], m0: &mut [f64]);
 }
 
-/// `[gait]`: muscle activation pattern (SI units; positions as fractions of L).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GaitSpec {
-    /// "none" (default), "s-start", "sidewinding" or "serpenoid".
-    #[serde(default)]
-    pub kind: Kind,
-    /// Peak muscular stress `Gamma` (Pa); couple magnitude `Gamma a^3`. Default 0, >= 0.
-    #[serde(default)]
-    pub stress: f64,
-    /// Gaussian width `sigma` as a fraction of L. Default 0.05, in (0, 1].
-    #[serde(default = "d_sigma")]
-    pub sigma: f64,
-    /// Travelling speed `v_m` (m/s), head to tail relative to the body. Default 0.5, > 0.
-    #[serde(default = "d_speed")]
-    pub speed: f64,
-    /// Initial positions `s0` of the couples a, b, c as fractions of L. Default [0.15, 0.25, 0.35].
-    #[serde(default = "d_centers")]
-    pub centers: [f64; 3],
-    /// Multipliers of `Gamma a^3` for a, b, c (sign included; a positive b presses the middle
-    /// down). Default [1, 1, 1].
-    #[serde(default = "d_scales")]
-    pub scales: [f64; 3],
-    /// Sidewinding: seconds between launched triplets. Default 0.5, > 0.
-    #[serde(default = "d_period")]
-    pub period: f64,
-    /// Linear ramp-in of every couple over `ramp * T`, `T = L / v_m`. Default 0.05, in [0, 1].
-    #[serde(default = "d_ramp")]
-    pub ramp: f64,
-    /// Serpenoid wavelength as a fraction of L. Default 0.5, > 0.
-    #[serde(default = "d_wavelength")]
-    pub wavelength: f64,
-}
-fn d_sigma() -> f64 {
-    0.05
-}
-fn d_speed() -> f64 {
-    0.5
-}
-fn d_centers() -> [f64; 3] {
-    [0.15, 0.25, 0.35]
-}
-fn d_scales() -> [f64; 3] {
-    [1.0, 1.0, 1.0]
-}
-fn d_period() -> f64 {
-    0.5
-}
-fn d_ramp() -> f64 {
-    0.05
-}
-fn d_wavelength() -> f64 {
-    0.5
-}
-impl Default for GaitSpec {
-    fn default() -> Self {
-        GaitSpec {
-            kind: Kind::None,
-            stress: 0.0,
-            sigma: d_sigma(),
-            speed: d_speed(),
-            centers: d_centers(),
-            scales: d_scales(),
-            period: d_period(),
-            ramp: d_ramp(),
-            wavelength: d_wavelength(),
+/// The rod's own uniform natural curvature and twist from the problem file.
+pub struct Natural;
+
+impl Actuation for Natural {
+    fn rest_strains(&self, _t: f64, m: &Model, kappa0: &mut [[f64; 2]], m0: &mut [f64]) {
+        for i in 1..m.nodes - 1 {
+            let l = m.voronoi[i];
+            kappa0[i] = [m.natural_curvature[0] * l, m.natural_curvature[1] * l];
+            m0[i] = m.natural_twist * l;
         }
-    }
-}
-
-/// A compiled gait (SI lengths).
-#[derive(Clone, Debug)]
-pub struct Gait {
-    /// Kind.
-    pub kind: Kind,
-    /// Couple magnitude `Gamma a^3` (N m).
-    pub couple: f64,
-    /// Width (m).
-    pub sigma: f64,
-    /// Speed (m/s).
-    pub speed: f64,
-    /// Initial centres (m).
-    pub centers: [f64; 3],
-    /// Scales of a, b, c.
-    pub scales: [f64; 3],
-    /// Launch period (s).
-    pub period: f64,
-    /// Ramp time (s).
-    pub ramp_time: f64,
-    /// Serpenoid wavelength (m).
-    pub wavelength: f64,
-}
-
-impl Gait {
-    /// Compile from a spec and the rod's length and diameter.
-    pub fn new(g: &GaitSpec, length: f64, diameter: f64) -> Self {
-        Gait {
-            kind: g.kind,
-            couple: g.stress * diameter.powi(3),
-            sigma: g.sigma * length,
-            speed: g.speed,
-            centers: g.centers.map(|c| c * length),
-            scales: g.scales,
-            period: g.period,
-            ramp_time: g.ramp * length / g.speed,
-            wavelength: g.wavelength * length,
-        }
-    }
-
-    /// Duration of one pulse over the body, `T = L / v_m` (s).
-    pub fn pulse_time(&self, length: f64) -> f64 {
-        length / self.speed
-    }
-
-    fn ramp(&self, t: f64) -> f64 {
-        if self.ramp_time <= 0.0 {
-            1.0
-        } else {
-            (t / self.ramp_time).clamp(0.0, 1.0)
-        }
-    }
-
-    /// Muscle couple `[about d1, about d2]` (N m) at arc length `s` (m) and time `t` (s).
-    pub fn couple_at(&self, s: f64, t: f64) -> [f64; 2] {
-        let gauss = |c: f64| (-(s - c).powi(2) / (2.0 * self.sigma * self.sigma)).exp();
-        let triplet = |shift: f64| -> [f64; 2] {
-            let [a, b, c] = self.centers;
-            let [ka, kb, kc] = self.scales;
-            [
-                kb * gauss(b + shift),
-                ka * gauss(a + shift) - kc * gauss(c + shift),
-            ]
-        };
-        let m = match self.kind {
-            Kind::None => [0.0, 0.0],
-            Kind::SStart => {
-                let r = self.ramp(t);
-                let [m1, m2] = triplet(self.speed * t);
-                [r * m1, r * m2]
-            }
-            Kind::Sidewinding => {
-                let mut acc = [0.0, 0.0];
-                let launched = (t / self.period).floor().max(0.0) as usize;
-                for k in 0..=launched {
-                    let tk = t - k as f64 * self.period;
-                    let r = self.ramp(tk);
-                    let [m1, m2] = triplet(self.speed * tk);
-                    acc[0] += r * m1;
-                    acc[1] += r * m2;
-                }
-                acc
-            }
-            Kind::Serpenoid => {
-                let r = self.ramp(t);
-                let phase = std::f64::consts::TAU * (s - self.speed * t) / self.wavelength;
-                [0.0, r * phase.sin()]
-            }
-        };
-        [self.couple * m[0], self.couple * m[1]]
     }
 }
 

@@ -20,13 +20,13 @@
 //! gradient is always taken with frames at the current tangents (the DER gradient of Bergou et
 //! al. 2010) and the frames are updated once per step.
 //!
-//! Forces come from a gradient-only path: stretching and gravity through their [`Term`]s (the
-//! stretching Hessian they also fill is a few closed-form 3x3 blocks per edge, negligible);
-//! bending and twist of the same [`BendStencil`] and [`TwistStencil`] the implicit step
-//! differentiates twice, here by the closed-form DER gradient (Bergou et al. 2010), which is
-//! exact when the reference frames sit at the current tangents, as they do where the forces
-//! are evaluated (see `closed_form`); anywhere else (a state whose frames are stale) the
-//! stencil energies are differentiated with first-order dual numbers instead
+//! Forces come from a gradient-only path through the same energy-term list as the implicit
+//! step ([`crate::energy::rod_terms`], [`Term::gradient`]): stretching and gravity assemble
+//! into a scratch assembly (their Hessians are a few closed-form 3x3 blocks per edge,
+//! negligible); bending and twist take their gradient from the stencil derivatives
+//! ([`crate::energy::stencil`]): the closed-form DER gradient (Bergou et al. 2010), exact
+//! when the reference frames sit at the current tangents, as they do where the forces are
+//! evaluated; anywhere else (a state whose frames are stale) first-order dual numbers
 //! ([`num_dual::gradient`]). Both are checked against the implicit path's gradient and finite
 //! differences in `tests/explicit.rs`. No Hessian, no eigenvalue projection, no linear solve.
 //!
@@ -50,19 +50,12 @@
 //! and reported as [`StepError::Unstable`] with its start time and step.
 
 use super::{Actuation, Energies, Stats, StepError};
-use crate::energy::autodiff::{intrinsic, StencilEnergy};
-use crate::energy::bend::BendStencil;
-use crate::energy::gravity::Gravity;
-use crate::energy::stretch::Stretch;
-use crate::energy::twist::TwistStencil;
+use crate::energy::autodiff::intrinsic;
+use crate::energy::stencil::frames_current;
 use crate::energy::{Assembly, Ctx, Term};
 use crate::model::Model;
 use crate::problem::Mode;
-use crate::rod::{dof, frames, vec3::f, V3};
-use crate::sim::{Outcome, Progress};
 use crate::state::State;
-use nalgebra::SVector;
-use num_dual::DualSVec64;
 use std::time::Instant;
 
 /// Energy error, in units of the run's energy scale (see the module doc), beyond which a run
@@ -102,6 +95,7 @@ pub struct Explicit<'m> {
     m0: Vec<f64>,
     kappa0_prev: Vec<[f64; 2]>,
     m0_prev: Vec<f64>,
+    terms: Vec<Box<dyn Term>>,
     scratch: Assembly,
     /// `dE/dq` at (`cached_q`, `cached_t`).
     grad: Vec<f64>,
@@ -151,6 +145,7 @@ impl<'m> Explicit<'m> {
             m0: vec![0.0; model.nodes],
             kappa0_prev: vec![[0.0; 2]; model.nodes],
             m0_prev: vec![0.0; model.nodes],
+            terms: crate::energy::rod_terms(),
             scratch: Assembly::new(n),
             grad: vec![0.0; n],
             potential: Potential::default(),
@@ -206,48 +201,27 @@ impl<'m> Explicit<'m> {
             m0,
             gravity: m.gravity,
         };
+        let mut p = Potential::default();
+        let mut add = |name: &str, e: f64| {
+            if name == "gravity" {
+                p.gravity += e;
+            } else {
+                p.elastic += e;
+            }
+        };
         let Some(grad) = grad else {
-            let mut p = Potential {
-                elastic: Stretch.eval(&ctx, q, None, false),
-                gravity: Gravity.eval(&ctx, q, None, false),
-            };
-            for i in 1..m.nodes - 1 {
-                let y = intrinsic(q, i);
-                p.elastic += bend_stencil(&ctx, i).eval(&y) + twist_stencil(&ctx, i).eval(&y);
+            for t in &self.terms {
+                add(t.name(), t.eval(&ctx, q, None, false));
             }
             return p;
         };
-        self.scratch.clear();
-        let mut p = Potential {
-            elastic: Stretch.eval(&ctx, q, Some(&mut self.scratch), false),
-            gravity: Gravity.eval(&ctx, q, Some(&mut self.scratch), false),
-        };
-        grad.copy_from_slice(&self.scratch.grad);
         for i in 1..m.nodes - 1 {
-            let y = intrinsic(q, i);
-            let (bend, twist) = (bend_stencil(&ctx, i), twist_stencil(&ctx, i));
-            let (e, g) = match closed_form(&bend, &twist, y) {
-                Some(r) => {
-                    self.stencil_paths[0] += 1;
-                    r
-                }
-                None => {
-                    self.stencil_paths[1] += 1;
-                    let (eb, gb) = stencil_gradient(&bend, y);
-                    let (et, gt) = stencil_gradient(&twist, y);
-                    (eb + et, std::array::from_fn(|k| gb[k] + gt[k]))
-                }
-            };
-            p.elastic += e;
-            // Chain rule: e0 = x_i - x_{i-1}, e1 = x_{i+1} - x_i.
-            let [a, b, c] = [dof::node(i - 1), dof::node(i), dof::node(i + 1)];
-            for r in 0..3 {
-                grad[a + r] -= g[r];
-                grad[b + r] += g[r] - g[3 + r];
-                grad[c + r] += g[3 + r];
-            }
-            grad[dof::edge(i - 1)] += g[6];
-            grad[dof::edge(i)] += g[7];
+            let current = frames_current(&ctx.frames[i - 1], &intrinsic(q, i));
+            self.stencil_paths[usize::from(!current)] += 1;
+        }
+        grad.fill(0.0);
+        for t in &self.terms {
+            add(t.name(), t.gradient(&ctx, q, grad, &mut self.scratch));
         }
         p
     }
@@ -411,126 +385,15 @@ fn copy_state(dst: &mut State, src: &State) {
     dst.frames.copy_from_slice(&src.frames);
 }
 
-fn bend_stencil<'a>(ctx: &'a Ctx, i: usize) -> BendStencil<'a> {
-    BendStencil {
-        frame: &ctx.frames[i - 1],
-        kappa0: ctx.kappa0[i],
-        coef: ctx.model.bend / (2.0 * ctx.model.voronoi[i]),
-    }
-}
-
-fn twist_stencil<'a>(ctx: &'a Ctx, i: usize) -> TwistStencil<'a> {
-    TwistStencil {
-        frame: &ctx.frames[i - 1],
-        m0: ctx.m0[i],
-        coef: ctx.model.twist / (2.0 * ctx.model.voronoi[i]),
-    }
-}
-
-/// Bending plus twist energy of one stencil and its gradient in the 8 intrinsic coordinates
-/// `y = (e^{i-1}, e^i, theta^{i-1}, theta^i)` in closed form (Bergou et al. 2010, in this
-/// crate's sign conventions `kappa_a = kb . (d_a^{i-1} + d_a^i)/2`):
-///
-/// ```text
-/// dkappa_a/de^{i-1} = (-kappa_a tt + t^i x dd_a) / |e^{i-1}|,
-/// dkappa_a/de^i     = (-kappa_a tt - t^{i-1} x dd_a) / |e^i|,
-/// dkappa_1/dtheta^j = kb . d2^j / 2,   dkappa_2/dtheta^j = -kb . d1^j / 2,
-/// dm/de^{i-1} = kb / (2 |e^{i-1}|),   dm/de^i = kb / (2 |e^i|),   dm/dtheta^{i-1,i} = -1, 1,
-/// ```
-///
-/// `chi = t^{i-1}.t^i`, `tt = (t^{i-1} + t^i)/(1 + chi)`, `dd_a = (d_a^{i-1} + d_a^i)/(1 + chi)`.
-/// These are the derivatives with the reference frames transported from the current tangents,
-/// so they are exact only when the stencil's frozen frame is current (`t_old = t`, which
-/// holds right after [`State::update_frames`], where the integrator evaluates forces);
-/// otherwise `None`, and the caller differentiates the energies with dual numbers.
-fn closed_form(bend: &BendStencil, twist: &TwistStencil, y: [f64; 8]) -> Option<(f64, [f64; 8])> {
-    let fr = bend.frame;
-    let e0 = [y[0], y[1], y[2]];
-    let e1 = [y[3], y[4], y[5]];
-    let (n0, n1) = (f::norm(e0), f::norm(e1));
-    let (t0, t1) = (f::scale(e0, 1.0 / n0), f::scale(e1, 1.0 / n1));
-    let current = |a: [f64; 3], b: [f64; 3]| (0..3).all(|k| (a[k] - b[k]).abs() <= 1e-12);
-    if !(current(t0, fr.t_old[0]) && current(t1, fr.t_old[1])) {
-        return None;
-    }
-    let st = frames::strains::<f64>(&V3(e0), &V3(e1), &y[6], &y[7], fr);
-    let directors = |t: [f64; 3], t_old: [f64; 3], a_old: [f64; 3], theta: f64| {
-        let a = f::transport(t_old, t, a_old);
-        let b = f::cross(t, a);
-        let (s, c) = theta.sin_cos();
-        (
-            f::add(f::scale(a, c), f::scale(b, s)),
-            f::sub(f::scale(b, c), f::scale(a, s)),
-        )
-    };
-    let (d1a, d2a) = directors(t0, fr.t_old[0], fr.a1_old[0], y[6]);
-    let (d1b, d2b) = directors(t1, fr.t_old[1], fr.a1_old[1], y[7]);
-    let w = 1.0 / (1.0 + f::dot(t0, t1));
-    let kb = f::scale(f::cross(t0, t1), 2.0 * w);
-    let tt = f::scale(f::add(t0, t1), w);
-    let dd = [f::scale(f::add(d1a, d1b), w), f::scale(f::add(d2a, d2b), w)];
-    // dE/dkappa_a and dE/dm.
-    let cb = 2.0 * bend.coef;
-    let gk = [
-        cb * (st.kappa[0] - bend.kappa0[0]),
-        cb * (st.kappa[1] - bend.kappa0[1]),
-    ];
-    let gm = 2.0 * twist.coef * (st.twist - twist.m0);
-    let energy = bend.coef
-        * ((st.kappa[0] - bend.kappa0[0]).powi(2) + (st.kappa[1] - bend.kappa0[1]).powi(2))
-        + twist.coef * (st.twist - twist.m0).powi(2);
-    let mut g0 = f::scale(kb, 0.5 * gm / n0);
-    let mut g1 = f::scale(kb, 0.5 * gm / n1);
-    for a in 0..2 {
-        let k = st.kappa[a];
-        g0 = f::add(
-            g0,
-            f::scale(f::add(f::scale(tt, -k), f::cross(t1, dd[a])), gk[a] / n0),
-        );
-        g1 = f::add(
-            g1,
-            f::scale(f::sub(f::scale(tt, -k), f::cross(t0, dd[a])), gk[a] / n1),
-        );
-    }
-    let th0 = 0.5 * (gk[0] * f::dot(kb, d2a) - gk[1] * f::dot(kb, d1a)) - gm;
-    let th1 = 0.5 * (gk[0] * f::dot(kb, d2b) - gk[1] * f::dot(kb, d1b)) + gm;
-    Some((energy, [g0[0], g0[1], g0[2], g1[0], g1[1], g1[2], th0, th1]))
-}
-
-/// Value and gradient of a stencil energy in its 8 intrinsic coordinates (first-order dual
-/// numbers).
-fn stencil_gradient<E: StencilEnergy>(e: &E, y: [f64; 8]) -> (f64, SVector<f64, 8>) {
-    num_dual::gradient(
-        |v: SVector<DualSVec64<8>, 8>| {
-            let arr: [DualSVec64<8>; 8] = std::array::from_fn(|k| v[k]);
-            e.eval(&arr)
-        },
-        &SVector::from(y),
-    )
-}
-
-/// Run a model to the end with the explicit integrator (or to the first instability, which
-/// is kept in [`Outcome::error`] with everything computed before it). Frames are recorded at
-/// the output interval as in [`crate::sim::run`].
-pub fn run(
-    model: &Model,
-    actuation: Box<dyn Actuation>,
-    progress: Progress,
-    on_step: &mut dyn FnMut(&State),
-) -> Result<Outcome, Unsupported> {
-    let start = Instant::now();
-    let mut integ = Explicit::new(model, actuation)?;
-    Ok(crate::sim::drive(
-        model, &mut integ, start, progress, on_step,
-    ))
-}
-
-impl crate::sim::Stepper for Explicit<'_> {
+impl super::Stepper for Explicit<'_> {
     fn step(&mut self, s: &mut State, h: f64) -> Result<(), StepError> {
         Explicit::step(self, s, h)
     }
-    fn normal_forces(&self) -> Vec<f64> {
-        vec![0.0; self.model.real.len()]
+    fn normal_forces_into(&self, out: &mut [f64]) {
+        out.fill(0.0);
+    }
+    fn has_contact(&self) -> bool {
+        false
     }
     fn energies(&mut self, s: &State) -> Energies {
         Explicit::energies(self, s)

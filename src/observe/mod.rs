@@ -1,14 +1,7 @@
 //! What is measured (MODEL section 5): forward speed, kymographs of elevation, slip speed and
-//! local link density, topology over time, contact patches, and the regime classification.
-//!
-//! Regimes, as applied by [`classify`]:
-//! * **U** (inertially unstable): the body rises above `L/4` (flailing), or it lifts off
-//!   (`>= a/2`) while the link-density pulse is incoherent (fit `R^2 < 0.5`);
-//! * **S** (S-start): forward motion `v_s/v_m > 0.02`, two separate arcs lifted at least `a/2`
-//!   at some instant, and a coherent `lambda` pulse (linear fit of its peak position against
-//!   time with `R^2 >= 0.8` and speed within 30 % of `v_m`);
-//! * **N** (no net motion): `|v_s / v_m| < 0.01`;
-//! * **F** (friction dominates): everything else (no lift-off, backward or uncoiling motion).
+//! local link density, topology over time, contact patches, and the regime classification
+//! ([`regime`]: S, M, F, N, U as the paper defines them, with the thresholds and the reason for
+//! each label).
 //!
 //! Contact and slip: a node is in contact when its normal force exceeds [`CONTACT_FRACTION`]
 //! of its share of the weight ([`in_contact`]); slip speeds are reported only for such nodes
@@ -20,6 +13,15 @@
 //! window fits in the rest length; the windows are laid out once, so a frame in which the body
 //! is compressed slightly (strain ~1e-4) keeps its last window, shortened to end at the tail
 //! ([`topology::densities_shortened`]) instead of a NaN.
+//!
+//! The writhe snapshot (the paper's Fig. 3a plots the writhe at one instant of the motion) is
+//! taken at the frame nearest to the instant the centre of couple b, the middle of the
+//! triplet, passes mid-body: `t* = (L/2 - s_b0) / v_m` (`s_b0` its initial arc length), clamped
+//! to the recorded frames.
+
+pub mod regime;
+
+pub use regime::{classify, Regime, RegimeInputs, RegimeReason};
 
 use crate::model::Model;
 use crate::rod::vec3::f;
@@ -64,20 +66,33 @@ pub struct Observables {
     pub displacement_angle_deg: f64,
     /// Largest |writhe| over the frames (turns).
     pub writhe_max: f64,
+    /// Writhe (signed, turns) at the frame nearest to `writhe_snapshot_t` (module doc; NaN
+    /// without a gait).
+    pub writhe_snapshot: f64,
+    /// Time of that frame (s): nearest to `(L/2 - s_b0) / v_m`, when couple b is at mid-body.
+    pub writhe_snapshot_t: f64,
     /// Mean writhe over the frames (turns).
     pub writhe_mean: f64,
     /// Largest |link| over the frames (turns).
     pub link_max: f64,
     /// Speed of the `lambda` peak along the body (m/s), from a linear fit.
     pub lambda_pulse_speed: f64,
+    /// `lambda_pulse_speed / v_m`.
+    pub lambda_pulse_speed_over_v_m: f64,
     /// `R^2` of that fit.
     pub lambda_pulse_r2: f64,
     /// `(max - min) / max` of the peak |lambda| over the fitted frames.
     pub lambda_amplitude_variation: f64,
     /// Largest elevation over `a`.
     pub max_elevation_over_a: f64,
+    /// Largest elevation over `L`.
+    pub max_elevation_over_length: f64,
     /// Most separate arcs lifted at least `a/2` at one instant.
     pub lifted_arcs_max: usize,
+    /// Height over `a` of the lower of two arcs on either side of a ground contact, at the
+    /// instant that maximises it: the largest `h` such that at some instant a node in contact
+    /// has nodes lifted at least `h` both ahead of it and behind it (0 if never).
+    pub two_arc_lift_over_a: f64,
     /// Median (over the pulse frames) of the mean slip speed of the middle contact segment,
     /// over `v_m`. The middle segment is the set of nodes in contact between the centres of
     /// couples a and c (the ground contact between the two lifted bends).
@@ -89,8 +104,26 @@ pub struct Observables {
     pub two_patch_fraction: f64,
     /// Median slip speed of contact nodes over `v_m`.
     pub contact_slip_over_v_m: f64,
-    /// Regime: "S", "F", "N" or "U" (criteria in the module documentation and README).
-    pub regime: String,
+    /// Regime, serialised as "S", "M", "F", "N" or "U" (criteria in [`regime`] and README).
+    pub regime: Regime,
+    /// Why: the deciding comparisons in one line, the S criteria an `M` run missed, and every
+    /// comparison with its value and threshold.
+    pub regime_reason: RegimeReason,
+}
+
+impl Observables {
+    /// The values the regime depends on.
+    pub fn regime_inputs(&self) -> RegimeInputs {
+        RegimeInputs {
+            v_s_over_v_m: self.v_s_over_v_m,
+            displacement_angle_deg: self.displacement_angle_deg,
+            max_elevation_over_a: self.max_elevation_over_a,
+            max_elevation_over_length: self.max_elevation_over_length,
+            two_arc_lift_over_a: self.two_arc_lift_over_a,
+            lambda_pulse_r2: self.lambda_pulse_r2,
+            lambda_pulse_speed_over_v_m: self.lambda_pulse_speed_over_v_m,
+        }
+    }
 }
 
 fn runs(mask: impl Iterator<Item = bool>) -> usize {
@@ -103,6 +136,26 @@ fn runs(mask: impl Iterator<Item = bool>) -> usize {
         prev = m;
     }
     n
+}
+
+/// Largest `h` such that a node `j` with `contact[j]` has elevations `>= h` both before and
+/// after it in `e`: the height of the lower of two arcs separated by a ground contact
+/// (`-inf` if no contact node has nodes on both sides).
+fn two_arc_height(e: &[f64], contact: impl Fn(usize) -> bool) -> f64 {
+    let n = e.len();
+    let mut after = vec![f64::NEG_INFINITY; n + 1];
+    for i in (0..n).rev() {
+        after[i] = after[i + 1].max(e[i]);
+    }
+    let mut before = f64::NEG_INFINITY;
+    let mut best = f64::NEG_INFINITY;
+    for j in 0..n {
+        if contact(j) {
+            best = best.max(before.min(after[j + 1]));
+        }
+        before = before.max(e[j]);
+    }
+    best
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -240,6 +293,16 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
     o.v_s_over_v_m = if has_gait { o.v_s / vm } else { f64::NAN };
     o.writhe_max = fl.wr.iter().fold(0.0, |a: f64, w| a.max(w.abs()));
     o.writhe_mean = fl.wr.iter().sum::<f64>() / fl.wr.len() as f64;
+    (o.writhe_snapshot, o.writhe_snapshot_t) = if has_gait {
+        let t_star = (0.5 * m.length - g.centers[1]) / vm;
+        frames
+            .iter()
+            .zip(&fl.wr)
+            .min_by(|a, b| (a.0.t - t_star).abs().total_cmp(&(b.0.t - t_star).abs()))
+            .map_or((f64::NAN, f64::NAN), |(fr, &w)| (w, fr.t))
+    } else {
+        (f64::NAN, f64::NAN)
+    };
     o.link_max = fl.lk.iter().fold(0.0, |a: f64, w| a.max(w.abs()));
     let a = m.diameter;
     o.max_elevation_over_a = fl
@@ -248,6 +311,7 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         .flatten()
         .fold(0.0, |x: f64, &e| x.max(e))
         / a;
+    o.max_elevation_over_length = o.max_elevation_over_a * a / m.length;
     o.lifted_arcs_max = fl
         .elevation
         .iter()
@@ -270,6 +334,12 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
             }
         }
         o.two_patch_fraction = two as f64 / frames.len() as f64;
+        o.two_arc_lift_over_a = frames
+            .iter()
+            .zip(&fl.elevation)
+            .map(|(fr, e)| two_arc_height(e, |j| in_contact(fr.normal[j])))
+            .fold(0.0, f64::max)
+            / a;
         o.contact_slip_over_v_m = median(slips) / vm;
     }
     // The lambda pulse and the middle segment, while the whole triplet is inside the body
@@ -330,6 +400,7 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         let sts: f64 = ts.iter().zip(&ss).map(|(t, s)| (t - mt) * (s - ms)).sum();
         let sss: f64 = ss.iter().map(|s| (s - ms).powi(2)).sum();
         o.lambda_pulse_speed = sts / stt;
+        o.lambda_pulse_speed_over_v_m = o.lambda_pulse_speed / vm;
         o.lambda_pulse_r2 = if sss > 0.0 {
             sts * sts / (stt * sss)
         } else {
@@ -340,6 +411,7 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         o.lambda_amplitude_variation = (amax - amin) / amax;
     } else {
         o.lambda_pulse_speed = f64::NAN;
+        o.lambda_pulse_speed_over_v_m = f64::NAN;
         o.lambda_pulse_r2 = f64::NAN;
         o.lambda_amplitude_variation = f64::NAN;
     }
@@ -349,23 +421,29 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         mids.iter().filter(|&&v| v < 0.1 * vm).count() as f64 / mids.len() as f64
     };
     o.middle_slip_over_v_m = median(mids) / vm;
-    o.regime = classify(m, &o).to_string();
+    (o.regime, o.regime_reason) = classify(&o.regime_inputs());
     o
 }
 
-/// The regime of a run (criteria in the module documentation).
-pub fn classify(m: &Model, o: &Observables) -> &'static str {
-    let a = m.diameter;
-    let lifted = o.max_elevation_over_a >= 0.5;
-    let coherent =
-        o.lambda_pulse_r2 >= 0.8 && (o.lambda_pulse_speed / m.gait.speed - 1.0).abs() <= 0.3;
-    if o.max_elevation_over_a * a > 0.25 * m.length || (lifted && !(o.lambda_pulse_r2 >= 0.5)) {
-        "U"
-    } else if o.v_s_over_v_m > 0.02 && o.lifted_arcs_max >= 2 && coherent {
-        "S"
-    } else if o.v_s_over_v_m.abs() < 0.01 || o.v_s_over_v_m.is_nan() {
-        "N"
-    } else {
-        "F"
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_arcs_need_a_contact_between_them() {
+        // Two bends, 3 and 2 high, the middle node on the ground.
+        let e = [0.0, 3.0, 1.0, 0.0, 2.0, 0.0];
+        let on = |j: usize| e[j] == 0.0;
+        assert_eq!(two_arc_height(&e, on), 2.0);
+        // A single arc with a dip in its top is one arc: no contact inside it.
+        let e = [0.0, 3.0, 2.9, 3.0, 0.0];
+        let on = |j: usize| e[j] == 0.0;
+        assert_eq!(two_arc_height(&e, on), f64::NEG_INFINITY);
+        // Lifted head and tail around a contact patch.
+        let e = [1.5, 0.0, 0.0, 0.7];
+        let on = |j: usize| e[j] == 0.0;
+        assert_eq!(two_arc_height(&e, on), 0.7);
+        // No contact.
+        assert_eq!(two_arc_height(&[1.0, 2.0], |_| false), f64::NEG_INFINITY);
     }
 }

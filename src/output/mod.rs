@@ -24,7 +24,7 @@ use std::path::Path;
 #[derive(Serialize)]
 pub struct Summary {
     /// "completed" or "failed".
-    pub status: String,
+    pub status: crate::sim::RunStatus,
     /// Failure message, if the run stopped early.
     pub error: Option<String>,
     /// Problem file.
@@ -78,11 +78,7 @@ impl Summary {
     pub fn new(problem: &Path, m: &Model, o: &Outcome) -> Self {
         let s = &o.state;
         Summary {
-            status: if o.error.is_some() {
-                "failed".into()
-            } else {
-                "completed".into()
-            },
+            status: o.status(),
             error: o.error.as_ref().map(|e| e.to_string()),
             problem: problem.display().to_string(),
             mode: format!("{:?}", m.mode).to_lowercase(),

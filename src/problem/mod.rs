@@ -4,8 +4,13 @@
 //! omitted where a default exists; unknown keys are rejected. [`load`] parses and validates a
 //! file and returns errors that name the file, the key, its line and the allowed range.
 
+mod gait;
 pub mod limits;
 pub mod ranges;
+mod solver;
+
+pub use gait::{GaitSpec, Kind};
+pub use solver::{set_overrides, ContactKind, IntegratorKind, Overrides, SolverSpec};
 
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -34,7 +39,7 @@ pub struct Problem {
     pub ground: Option<GroundSpec>,
     /// Muscle activation (gait). Default: none.
     #[serde(default)]
-    pub gait: crate::gait::GaitSpec,
+    pub gait: GaitSpec,
 }
 
 /// `[ground]`: a plane `z = 0` with anisotropic kinetic Coulomb friction.
@@ -210,58 +215,6 @@ fn d_one() -> usize {
 pub struct OutputSpec {
     /// Interval between recorded frames (s). Default `duration / 100`; > 0.
     pub interval: Option<f64>,
-}
-
-/// `[solver]`: Newton settings.
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SolverSpec {
-    /// Convergence: the last Newton correction is below `tolerance * a` on every position and
-    /// below `tolerance` (rad) on every twist angle. Default 1e-9, in (0, 1e-3].
-    #[serde(default = "d_tol")]
-    pub tolerance: f64,
-    /// Newton iterations per step before the step is rejected. Default 50 (static: 10x).
-    #[serde(default = "d_iters")]
-    pub max_iterations: usize,
-    /// Times a rejected step may be halved before the run stops. Default 8.
-    #[serde(default = "d_halvings")]
-    pub max_halvings: usize,
-    /// Time integrator: "implicit" (default: variational implicit Euler by Newton, with
-    /// contact) or "explicit" (velocity Verlet on the same discrete model,
-    /// [`crate::integrator::explicit`]; dynamic mode without a `[ground]` only, stable only
-    /// below a step limit: see `slither chart stability`).
-    #[serde(default)]
-    pub integrator: IntegratorKind,
-}
-
-/// `[solver] integrator`.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum IntegratorKind {
-    /// Variational implicit Euler (Newton), the production integrator.
-    #[default]
-    Implicit,
-    /// Velocity Verlet, the explicit symplectic reference (no contact).
-    Explicit,
-}
-fn d_tol() -> f64 {
-    1e-9
-}
-fn d_iters() -> usize {
-    50
-}
-fn d_halvings() -> usize {
-    8
-}
-impl Default for SolverSpec {
-    fn default() -> Self {
-        Self {
-            tolerance: d_tol(),
-            max_iterations: d_iters(),
-            max_halvings: d_halvings(),
-            integrator: IntegratorKind::Implicit,
-        }
-    }
 }
 
 /// A problem-file error: names the file, the key and its line, and what is allowed.
@@ -768,6 +721,9 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             format!("{}", p.solver.max_halvings),
             "an integer in [0, 30]",
         ));
+    }
+    if let Err((key, value, allowed)) = p.solver.check_settings() {
+        return Err(c.fail("solver", key, value, allowed));
     }
     Ok(())
 }

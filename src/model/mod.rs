@@ -8,10 +8,25 @@
 //! places the clamp exactly at the rod's end (s = 0 or s = L): the discrete cantilever has its
 //! whole length and converges at second order.
 
+mod gait;
+
+pub use gait::Gait;
+
 use crate::problem::{Clamp, Mode, Problem};
 use crate::rod::{dof, frames, vec3::f};
 use std::f64::consts::PI;
 use std::ops::Range;
+
+/// Ground parameters: kinetic Coulomb coefficients of the anisotropic friction (MODEL 3).
+#[derive(Clone, Debug)]
+pub struct Ground {
+    /// Kinetic coefficient against forward sliding.
+    pub mu_f: f64,
+    /// Against backward sliding.
+    pub mu_b: f64,
+    /// Against sideways sliding.
+    pub mu_s: f64,
+}
 
 /// Everything that does not change during a run.
 #[derive(Clone, Debug)]
@@ -64,6 +79,8 @@ pub struct Model {
     pub max_iterations: usize,
     /// Step halvings allowed before the run stops.
     pub max_halvings: usize,
+    /// All solver settings (`[solver]`), for the Newton and contact solvers.
+    pub solver: crate::problem::SolverSpec,
     /// Initial coordinates.
     pub q0: Vec<f64>,
     /// Initial velocities.
@@ -73,9 +90,9 @@ pub struct Model {
     /// Clamp.
     pub clamp: Clamp,
     /// Ground contact and friction, if any.
-    pub ground: Option<crate::contact::Ground>,
+    pub ground: Option<Ground>,
     /// Muscle activation.
-    pub gait: crate::gait::Gait,
+    pub gait: Gait,
 }
 
 /// Dimensionless groups of a model (MODEL.md section 6).
@@ -224,16 +241,17 @@ impl Model {
             tolerance: p.solver.tolerance,
             max_iterations,
             max_halvings: p.solver.max_halvings,
+            solver: p.solver.effective(),
             q0,
             v0,
             a1_0,
             clamp: r.clamp,
-            ground: p.ground.as_ref().map(|g| crate::contact::Ground {
+            ground: p.ground.as_ref().map(|g| Ground {
                 mu_f: g.mu_forward,
                 mu_b: g.mu_backward,
                 mu_s: g.mu_sideways,
             }),
-            gait: crate::gait::Gait::new(&p.gait, r.length, a),
+            gait: Gait::new(&p.gait, r.length, a),
         }
     }
 

@@ -1,0 +1,224 @@
+//! The per-node stencil of bending and twist, and the one place its derivatives come from.
+//!
+//! Node `i`'s stencil has the 8 intrinsic coordinates `y = (e^{i-1}, e^i, theta^{i-1},
+//! theta^i)`; both the bending and the twist energy of the node are functions of `y` and of
+//! the frozen reference frames of its two edges. Each edge's frame as a function of its edge
+//! vector (length, tangent, transported reference directors, with first and second
+//! derivatives: [`EdgeJets`]) is computed once per assembly and shared by the bending and the
+//! twist stencils of both nodes it belongs to ([`crate::energy::Assembly`] caches them).
+//!
+//! [`StencilDerivatives`] is the seam for the derivatives: value, gradient and Hessian of one
+//! node's bending and twist, and the gradient alone (explicit integration). [`Jets`] is the
+//! implementation: staged second-order jets for the Hessians; for the gradient, the closed
+//! form of Bergou et al. 2010 when the frames are current, first-order dual numbers otherwise.
+//! A closed-form Hessian slots in as another implementation, chosen in
+//! [`crate::energy::rod_terms`].
+
+use super::autodiff::jet::{edge_frame, Jet, JV};
+use super::autodiff::StencilEnergy;
+use super::bend::BendStencil;
+use super::twist::TwistStencil;
+use crate::rod::frames::{self, StencilFrame};
+use crate::rod::{vec3::f, V3};
+use nalgebra::{SMatrix, SVector};
+use num_dual::DualSVec64;
+
+/// Value, gradient and Hessian in the 8 intrinsic coordinates of a stencil.
+pub type Local = (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>);
+
+/// One edge's reference frame as a function of its edge vector `e` (3 variables): length
+/// `|e|`, tangent `t`, reference director `a1` transported in time from the frozen frame,
+/// and `a2 = t x a1`.
+#[derive(Clone, Copy, Debug)]
+pub struct EdgeJets {
+    /// `|e|`.
+    pub len: Jet<3>,
+    /// `t = e / |e|`.
+    pub t: JV<3>,
+    /// Transported reference director `a1`.
+    pub a1: JV<3>,
+    /// `a2 = t x a1`.
+    pub a2: JV<3>,
+}
+
+impl EdgeJets {
+    /// The frame jets of edge vector `e` with frozen tangent `t_old` and director `a1_old`.
+    pub fn new(e: [f64; 3], t_old: [f64; 3], a1_old: [f64; 3]) -> Self {
+        let (len, t, a1, a2) = edge_frame(e, t_old, a1_old);
+        EdgeJets { len, t, a1, a2 }
+    }
+
+    /// The jets of both edges of a stencil at `y`.
+    pub fn of_stencil(frame: &StencilFrame, y: &[f64; 8]) -> [EdgeJets; 2] {
+        [
+            EdgeJets::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0]),
+            EdgeJets::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1]),
+        ]
+    }
+}
+
+/// Derivatives of one node's bending and twist energies.
+pub trait StencilDerivatives: Send + Sync {
+    /// Bending: value, gradient and Hessian at `y`, with the two edges' frame jets.
+    fn bend(&self, st: &BendStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local;
+    /// Twist: value, gradient and Hessian at `y`, with the two edges' frame jets.
+    fn twist(&self, st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local;
+    /// Bending: value and gradient at `y`.
+    fn bend_gradient(&self, st: &BendStencil, y: &[f64; 8]) -> (f64, [f64; 8]);
+    /// Twist: value and gradient at `y`.
+    fn twist_gradient(&self, st: &TwistStencil, y: &[f64; 8]) -> (f64, [f64; 8]);
+}
+
+/// Staged jets (Hessians); closed form or dual numbers (gradients).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Jets;
+
+impl StencilDerivatives for Jets {
+    fn bend(&self, st: &BendStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
+        st.derivatives_with(edges, y)
+    }
+    fn twist(&self, st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
+        st.derivatives_with(edges, y)
+    }
+    fn bend_gradient(&self, st: &BendStencil, y: &[f64; 8]) -> (f64, [f64; 8]) {
+        match Current::of(st.frame, y) {
+            Some(c) => c.bend(st),
+            None => dual_gradient(st, y),
+        }
+    }
+    fn twist_gradient(&self, st: &TwistStencil, y: &[f64; 8]) -> (f64, [f64; 8]) {
+        match Current::of(st.frame, y) {
+            Some(c) => c.twist(st),
+            None => dual_gradient(st, y),
+        }
+    }
+}
+
+/// Whether the stencil's frozen frames sit at the current tangents of `y` (to 1e-12), as
+/// right after [`crate::state::State::update_frames`]: then the closed-form gradient is exact.
+pub fn frames_current(frame: &StencilFrame, y: &[f64; 8]) -> bool {
+    let tangent = |e: [f64; 3]| f::scale(e, 1.0 / f::norm(e));
+    let t0 = tangent([y[0], y[1], y[2]]);
+    let t1 = tangent([y[3], y[4], y[5]]);
+    let current = |a: [f64; 3], b: [f64; 3]| (0..3).all(|k| (a[k] - b[k]).abs() <= 1e-12);
+    current(t0, frame.t_old[0]) && current(t1, frame.t_old[1])
+}
+
+/// Value and gradient of a stencil energy in its 8 intrinsic coordinates by first-order dual
+/// numbers.
+fn dual_gradient<E: StencilEnergy>(e: &E, y: &[f64; 8]) -> (f64, [f64; 8]) {
+    let (v, g) = num_dual::gradient(
+        |v: SVector<DualSVec64<8>, 8>| {
+            let arr: [DualSVec64<8>; 8] = std::array::from_fn(|k| v[k]);
+            e.eval(&arr)
+        },
+        &SVector::from(*y),
+    );
+    (v, std::array::from_fn(|k| g[k]))
+}
+
+/// The quantities of the closed-form gradient (Bergou et al. 2010, in this crate's sign
+/// conventions `kappa_a = kb . (d_a^{i-1} + d_a^i)/2`):
+///
+/// ```text
+/// dkappa_a/de^{i-1} = (-kappa_a tt + t^i x dd_a) / |e^{i-1}|,
+/// dkappa_a/de^i     = (-kappa_a tt - t^{i-1} x dd_a) / |e^i|,
+/// dkappa_1/dtheta^j = kb . d2^j / 2,   dkappa_2/dtheta^j = -kb . d1^j / 2,
+/// dm/de^{i-1} = kb / (2 |e^{i-1}|),   dm/de^i = kb / (2 |e^i|),   dm/dtheta^{i-1,i} = -1, 1,
+/// ```
+///
+/// `chi = t^{i-1}.t^i`, `tt = (t^{i-1} + t^i)/(1 + chi)`, `dd_a = (d_a^{i-1} + d_a^i)/(1 + chi)`.
+/// These are the derivatives with the reference frames transported from the current tangents,
+/// so they are exact only when the stencil's frozen frame is current ([`frames_current`]).
+struct Current {
+    kappa: [f64; 2],
+    twist: f64,
+    n: [f64; 2],
+    t: [[f64; 3]; 2],
+    kb: [f64; 3],
+    tt: [f64; 3],
+    dd: [[f64; 3]; 2],
+    d1: [[f64; 3]; 2],
+    d2: [[f64; 3]; 2],
+}
+
+impl Current {
+    fn of(fr: &StencilFrame, y: &[f64; 8]) -> Option<Self> {
+        let e0 = [y[0], y[1], y[2]];
+        let e1 = [y[3], y[4], y[5]];
+        let (n0, n1) = (f::norm(e0), f::norm(e1));
+        let (t0, t1) = (f::scale(e0, 1.0 / n0), f::scale(e1, 1.0 / n1));
+        if !frames_current(fr, y) {
+            return None;
+        }
+        let st = frames::strains::<f64>(&V3(e0), &V3(e1), &y[6], &y[7], fr);
+        let directors = |t: [f64; 3], t_old: [f64; 3], a_old: [f64; 3], theta: f64| {
+            let a = f::transport(t_old, t, a_old);
+            let b = f::cross(t, a);
+            let (s, c) = theta.sin_cos();
+            (
+                f::add(f::scale(a, c), f::scale(b, s)),
+                f::sub(f::scale(b, c), f::scale(a, s)),
+            )
+        };
+        let (d1a, d2a) = directors(t0, fr.t_old[0], fr.a1_old[0], y[6]);
+        let (d1b, d2b) = directors(t1, fr.t_old[1], fr.a1_old[1], y[7]);
+        let w = 1.0 / (1.0 + f::dot(t0, t1));
+        Some(Current {
+            kappa: st.kappa,
+            twist: st.twist,
+            n: [n0, n1],
+            t: [t0, t1],
+            kb: f::scale(f::cross(t0, t1), 2.0 * w),
+            tt: f::scale(f::add(t0, t1), w),
+            dd: [f::scale(f::add(d1a, d1b), w), f::scale(f::add(d2a, d2b), w)],
+            d1: [d1a, d1b],
+            d2: [d2a, d2b],
+        })
+    }
+
+    fn bend(&self, bend: &BendStencil) -> (f64, [f64; 8]) {
+        let cb = 2.0 * bend.coef;
+        let gk = [
+            cb * (self.kappa[0] - bend.kappa0[0]),
+            cb * (self.kappa[1] - bend.kappa0[1]),
+        ];
+        let energy = bend.coef
+            * ((self.kappa[0] - bend.kappa0[0]).powi(2) + (self.kappa[1] - bend.kappa0[1]).powi(2));
+        let [t0, t1] = self.t;
+        let [n0, n1] = self.n;
+        let mut g0 = [0.0; 3];
+        let mut g1 = [0.0; 3];
+        for a in 0..2 {
+            let k = self.kappa[a];
+            g0 = f::add(
+                g0,
+                f::scale(
+                    f::add(f::scale(self.tt, -k), f::cross(t1, self.dd[a])),
+                    gk[a] / n0,
+                ),
+            );
+            g1 = f::add(
+                g1,
+                f::scale(
+                    f::sub(f::scale(self.tt, -k), f::cross(t0, self.dd[a])),
+                    gk[a] / n1,
+                ),
+            );
+        }
+        let kb = self.kb;
+        let th = |j: usize| 0.5 * (gk[0] * f::dot(kb, self.d2[j]) - gk[1] * f::dot(kb, self.d1[j]));
+        (
+            energy,
+            [g0[0], g0[1], g0[2], g1[0], g1[1], g1[2], th(0), th(1)],
+        )
+    }
+
+    fn twist(&self, twist: &TwistStencil) -> (f64, [f64; 8]) {
+        let gm = 2.0 * twist.coef * (self.twist - twist.m0);
+        let energy = twist.coef * (self.twist - twist.m0).powi(2);
+        let g0 = f::scale(self.kb, 0.5 * gm / self.n[0]);
+        let g1 = f::scale(self.kb, 0.5 * gm / self.n[1]);
+        (energy, [g0[0], g0[1], g0[2], g1[0], g1[1], g1[2], -gm, gm])
+    }
+}

@@ -1,0 +1,111 @@
+//! Static equilibrium: `min_q E(q)` at a load fraction (gravity and natural strains scaled),
+//! by Newton's method ([`crate::newton`]) with the reference frames re-based after every
+//! accepted iterate. The run loop ramps the load over `[time] load_steps` increments.
+
+use super::{Energies, Loads, Stats, StepError};
+use crate::energy::{self, Assembly, Term};
+use crate::model::Model;
+use crate::newton::{Failure, Newton, Objective, Potential};
+use crate::state::State;
+
+/// The static stepper.
+pub struct Static<'m> {
+    /// The model.
+    pub model: &'m Model,
+    terms: Vec<Box<dyn Term>>,
+    loads: Loads,
+    newton: Newton,
+}
+
+/// The rod energy with the frames of a state that moves with the iterate.
+struct Equilibrium<'a> {
+    model: &'a Model,
+    terms: &'a [Box<dyn Term>],
+    loads: &'a Loads,
+    state: &'a mut State,
+}
+
+impl Equilibrium<'_> {
+    fn potential(&self) -> Potential<'_> {
+        Potential {
+            model: self.model,
+            terms: self.terms,
+            frames: &self.state.frames,
+            kappa0: &self.loads.kappa0,
+            m0: &self.loads.m0,
+            gravity: self.loads.gravity(self.model),
+            inertia: None,
+        }
+    }
+}
+
+impl Objective for Equilibrium<'_> {
+    fn value(&self, q: &[f64]) -> f64 {
+        self.potential().value(q)
+    }
+    fn assemble(&self, q: &[f64], asm: &mut Assembly, project: bool) -> f64 {
+        self.potential().assemble(q, asm, project)
+    }
+    fn accepted(&mut self, q: &[f64]) {
+        self.state.q.copy_from_slice(q);
+        self.state.update_frames();
+    }
+}
+
+impl<'m> Static<'m> {
+    /// A static stepper for `model` with the rest strains of `actuation` at `t = 0`.
+    pub fn new(model: &'m Model, actuation: Box<dyn super::Actuation>) -> Self {
+        Static {
+            model,
+            terms: energy::rod_terms(),
+            loads: Loads::new(model, actuation),
+            newton: Newton::new(model.ndof),
+        }
+    }
+
+    /// Statistics so far.
+    pub fn stats(&self) -> &Stats {
+        &self.newton.stats
+    }
+
+    /// Static equilibrium at load fraction `load`, from `s`. Returns the Newton iterations.
+    pub fn solve(&mut self, s: &mut State, load: f64) -> Result<usize, StepError> {
+        let m = self.model;
+        self.loads.load = load;
+        self.loads.set_time(m, s.t);
+        let mut q = s.q.clone();
+        let r = {
+            let mut obj = Equilibrium {
+                model: m,
+                terms: &self.terms,
+                loads: &self.loads,
+                state: s,
+            };
+            self.newton
+                .minimize(m, &mut obj, &mut q, &m.fixed, m.max_iterations)
+        };
+        self.loads.load = 1.0;
+        match r {
+            Ok(it) => {
+                self.newton.stats.steps += 1;
+                self.newton.stats.newton_iterations += it;
+                s.v.fill(0.0);
+                Ok(it)
+            }
+            Err(reason) => Err(StepError::Rejected {
+                t: s.t,
+                dt: 0.0,
+                halvings: 0,
+                reason: Failure::Static {
+                    load,
+                    inner: Box::new(reason),
+                },
+            }),
+        }
+    }
+
+    /// Energies of `s` at full load.
+    pub fn energies(&mut self, s: &State) -> Energies {
+        self.loads.energies(self.model, &self.terms, s)
+    }
+}

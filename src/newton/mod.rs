@@ -1,0 +1,429 @@
+//! Newton's method on a smooth objective: the solver layer under every implicit time step.
+//!
+//! An [`Objective`] gives its value and assembles its gradient and Hessian (every stencil
+//! projected to positive semi-definite on request) into the fixed banded pattern of an
+//! [`Assembly`]; [`Newton`] owns that assembly, the sparse Cholesky factorisation
+//! ([`linsolve`], faer), the correction and trial vectors and the [`Stats`]. One iteration:
+//! assemble, hold the fixed coordinates, factorise (shifting the diagonal if the matrix is
+//! only semi-definite), solve `H dq = -g`, backtrack on the objective (Armijo), accept. The
+//! iteration has converged when the full correction is below `tolerance * a` on every position
+//! and below `tolerance` rad on every twist angle.
+//!
+//! The time step's objective is the incremental potential [`Potential`]:
+//! `Phi(q) = w/2 (q - qhat)^T M (q - qhat) + E(q, t_{n+1})`, with the predictor `qhat` and the
+//! inertia weight `w` supplied by the time integrator (`w = 1/h^2` for implicit Euler), or
+//! `E(q)` alone for static equilibrium. Contact models ([`crate::contact`]) run their own
+//! iterations from the same building blocks ([`Newton::factor_shifted`],
+//! [`Newton::solve_direction`], [`Newton::correction_norms`], [`Newton::backtrack`]).
+//!
+//! Every tolerance and cap is a `[solver]` setting ([`crate::problem::SolverSpec`]).
+//! Failures are typed ([`Failure`]); diagnostics go to the `log` crate (`debug` level).
+
+pub mod linsolve;
+
+use crate::energy::{self, Assembly, Ctx, Term};
+use crate::model::Model;
+use crate::rod::dof;
+use crate::rod::frames::StencilFrame;
+use linsolve::LinSolver;
+use std::time::Instant;
+
+/// Cumulative solver statistics.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Stats {
+    /// Accepted steps (dynamic) or load increments (static).
+    pub steps: usize,
+    /// Newton iterations over all accepted steps.
+    pub newton_iterations: usize,
+    /// Step halvings (each failed attempt that was retried with h/2).
+    pub step_halvings: usize,
+    /// Line-search backtracks.
+    pub backtracks: usize,
+    /// Times a factorisation needed a diagonal shift.
+    pub shifted_factorizations: usize,
+    /// Seconds in energy, gradient and Hessian assembly.
+    pub assembly_s: f64,
+    /// Seconds in numeric factorisation.
+    pub factor_s: f64,
+    /// Seconds in triangular solves.
+    pub solve_s: f64,
+    /// Seconds in line-search energy evaluations.
+    pub line_search_s: f64,
+    /// Conic (Clarabel) solves.
+    pub conic_solves: usize,
+    /// Clarabel interior-point iterations over all solves.
+    pub conic_iterations: usize,
+    /// Seconds in Clarabel (set-up and solve).
+    pub conic_s: f64,
+    /// Contact steps solved by the active-set path (no conic solve).
+    pub active_set_steps: usize,
+    /// Contact steps where the active-set path failed its checks and the conic path ran.
+    pub active_set_fallbacks: usize,
+    /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
+    /// from the step's start.
+    pub warm_conic_restarts: usize,
+}
+
+/// Which iteration failed (for messages).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Path {
+    /// Plain or conic Newton iterations.
+    Newton,
+    /// Active-set contact iterations.
+    ActiveSet,
+}
+
+impl Path {
+    fn iteration(self) -> &'static str {
+        match self {
+            Path::Newton => "Newton",
+            Path::ActiveSet => "active-set",
+        }
+    }
+    fn solver(self) -> &'static str {
+        match self {
+            Path::Newton => "Newton",
+            Path::ActiveSet => "active-set Newton",
+        }
+    }
+}
+
+/// Why a step's solve failed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum Failure {
+    /// The objective or its gradient was not finite.
+    #[error("non-finite objective or gradient at {} iteration {iteration}", path.iteration())]
+    NonFiniteObjective {
+        /// Iteration kind.
+        path: Path,
+        /// 1-based iteration.
+        iteration: usize,
+    },
+    /// The Newton correction was not finite.
+    #[error("non-finite {} at {} iteration {iteration}", if *path == Path::Newton { "step" } else { "Newton direction" }, path.iteration())]
+    NonFiniteStep {
+        /// Iteration kind.
+        path: Path,
+        /// 1-based iteration.
+        iteration: usize,
+    },
+    /// No step length satisfied the Armijo condition.
+    #[error("line search failed at {} iteration {iteration} (slope {slope:.3e})", path.iteration())]
+    LineSearch {
+        /// Iteration kind.
+        path: Path,
+        /// 1-based iteration.
+        iteration: usize,
+        /// Directional derivative of the merit function (J).
+        slope: f64,
+    },
+    /// The iteration cap was reached.
+    #[error("{} did not converge in {iterations} iterations", path.solver())]
+    NotConverged {
+        /// Iteration kind.
+        path: Path,
+        /// The cap.
+        iterations: usize,
+    },
+    /// The Hessian could not be factorised, even shifted.
+    #[error("Hessian not positive definite even with a diagonal shift (iteration {iteration})")]
+    NotPositiveDefinite {
+        /// 1-based iteration.
+        iteration: usize,
+    },
+    /// The active set kept changing.
+    #[error("too many contact status changes (active-set iteration {iteration})")]
+    ContactSwitches {
+        /// 1-based iteration.
+        iteration: usize,
+    },
+    /// The conic program could not be set up.
+    #[error("{message} (Newton iteration {iteration})")]
+    ConicSetup {
+        /// Clarabel's message.
+        message: String,
+        /// 1-based Newton iteration.
+        iteration: usize,
+    },
+    /// The conic program ended unsolved.
+    #[error("conic solve ended with status {status} after {conic_iterations} iterations (Newton iteration {iteration})")]
+    Conic {
+        /// Clarabel's status.
+        status: String,
+        /// Interior-point iterations.
+        conic_iterations: u32,
+        /// 1-based Newton iteration.
+        iteration: usize,
+    },
+    /// A static load increment failed.
+    #[error("static solve at load {load}: {inner}")]
+    Static {
+        /// Load fraction.
+        load: f64,
+        /// The failure.
+        inner: Box<Failure>,
+    },
+}
+
+/// A smooth objective for Newton's method.
+pub trait Objective {
+    /// Value at `q`.
+    fn value(&self, q: &[f64]) -> f64;
+    /// Clear `asm` and assemble value, gradient and Hessian at `q` (stencils projected to
+    /// positive semi-definite when `project`); returns the value.
+    fn assemble(&self, q: &[f64], asm: &mut Assembly, project: bool) -> f64;
+    /// Called after every accepted iterate (static equilibrium re-bases its frames here).
+    fn accepted(&mut self, _q: &[f64]) {}
+}
+
+/// The inertial part of an incremental potential: `w/2 |q - qhat|_M^2`.
+#[derive(Clone, Copy)]
+pub struct Inertia<'a> {
+    /// Weight `w` (1/s^2; `1/h^2` for implicit Euler).
+    pub weight: f64,
+    /// Predictor `qhat`.
+    pub qhat: &'a [f64],
+}
+
+/// The rod's energy at the step's rest strains, plus the inertial term in a dynamic step.
+#[derive(Clone, Copy)]
+pub struct Potential<'a> {
+    /// The model (masses).
+    pub model: &'a Model,
+    /// Energy terms.
+    pub terms: &'a [Box<dyn Term>],
+    /// Frozen stencil frames of the step.
+    pub frames: &'a [StencilFrame],
+    /// Integrated natural curvature per node.
+    pub kappa0: &'a [[f64; 2]],
+    /// Integrated natural twist per node.
+    pub m0: &'a [f64],
+    /// Gravity (m/s^2).
+    pub gravity: [f64; 3],
+    /// Inertia (dynamic steps).
+    pub inertia: Option<Inertia<'a>>,
+}
+
+impl Potential<'_> {
+    fn ctx(&self) -> Ctx<'_> {
+        Ctx {
+            model: self.model,
+            frames: self.frames,
+            kappa0: self.kappa0,
+            m0: self.m0,
+            gravity: self.gravity,
+        }
+    }
+}
+
+impl Objective for Potential<'_> {
+    fn value(&self, q: &[f64]) -> f64 {
+        let mut f = energy::total(self.terms, &self.ctx(), q, None, false);
+        if let Some(inertia) = self.inertia {
+            let w = 0.5 * inertia.weight;
+            for k in 0..q.len() {
+                f += w * self.model.mass[k] * (q[k] - inertia.qhat[k]).powi(2);
+            }
+        }
+        f
+    }
+
+    fn assemble(&self, q: &[f64], asm: &mut Assembly, project: bool) -> f64 {
+        let m = self.model;
+        asm.clear();
+        let mut f = energy::total(self.terms, &self.ctx(), q, Some(asm), project);
+        if let Some(inertia) = self.inertia {
+            let w = inertia.weight;
+            for k in 0..m.ndof {
+                let d = q[k] - inertia.qhat[k];
+                f += 0.5 * w * m.mass[k] * d * d;
+                asm.grad[k] += w * m.mass[k] * d;
+                asm.add_h(k, k, w * m.mass[k]);
+            }
+        }
+        f
+    }
+}
+
+/// Newton's workspace: assembly, factorisation, correction, trial point and statistics.
+pub struct Newton {
+    /// Gradient and Hessian of the current iterate.
+    pub asm: Assembly,
+    /// Factorisation of the Hessian.
+    pub lin: LinSolver,
+    /// Newton correction.
+    pub dq: Vec<f64>,
+    /// Line-search trial point.
+    pub trial: Vec<f64>,
+    /// Statistics so far.
+    pub stats: Stats,
+}
+
+impl Newton {
+    /// A workspace for `n` coordinates.
+    pub fn new(n: usize) -> Self {
+        let asm = Assembly::new(n);
+        let lin = LinSolver::new(&asm);
+        Newton {
+            asm,
+            lin,
+            dq: vec![0.0; n],
+            trial: vec![0.0; n],
+            stats: Stats::default(),
+        }
+    }
+
+    /// Factorise the assembled Hessian, shifting the diagonal if it is only semi-definite
+    /// (`[solver] shift`, x10 per retry, `shift_tries` retries).
+    pub fn factor_shifted(&mut self, m: &Model, it: usize) -> Result<(), Failure> {
+        if self.lin.factor(&self.asm).is_ok() {
+            return Ok(());
+        }
+        let n = self.asm.n();
+        self.stats.shifted_factorizations += 1;
+        let dmax = (0..n)
+            .map(|k| self.asm.h(k, k).abs())
+            .fold(0.0, f64::max)
+            .max(1e-300);
+        let mut shift = m.solver.shift * dmax;
+        for _ in 0..m.solver.shift_tries {
+            for k in 0..n {
+                self.asm.add_h(k, k, shift);
+            }
+            if self.lin.factor(&self.asm).is_ok() {
+                return Ok(());
+            }
+            shift *= 10.0;
+        }
+        Err(Failure::NotPositiveDefinite { iteration: it })
+    }
+
+    /// `dq = -H^-1 g` with the last factorisation.
+    pub fn solve_direction(&mut self) {
+        for k in 0..self.dq.len() {
+            self.dq[k] = -self.asm.grad[k];
+        }
+        self.lin.solve(&mut self.dq);
+    }
+
+    /// Largest position and twist-angle components of the correction `dq`.
+    pub fn correction_norms(&self) -> (f64, f64) {
+        let mut dx: f64 = 0.0;
+        let mut dth: f64 = 0.0;
+        for (k, d) in self.dq.iter().enumerate() {
+            if dof::is_edge(k) {
+                dth = dth.max(d.abs());
+            } else {
+                dx = dx.max(d.abs());
+            }
+        }
+        (dx, dth)
+    }
+
+    /// Whether the correction is below the tolerance (`tolerance * a` on positions,
+    /// `tolerance` rad on angles).
+    pub fn small(&self, m: &Model) -> bool {
+        let (dx, dth) = self.correction_norms();
+        dx <= m.tolerance * m.diameter && dth <= m.tolerance
+    }
+
+    /// Backtracking (Armijo) line search along `dq` from `q` on `merit`, with value `f0` and
+    /// slope `slope` at `q`; `take_full`: accept the full step without evaluating the merit.
+    /// The accepted point is left in `trial`; returns its step length, or `None`.
+    pub fn backtrack(
+        &mut self,
+        m: &Model,
+        q: &[f64],
+        f0: f64,
+        slope: f64,
+        take_full: bool,
+        merit: &dyn Fn(&[f64]) -> f64,
+    ) -> Option<f64> {
+        let s = &m.solver;
+        let mut alpha = 1.0;
+        let noise = s.line_search_noise * f0.abs().max(1e-300);
+        for _ in 0..s.max_backtracks {
+            for k in 0..q.len() {
+                self.trial[k] = q[k] + alpha * self.dq[k];
+            }
+            if take_full {
+                return Some(alpha);
+            }
+            let ft = merit(&self.trial);
+            if ft.is_finite() && ft <= f0 + s.armijo * alpha * slope + noise {
+                return Some(alpha);
+            }
+            alpha *= 0.5;
+            self.stats.backtracks += 1;
+        }
+        None
+    }
+
+    /// Minimise `obj` from `q` (overwritten with the minimiser), holding the coordinates
+    /// marked in `fixed`, in at most `cap` iterations. Returns the iteration count.
+    pub fn minimize(
+        &mut self,
+        m: &Model,
+        obj: &mut dyn Objective,
+        q: &mut Vec<f64>,
+        fixed: &[bool],
+        cap: usize,
+    ) -> Result<usize, Failure> {
+        let n = q.len();
+        let path = Path::Newton;
+        for it in 1..=cap {
+            let t0 = Instant::now();
+            let f0 = obj.assemble(q, &mut self.asm, true);
+            for k in 0..n {
+                if fixed[k] {
+                    self.asm.fix(k);
+                }
+            }
+            if !f0.is_finite() || self.asm.grad.iter().any(|g| !g.is_finite()) {
+                return Err(Failure::NonFiniteObjective {
+                    path,
+                    iteration: it,
+                });
+            }
+            let t1 = Instant::now();
+            self.stats.assembly_s += (t1 - t0).as_secs_f64();
+            self.factor_shifted(m, it)?;
+            let t2 = Instant::now();
+            self.stats.factor_s += (t2 - t1).as_secs_f64();
+            self.solve_direction();
+            let t3 = Instant::now();
+            self.stats.solve_s += (t3 - t2).as_secs_f64();
+            if self.dq.iter().any(|d| !d.is_finite()) {
+                return Err(Failure::NonFiniteStep {
+                    path,
+                    iteration: it,
+                });
+            }
+            let slope: f64 = self.asm.grad.iter().zip(&self.dq).map(|(g, d)| g * d).sum();
+            let (dx, dth) = self.correction_norms();
+            let small = dx <= m.tolerance * m.diameter && dth <= m.tolerance;
+            let alpha = {
+                let o: &dyn Objective = obj;
+                self.backtrack(m, q, f0, slope, small, &|x| o.value(x))
+            };
+            self.stats.line_search_s += t3.elapsed().as_secs_f64();
+            let Some(alpha) = alpha else {
+                return Err(Failure::LineSearch {
+                    path,
+                    iteration: it,
+                    slope,
+                });
+            };
+            std::mem::swap(q, &mut self.trial);
+            obj.accepted(q);
+            log::debug!("  it {it}: alpha {alpha:.3e} dx {dx:.3e} dth {dth:.3e} slope {slope:.3e}");
+            if alpha == 1.0 && small {
+                return Ok(it);
+            }
+        }
+        Err(Failure::NotConverged {
+            path,
+            iterations: cap,
+        })
+    }
+}

@@ -1,0 +1,277 @@
+//! Line charts: time series ([`series`]) and x-y charts with markers on linear or log axes
+//! ([`xy`]), both drawn by one shared body.
+
+use super::axes::{
+    best_corner, canvas, finite_range, finite_runs, fmt_num, frame_plot, legend, pad, pad_log,
+    tick_label, Area,
+};
+use super::{colormap, draw_err, PlotError, DESC_PX, FONT, SIZE, TICK_PX};
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Time series: the named `curves` (each with one value per entry of `t`) against time `t` (s),
+/// with a legend and the y-axis label `y_label` (include the unit, e.g. "turns"). Title `title`
+/// (may be empty). NaN values break a curve. Writes a 1000x700 px PNG.
+///
+/// Errors: [`PlotError::Mismatch`] if a curve's length differs from `t.len()`;
+/// [`PlotError::Invalid`] if `t` is empty or has a non-finite entry.
+pub fn series(
+    path: &Path,
+    title: &str,
+    y_label: &str,
+    t: &[f64],
+    curves: &[(&str, Vec<f64>)],
+) -> Result<(), PlotError> {
+    if t.is_empty() {
+        return Err(PlotError::Invalid("series: t is empty".into()));
+    }
+    if let Some(i) = t.iter().position(|v| !v.is_finite()) {
+        return Err(PlotError::Invalid(format!("series: t[{i}] is not finite")));
+    }
+    if let Some((name, c)) = curves.iter().find(|(_, c)| c.len() != t.len()) {
+        return Err(PlotError::Mismatch(format!(
+            "series: curve \"{name}\" has {} values but t has {} entries",
+            c.len(),
+            t.len()
+        )));
+    }
+    let data: Vec<(&str, Vec<(f64, f64)>)> = curves
+        .iter()
+        .map(|(n, c)| (*n, t.iter().copied().zip(c.iter().copied()).collect()))
+        .collect();
+    let (root, body) = canvas(path, SIZE, title)?;
+    let xr = finite_range(t.iter().copied()).map(|(a, b)| {
+        if b > a {
+            (a, b)
+        } else {
+            pad(Some((a, b)), 0.0)
+        }
+    });
+    let yr = pad(
+        finite_range(curves.iter().flat_map(|(_, c)| c.iter().copied())),
+        0.05,
+    );
+    let x: RangedCoordf64 = (xr.unwrap().0..xr.unwrap().1).into();
+    let y: RangedCoordf64 = (yr.0..yr.1).into();
+    line_chart(
+        &body,
+        x,
+        y,
+        xr.unwrap(),
+        yr,
+        "time t (s)",
+        y_label,
+        &data,
+        false,
+        (false, false),
+    )?;
+    root.present().map_err(draw_err)
+}
+
+/// Scatter/line chart: each named series of (x, y) points is drawn as markers joined by a thin
+/// line in the given order (sort the points if the line should be monotone in x), with a legend,
+/// axis labels `x_label` and `y_label` (include units) and title `title` (may be empty).
+/// `log_x` / `log_y` select base-10 logarithmic axes; points with a non-positive coordinate on a
+/// log axis, and non-finite points, are skipped. Writes a 1000x700 px PNG.
+///
+/// Errors: [`PlotError::Invalid`] if no plottable point remains.
+pub fn xy(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[(&str, Vec<(f64, f64)>)],
+    log_x: bool,
+    log_y: bool,
+) -> Result<(), PlotError> {
+    let keep = |&(x, y): &(f64, f64)| {
+        x.is_finite() && y.is_finite() && (!log_x || x > 0.0) && (!log_y || y > 0.0)
+    };
+    let data: Vec<(&str, Vec<(f64, f64)>)> = series
+        .iter()
+        .map(|(n, p)| {
+            (
+                *n,
+                p.iter()
+                    .map(|&q| if keep(&q) { q } else { (f64::NAN, f64::NAN) })
+                    .collect(),
+            )
+        })
+        .collect();
+    let pts = || {
+        data.iter()
+            .flat_map(|(_, p)| p.iter().copied())
+            .filter(|p| p.0.is_finite())
+    };
+    if pts().next().is_none() {
+        return Err(PlotError::Invalid(
+            "xy: no plottable point (finite, and positive on log axes)".into(),
+        ));
+    }
+    let xr = if log_x {
+        pad_log(finite_range(pts().map(|p| p.0)), 0.05)
+    } else {
+        pad(finite_range(pts().map(|p| p.0)), 0.05)
+    };
+    let yr = if log_y {
+        pad_log(finite_range(pts().map(|p| p.1)), 0.05)
+    } else {
+        pad(finite_range(pts().map(|p| p.1)), 0.05)
+    };
+    let (root, body) = canvas(path, SIZE, title)?;
+    let lin = |r: (f64, f64)| -> RangedCoordf64 { (r.0..r.1).into() };
+    let log = |r: (f64, f64)| -> LogCoord<f64> { (r.0..r.1).log_scale().into() };
+    let logs = (log_x, log_y);
+    match logs {
+        (false, false) => line_chart(
+            &body,
+            lin(xr),
+            lin(yr),
+            xr,
+            yr,
+            x_label,
+            y_label,
+            &data,
+            true,
+            logs,
+        )?,
+        (true, false) => line_chart(
+            &body,
+            log(xr),
+            lin(yr),
+            xr,
+            yr,
+            x_label,
+            y_label,
+            &data,
+            true,
+            logs,
+        )?,
+        (false, true) => line_chart(
+            &body,
+            lin(xr),
+            log(yr),
+            xr,
+            yr,
+            x_label,
+            y_label,
+            &data,
+            true,
+            logs,
+        )?,
+        (true, true) => line_chart(
+            &body,
+            log(xr),
+            log(yr),
+            xr,
+            yr,
+            x_label,
+            y_label,
+            &data,
+            true,
+            logs,
+        )?,
+    }
+    root.present().map_err(draw_err)
+}
+
+/// Shared body of [`series`] and [`xy`]: axes, grid, curves (optionally with markers), legend.
+#[allow(clippy::too_many_arguments)]
+fn line_chart<X, Y>(
+    area: &Area<'_>,
+    x: X,
+    y: Y,
+    xr: (f64, f64),
+    yr: (f64, f64),
+    x_label: &str,
+    y_label: &str,
+    data: &[(&str, Vec<(f64, f64)>)],
+    markers: bool,
+    logs: (bool, bool),
+) -> Result<(), PlotError>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let mut chart = ChartBuilder::on(area)
+        .margin_left(20)
+        .margin_right(35)
+        .margin_top(15)
+        .margin_bottom(20)
+        .x_label_area_size(65)
+        .y_label_area_size(100)
+        .build_cartesian_2d(x, y)
+        .map_err(draw_err)?;
+    let xfmt = |v: &f64| {
+        if logs.0 {
+            fmt_num(*v, 3)
+        } else {
+            tick_label(*v, xr.1 - xr.0)
+        }
+    };
+    let yfmt = |v: &f64| {
+        if logs.1 {
+            fmt_num(*v, 3)
+        } else {
+            tick_label(*v, yr.1 - yr.0)
+        }
+    };
+    let mut mesh = chart.configure_mesh();
+    mesh.light_line_style(BLACK.mix(0.04))
+        .bold_line_style(BLACK.mix(0.12))
+        .x_desc(x_label)
+        .y_desc(y_label)
+        .axis_desc_style((FONT, DESC_PX))
+        .label_style((FONT, TICK_PX))
+        .x_labels(9)
+        .y_labels(9)
+        .x_label_formatter(&xfmt)
+        .y_label_formatter(&yfmt);
+    mesh.draw().map_err(draw_err)?;
+    // A zero line on a linear y axis that spans zero.
+    if !logs.1 && yr.0 < 0.0 && yr.1 > 0.0 {
+        chart
+            .draw_series(LineSeries::new(
+                vec![(xr.0, 0.0), (xr.1, 0.0)],
+                BLACK.mix(0.5).stroke_width(1),
+            ))
+            .map_err(draw_err)?;
+    }
+    for (k, (name, pts)) in data.iter().enumerate() {
+        let c = colormap::palette(k);
+        let runs = finite_runs(pts.iter().copied());
+        let width = if markers { 2 } else { 3 };
+        let mut labelled = false;
+        for run in runs {
+            let ann = chart
+                .draw_series(LineSeries::new(run.clone(), c.stroke_width(width)))
+                .map_err(draw_err)?;
+            if !labelled {
+                labelled = true;
+                ann.label(name.to_string()).legend(move |(x, y)| {
+                    let line = PathElement::new(vec![(x - 2, y), (x + 22, y)], c.stroke_width(3));
+                    let dot = Circle::new((x + 10, y), if markers { 5 } else { 0 }, c.filled());
+                    EmptyElement::at((0, 0)) + line + dot
+                });
+            }
+            if markers {
+                chart
+                    .draw_series(run.iter().map(|&p| Circle::new(p, 5, c.filled())))
+                    .map_err(draw_err)?;
+            }
+        }
+    }
+    if data.iter().any(|(n, _)| !n.is_empty()) {
+        let corner = best_corner(
+            data.iter().flat_map(|(_, p)| p.iter().copied()),
+            xr,
+            yr,
+            logs.0,
+            logs.1,
+        );
+        legend(&mut chart, corner, 12)?;
+    }
+    frame_plot(&mut chart)
+}
