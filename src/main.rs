@@ -34,6 +34,10 @@ enum Cmd {
         /// Skip the PNG figures and the ParaView export.
         #[arg(long)]
         no_plots: bool,
+        /// Run even above the size limits (steps, stored frames, post-processing; see the
+        /// README's "Limits").
+        #[arg(long)]
+        force: bool,
     },
     /// Twist, writhe and link of a framed curve given as CSV (x,y,z,d1x,d1y,d1z).
     Topology {
@@ -123,7 +127,8 @@ fn main() -> ExitCode {
             out,
             quiet,
             no_plots,
-        } => run(&problem, &out, quiet, no_plots),
+            force,
+        } => run(&problem, &out, quiet, no_plots, force),
         Cmd::Topology { curve, closed } => topo(&curve, closed),
         Cmd::Chart { which } => chart_cmd(which),
         Cmd::Optimize { study, out, quiet } => optimize(&study, &out, quiet),
@@ -132,10 +137,10 @@ fn main() -> ExitCode {
 }
 
 fn topo(path: &Path, closed: bool) -> ExitCode {
-    let text = match std::fs::read_to_string(path) {
+    let text = match problem::read(path) {
         Ok(t) => t,
         Err(e) => {
-            eprintln!("error: {}: cannot read: {e}", path.display());
+            eprintln!("error: {e}");
             return ExitCode::from(2);
         }
     };
@@ -162,8 +167,27 @@ fn topo(path: &Path, closed: bool) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
-    let p = match problem::load(path) {
+/// Create `out` and lock it for this process: exit 2 if another live run holds it, 1 if it
+/// cannot be created or written (found before any simulation).
+fn lock_out(out: &Path) -> Result<output::lock::OutLock, ExitCode> {
+    if let Err(e) = std::fs::create_dir_all(out) {
+        eprintln!(
+            "error: {}: cannot create output directory: {e}",
+            out.display()
+        );
+        return Err(ExitCode::from(1));
+    }
+    output::lock::OutLock::acquire(out).map_err(|e| {
+        eprintln!("error: {e}");
+        ExitCode::from(match e {
+            output::lock::LockError::Busy { .. } => 2,
+            output::lock::LockError::Io { .. } => 1,
+        })
+    })
+}
+
+fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool, force: bool) -> ExitCode {
+    let p = match problem::load_for_run(path, force) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");
@@ -171,15 +195,19 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
         }
     };
     let model = Model::new(&p);
-    if let Err(e) = std::fs::create_dir_all(out) {
+    let _lock = match lock_out(out) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    // A previous run's outputs go first, so none is left beside this run's (and a crash never
+    // leaves a stale "finished" summary).
+    if let Err(e) = output::remove_previous(out) {
         eprintln!(
-            "error: {}: cannot create output directory: {e}",
+            "error: {}: cannot remove the previous run's outputs: {e}",
             out.display()
         );
         return ExitCode::from(1);
     }
-    // Remove a previous run's summary first so a crash never leaves a stale "finished" run.
-    let _ = std::fs::remove_file(out.join("summary.json"));
     let show = !quiet && std::io::stderr().is_terminal();
     let start = Instant::now();
     let mut bar: Option<ProgressBar> = None;
@@ -210,7 +238,30 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool) -> ExitCode {
         b.finish_and_clear();
     }
     let mut summary = output::Summary::new(path, &model, &o);
-    let fields = observe::fields(&model, &o.frames);
+    // Post-processing (topology of every frame) shows its own bar when it takes over a second.
+    let post_start = Instant::now();
+    let mut post_bar: Option<ProgressBar> = None;
+    let fields = observe::fields_with_progress(&model, &o.frames, &mut |frac| {
+        if !show {
+            return;
+        }
+        if post_bar.is_none() && post_start.elapsed() > Duration::from_secs(1) {
+            let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+            b.set_style(
+                ProgressStyle::with_template(
+                    "{elapsed_precise} [{bar:40}] {percent}% post-processing (topology of every frame) eta {eta}",
+                )
+                .unwrap(),
+            );
+            post_bar = Some(b);
+        }
+        if let Some(b) = &post_bar {
+            b.set_position((frac * 1000.0) as u64);
+        }
+    });
+    if let Some(b) = post_bar.take() {
+        b.finish_and_clear();
+    }
     summary.observables = Some(observe::observe(&model, &o.frames, &fields));
     let extra = [
         ("elevation", fields.elevation.clone()),
@@ -327,6 +378,10 @@ fn optimize(path: &Path, out: &Path, quiet: bool) -> ExitCode {
             eprintln!("error: {e}");
             return ExitCode::from(2);
         }
+    };
+    let _lock = match lock_out(out) {
+        Ok(l) => l,
+        Err(code) => return code,
     };
     let show_bar = !quiet && std::io::stderr().is_terminal();
     let bar = show_bar.then(|| {
@@ -548,6 +603,10 @@ fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let _lock = match lock_out(out) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
     let total = ph.weight.len() * ph.torque.len();
     if !quiet {
         eprintln!(
@@ -604,9 +663,18 @@ fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");
-            return ExitCode::from(1);
+            return ExitCode::from(match e {
+                design::phase::PhaseError::Csv { .. } => 2,
+                _ => 1,
+            });
         }
     };
+    if sw.dropped_partial_row && !quiet {
+        eprintln!(
+            "note: an incomplete last row of {} (a write cut short) was dropped; its cell was simulated again",
+            out.join("phase.csv").display()
+        );
+    }
     let failed = sw.cells.iter().filter(|c| c.status != "ok").count();
     eprintln!(
         "{}: {} cells ({} simulated, {} reused, {} failed) in {:.1} s; wrote {}",

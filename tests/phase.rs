@@ -1,6 +1,6 @@
 //! The regime phase diagram (`slither phase`): a small grid runs, writes one `phase.csv` row
 //! per cell and both figures, resumes without simulating again, and bad phase files exit 2
-//! naming the file, line, key and allowed range. The base problem is a tiny S-start (12
+//! naming the file, line, key and allowed range. The base problem is a tiny S-start (20
 //! elements, a tenth of a second), so the whole file runs in seconds.
 
 use std::path::{Path, PathBuf};
@@ -12,7 +12,7 @@ const BASE: &str = "\
 [rod]
 length = 1.0
 diameter = 0.02
-elements = 12
+elements = 20
 density = 1000.0
 bending_stiffness = 0.01308
 

@@ -111,16 +111,25 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         "scaled torques G >= 0",
     )?;
     let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
-    let base_text = std::fs::read_to_string(&base_path).map_err(|_| {
-        invalid(
-            "base",
-            format!("\"{}\"", t.base),
-            &format!(
-                "a readable problem file (relative to the phase file; {} not found)",
-                base_path.display()
-            ),
-        )
-    })?;
+    let base_text = match problem::read(&base_path) {
+        Ok(text) => text,
+        Err(ProblemError::Io { source, .. }) => {
+            let why = if source.kind() == std::io::ErrorKind::NotFound {
+                "not found".to_string()
+            } else {
+                source.to_string()
+            };
+            return Err(invalid(
+                "base",
+                format!("\"{}\"", t.base),
+                &format!(
+                    "a readable problem file (relative to the phase file; {}: {why})",
+                    base_path.display()
+                ),
+            ));
+        }
+        Err(e) => return Err(e),
+    };
     let base = problem::parse(&base_text, &base_path)?;
     if base.gait.kind == Kind::None {
         return Err(invalid(
@@ -200,7 +209,8 @@ pub struct Cell {
     pub reason: String,
 }
 
-const HEADER: &str = "weight,torque,W_over_G,status,regime,v_s_over_v_m,displacement_angle_deg,max_elevation_over_a,lifted_arcs_max,writhe_max,lambda_pulse_r2,regime_detail,max_elevation_over_length,two_arc_lift_over_a,lambda_pulse_speed_over_v_m,writhe_snapshot,wall_time_s,base_hash,reason";
+/// Header of `phase.csv` (the column order is fixed; units in the README).
+pub const HEADER: &str = "weight,torque,W_over_G,status,regime,v_s_over_v_m,displacement_angle_deg,max_elevation_over_a,lifted_arcs_max,writhe_max,lambda_pulse_r2,regime_detail,max_elevation_over_length,two_arc_lift_over_a,lambda_pulse_speed_over_v_m,writhe_snapshot,wall_time_s,base_hash,reason";
 
 /// Number of columns of [`HEADER`].
 const COLUMNS: usize = 19;
@@ -245,7 +255,15 @@ impl Cell {
         let clean: String = self
             .reason
             .chars()
-            .map(|c| if c == ',' || c == '\n' { ';' } else { c })
+            .map(|c| {
+                if c == ',' || c == '\n' || c == '\r' {
+                    ';'
+                } else if c.is_control() {
+                    ' '
+                } else {
+                    c
+                }
+            })
             .collect();
         format!(
             "{:e},{:e},{:e},{},{},{:e},{:e},{:e},{},{:e},{:e},{},{:e},{:e},{:e},{:e},{:.3},{:016x},{}",
@@ -388,6 +406,82 @@ pub struct Sweep {
     pub simulated: usize,
     /// Cells reused from an existing `phase.csv`.
     pub reused: usize,
+    /// An incomplete last line of `phase.csv` (a write cut short by a crash) was dropped.
+    pub dropped_partial_row: bool,
+}
+
+/// Finished cells of an existing `phase.csv`, keyed by the bits of `(W, G)`.
+#[derive(Debug, Default)]
+pub struct PhaseCsv {
+    /// Rows written for the base file with hash `base_hash`.
+    pub cells: HashMap<(u64, u64), Cell>,
+    /// The file did not exist or held nothing (not even a complete header).
+    pub fresh: bool,
+    /// An incomplete last line (no newline: a write cut short) was cut off the file.
+    pub dropped_partial_row: bool,
+}
+
+/// Read `phase.csv` for resuming: rows of other base files are skipped; a last line without
+/// its newline (a row cut short by a crash) is removed from the file, so the next row is not
+/// glued onto it; any other line that is not a row is [`PhaseError::Csv`] naming it.
+pub fn read_phase_csv(csv: &Path, base_hash: u64) -> Result<PhaseCsv, PhaseError> {
+    let io = |source| PhaseError::Io {
+        file: csv.to_path_buf(),
+        source,
+    };
+    let mut out = PhaseCsv::default();
+    let bytes = match std::fs::read(csv) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            out.fresh = true;
+            return Ok(out);
+        }
+        Err(e) => return Err(io(e)),
+    };
+    let mut keep = bytes.len();
+    if !bytes.is_empty() && !bytes.ends_with(b"\n") {
+        keep = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(csv)
+            .and_then(|f| f.set_len(keep as u64))
+            .map_err(io)?;
+        out.dropped_partial_row = true;
+    }
+    let text = match std::str::from_utf8(&bytes[..keep]) {
+        Ok(t) => t,
+        Err(e) => {
+            let at = e.valid_up_to();
+            return Err(PhaseError::Csv {
+                file: csv.to_path_buf(),
+                line: 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count(),
+            });
+        }
+    };
+    out.fresh = text.is_empty();
+    for (n, line) in text.lines().enumerate() {
+        if n == 0 {
+            if line != HEADER {
+                return Err(PhaseError::Csv {
+                    file: csv.to_path_buf(),
+                    line: 1,
+                });
+            }
+            continue;
+        }
+        if line.trim().is_empty() {
+            continue;
+        }
+        let (c, h) = Cell::parse(line).ok_or(PhaseError::Csv {
+            file: csv.to_path_buf(),
+            line: n + 1,
+        })?;
+        if h == base_hash {
+            out.cells
+                .insert((c.weight.to_bits(), c.torque.to_bits()), c);
+        }
+    }
+    Ok(out)
 }
 
 /// Run the diagram into `out` (`phase.csv`, `phase.png`, `speed.png`), reusing finished rows.
@@ -407,39 +501,18 @@ pub fn sweep(
     std::fs::create_dir_all(out).map_err(io(out))?;
     let csv = out.join("phase.csv");
     let key = |w: f64, g: f64| (w.to_bits(), g.to_bits());
-    let mut done: HashMap<(u64, u64), Cell> = HashMap::new();
-    let fresh = !csv.exists();
-    if !fresh {
-        let text = std::fs::read_to_string(&csv).map_err(io(&csv))?;
-        for (n, line) in text.lines().enumerate() {
-            if n == 0 {
-                if line != HEADER {
-                    return Err(PhaseError::Csv {
-                        file: csv.clone(),
-                        line: 1,
-                    });
-                }
-                continue;
-            }
-            if line.trim().is_empty() {
-                continue;
-            }
-            let (c, h) = Cell::parse(line).ok_or(PhaseError::Csv {
-                file: csv.clone(),
-                line: n + 1,
-            })?;
-            if h == ph.base_hash {
-                done.insert(key(c.weight, c.torque), c);
-            }
-        }
-    }
+    let old = read_phase_csv(&csv, ph.base_hash)?;
+    let mut done = old.cells;
     let mut file = std::fs::OpenOptions::new()
         .create(true)
         .append(true)
         .open(&csv)
         .map_err(io(&csv))?;
-    if fresh {
-        writeln!(file, "{HEADER}").map_err(io(&csv))?;
+    if old.fresh {
+        // One write per line, so a crash leaves whole lines or a torn last one (dropped above).
+        file.write_all(format!("{HEADER}\n").as_bytes())
+            .and_then(|_| file.flush())
+            .map_err(io(&csv))?;
     }
     let grid: Vec<(f64, f64)> = ph
         .weight
@@ -458,7 +531,8 @@ pub fn sweep(
         .map(|&(w, g)| {
             let c = simulate(&ph.base, w, g);
             let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
-            let r = writeln!(s.0, "{}", c.row(ph.base_hash)).and_then(|_| s.0.flush());
+            let line = c.row(ph.base_hash) + "\n";
+            let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
             if let Err(e) = r {
                 s.2.get_or_insert(e);
             }
@@ -482,6 +556,7 @@ pub fn sweep(
         cells,
         simulated,
         reused,
+        dropped_partial_row: old.dropped_partial_row,
     };
     let png = out.join("phase.png");
     regime_map(&png, ph, &sw.cells).map_err(|source| PhaseError::Plot { file: png, source })?;

@@ -3,6 +3,17 @@
 //! ([`regime`]: S, M, F, N, U as the paper defines them, with the thresholds and the reason for
 //! each label).
 //!
+//! Contact and slip: a node is in contact when its normal force exceeds [`CONTACT_FRACTION`]
+//! of its share of the weight ([`in_contact`]); slip speeds are reported only for such nodes
+//! (the horizontal speed of a node in the air is not slip): NaN elsewhere in the kymograph,
+//! the npz `slip_speed` and the ParaView point data ([`contact_slip`]), and the summary's
+//! `slip_speed_max` and every slip statistic use the same test.
+//!
+//! Local link density `lambda`: windows of `L/10` (rest length) start at every node whose
+//! window fits in the rest length; the windows are laid out once, so a frame in which the body
+//! is compressed slightly (strain ~1e-4) keeps its last window, shortened to end at the tail
+//! ([`topology::densities_shortened`]) instead of a NaN.
+//!
 //! The writhe snapshot (the paper's Fig. 3a plots the writhe at one instant of the motion) is
 //! taken at the frame nearest to the instant the centre of couple b, the middle of the
 //! triplet, passes mid-body: `t* = (L/2 - s_b0) / v_m` (`s_b0` its initial arc length), clamped
@@ -29,7 +40,8 @@ pub struct Fields {
     pub t: Vec<f64>,
     /// Elevation `z - a/2` (m), frames x nodes.
     pub elevation: Vec<Vec<f64>>,
-    /// Horizontal slip speed (m/s), frames x nodes.
+    /// Slip speed (m/s), frames x nodes: the horizontal speed of nodes in contact, NaN for
+    /// nodes in the air ([`contact_slip`]).
     pub slip: Vec<Vec<f64>>,
     /// Local link density `lambda` (turns/m), frames x windows.
     pub lambda: Vec<Vec<f64>>,
@@ -154,41 +166,93 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// A node carries contact when its normal force exceeds this fraction of its share of the
+/// weight, `m_total g / N` (a millionth: well above the conic solver's interior-point residue,
+/// far below any supporting force).
+pub const CONTACT_FRACTION: f64 = 1e-6;
+
+/// The normal force (N) above which a node of `m` counts as in contact
+/// ([`CONTACT_FRACTION`] of its share of the weight; 0 without gravity).
+pub fn contact_threshold(m: &Model) -> f64 {
+    CONTACT_FRACTION * m.total_mass() * f::norm(m.gravity) / m.elements() as f64
+}
+
+/// Whether a node with normal force `normal` (N) is in contact (see [`contact_threshold`]).
+pub fn in_contact(m: &Model, normal: f64) -> bool {
+    normal > contact_threshold(m)
+}
+
+/// Slip speed (m/s) of a node: its horizontal speed if it is in contact, NaN in the air.
+pub fn contact_slip(m: &Model, v: [f64; 3], normal: f64) -> f64 {
+    if in_contact(m, normal) {
+        (v[0] * v[0] + v[1] * v[1]).sqrt()
+    } else {
+        f64::NAN
+    }
+}
+
+/// Largest slip speed of a node in contact over the frames (m/s); 0 when none touches.
+pub fn slip_speed_max(m: &Model, frames: &[Frame]) -> f64 {
+    frames
+        .iter()
+        .flat_map(|fr| fr.v.iter().zip(&fr.normal))
+        .map(|(v, &n)| contact_slip(m, *v, n))
+        .filter(|x| x.is_finite())
+        .fold(0.0, f64::max)
+}
+
 /// Fields of every frame.
 pub fn fields(m: &Model, frames: &[Frame]) -> Fields {
+    fields_with_progress(m, frames, &mut |_| {})
+}
+
+/// [`fields`], reporting the fraction of frames done to `progress` (the topology of a long
+/// run on a fine mesh takes a while: about `0.6 N^2` segment pairs per frame). Frames are
+/// processed in parallel (rayon), in chunks between progress reports.
+pub fn fields_with_progress(m: &Model, frames: &[Frame], progress: &mut dyn FnMut(f64)) -> Fields {
+    use rayon::prelude::*;
     let a = m.diameter;
     let delta = m.length / 10.0;
+    let s: Vec<f64> = m.real.clone().map(|i| m.arc_length(i)).collect();
+    // Windows on the rest length: every node whose window [s, s + L/10] fits in L.
+    let tol = 1e-9 * m.length;
+    let count = s.iter().filter(|&&si| si + delta <= m.length + tol).count();
     let mut out = Fields {
-        s: m.real.clone().map(|i| m.arc_length(i)).collect(),
+        s_window: s[..count].iter().map(|si| si + 0.5 * delta).collect(),
+        s,
         ..Default::default()
     };
-    for fr in frames {
-        out.t.push(fr.t);
-        out.elevation
-            .push(fr.x.iter().map(|x| x[2] - 0.5 * a).collect());
-        out.slip.push(
-            fr.v.iter()
-                .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
-                .collect(),
-        );
+    let per_frame = |fr: &Frame| {
         let c = FramedCurve {
             nodes: fr.x.clone(),
             d1: fr.d1.clone(),
             closed: false,
         };
         let top = topology::topology(&c);
-        out.tw.push(top.tw);
-        out.wr.push(top.wr);
-        out.lk.push(top.lk);
-        let d = topology::densities(&c, delta);
-        if out.s_window.is_empty() {
-            out.s_window = d.s.iter().map(|s| s + 0.5 * delta).collect();
-        }
-        // The number of windows that fit follows the (slightly stretched) arc length: keep the
-        // first frame's windows, NaN where a window does not fit.
+        let d = topology::densities_shortened(&c, delta, count);
         let mut row = d.lambda;
-        row.resize(out.s_window.len(), f64::NAN);
-        out.lambda.push(row);
+        row.resize(count, f64::NAN);
+        (top, row)
+    };
+    let chunk = (rayon::current_num_threads() * 4).max(1);
+    for (k, part) in frames.chunks(chunk).enumerate() {
+        let done: Vec<_> = part.par_iter().map(per_frame).collect();
+        for (fr, (top, row)) in part.iter().zip(done) {
+            out.t.push(fr.t);
+            out.elevation
+                .push(fr.x.iter().map(|x| x[2] - 0.5 * a).collect());
+            out.slip.push(
+                fr.v.iter()
+                    .zip(&fr.normal)
+                    .map(|(v, &n)| contact_slip(m, *v, n))
+                    .collect(),
+            );
+            out.tw.push(top.tw);
+            out.wr.push(top.wr);
+            out.lk.push(top.lk);
+            out.lambda.push(row);
+        }
+        progress(((k + 1) * chunk).min(frames.len()) as f64 / frames.len() as f64);
     }
     out
 }
@@ -255,8 +319,7 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         .max()
         .unwrap_or(0);
     // Contact: nodes carrying more than a millionth of their weight.
-    let w_node = m.total_mass() * f::norm(m.gravity) / m.elements() as f64;
-    let in_contact = |n: f64| n > 1e-6 * w_node;
+    let in_contact = |n: f64| in_contact(m, n);
     if m.ground.is_some() {
         let mut two = 0;
         let mut slips = Vec::new();

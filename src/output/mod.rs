@@ -2,7 +2,14 @@
 //! dimensionless groups), `final.csv` (the final centreline and directors) and
 //! `trajectory.npz` (times, positions and twist angles at the output times, loadable by
 //! `numpy.load`).
+//!
+//! Every file is written under a temporary name in the same directory (`.NAME.tmp`, synced)
+//! and renamed over its final name only when complete, so a full disk or a crash never leaves
+//! a truncated file under a result's name; an I/O error names the file. [`lock`] keeps two
+//! runs out of one output directory, and [`remove_previous`] clears a previous run's outputs
+//! ([`RUN_OUTPUTS`]) before a new run writes its own.
 
+pub mod lock;
 pub mod vtk;
 
 use crate::model::Model;
@@ -48,7 +55,8 @@ pub struct Summary {
     pub max_penetration: f64,
     /// Displacement of the centroid from the first to the last frame (m).
     pub centroid_displacement: [f64; 3],
-    /// Largest slip speed of a node in contact (m/s).
+    /// Largest slip speed of a node in contact over the recorded frames (m/s): contact as in
+    /// [`crate::observe::in_contact`]; 0 when no node touches.
     pub slip_speed_max: f64,
     /// Summed normal force at the end (N).
     pub normal_force_final: f64,
@@ -86,7 +94,7 @@ impl Summary {
             stats: o.stats.clone(),
             max_penetration: o.max_penetration,
             centroid_displacement: centroid_displacement(&o.frames),
-            slip_speed_max: o.slip_speed_max,
+            slip_speed_max: crate::observe::slip_speed_max(m, &o.frames),
             normal_force_final: o.frames.last().map_or(0.0, |f| f.normal.iter().sum()),
             conic_iterations_mean: o.stats.conic_iterations as f64
                 / o.stats.conic_solves.max(1) as f64,
@@ -98,16 +106,124 @@ impl Summary {
     }
 }
 
-/// Write `summary.json`.
+/// Files and folders a `slither run` writes into its output directory (removed by
+/// [`remove_previous`] before a run; `vtk/` only its `frame_*.vtp` files and `frames.pvd`).
+pub const RUN_OUTPUTS: &[&str] = &[
+    "summary.json",
+    "final.csv",
+    "trajectory.npz",
+    "kymograph_elevation.png",
+    "kymograph_slip.png",
+    "kymograph_lambda.png",
+    "snapshots.png",
+    "topology.png",
+    "vtk",
+];
+
+/// Remove the outputs of a previous run from `dir` ([`RUN_OUTPUTS`]), so a new run into a used directory never leaves another run's figures or
+/// frames beside its own. Other files are left alone.
+pub fn remove_previous(dir: &Path) -> std::io::Result<()> {
+    let gone = |r: std::io::Result<()>| match r {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(e),
+        _ => Ok(()),
+    };
+    for name in RUN_OUTPUTS {
+        let path = dir.join(name);
+        if *name == "vtk" {
+            if let Ok(entries) = std::fs::read_dir(&path) {
+                for entry in entries.flatten() {
+                    let n = entry.file_name().to_string_lossy().into_owned();
+                    if (n.starts_with("frame_") && n.ends_with(".vtp")) || n == "frames.pvd" {
+                        gone(std::fs::remove_file(entry.path()))?;
+                    }
+                }
+                // Only if empty now (a user's own files stay).
+                let _ = std::fs::remove_dir(&path);
+            }
+            continue;
+        }
+        gone(std::fs::remove_file(&path).map_err(|e| context(&path, e)))?;
+    }
+    // A temporary file left by a crash (`.NAME.tmp`) is overwritten by the next write of
+    // NAME; the staging folder of the ParaView files goes now.
+    let _ = std::fs::remove_dir_all(dir.join(".vtk.tmp"));
+    Ok(())
+}
+
+/// The error `e` with the file's path in front.
+fn context(path: &Path, e: std::io::Error) -> std::io::Error {
+    std::io::Error::new(e.kind(), format!("{}: {e}", path.display()))
+}
+
+/// The temporary name of `path`: `.NAME.tmp` beside it (`.NAME.tmp.png` for a PNG, whose
+/// encoder is chosen by the extension).
+fn tmp_path(path: &Path) -> std::path::PathBuf {
+    let name = path
+        .file_name()
+        .map_or("out".into(), |n| n.to_string_lossy().into_owned());
+    if let Some(stem) = name.strip_suffix(".png") {
+        path.with_file_name(format!(".{stem}.tmp.png"))
+    } else {
+        path.with_file_name(format!(".{name}.tmp"))
+    }
+}
+
+/// Write `bytes` to `path` through its temporary name: written in one call, synced, then
+/// renamed over `path`. On an error the temporary file is removed and `path` is untouched;
+/// the error names the file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = tmp_path(path);
+    let written = std::fs::File::create(&tmp).and_then(|mut f| {
+        f.write_all(bytes)?;
+        f.sync_all()
+    });
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(context(path, e));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| context(path, e))
+}
+
+/// Draw a figure into `path`'s temporary name with `draw`, then rename it over `path`.
+fn figure<E: std::fmt::Display>(
+    path: &Path,
+    draw: impl FnOnce(&Path) -> Result<(), E>,
+) -> Result<(), String> {
+    let tmp = tmp_path(path);
+    if let Err(e) = draw(&tmp) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(format!("{}: {e}", path.display()));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The `summary.json` text. A failed run reports its observables (gait and regime) as `null`:
+/// they describe a whole run, and one cut short has not measured them.
+pub fn summary_json(s: &Summary) -> String {
+    let mut v = serde_json::to_value(s).expect("summary serialises");
+    if s.error.is_some() {
+        if let (Some(obj), serde_json::Value::Object(keys)) = (
+            v.as_object_mut(),
+            serde_json::to_value(crate::observe::Observables::default())
+                .expect("observables serialise"),
+        ) {
+            for key in keys.keys() {
+                obj.insert(key.clone(), serde_json::Value::Null);
+            }
+        }
+    }
+    serde_json::to_string_pretty(&v).expect("summary serialises") + "\n"
+}
+
+/// Write `summary.json` (see [`summary_json`]).
 pub fn write_summary(dir: &Path, s: &Summary) -> std::io::Result<()> {
-    let text = serde_json::to_string_pretty(s).expect("summary serialises");
-    std::fs::write(dir.join("summary.json"), text + "\n")
+    write_atomic(&dir.join("summary.json"), summary_json(s).as_bytes())
 }
 
 /// Write `final.csv`: header `s,x,y,z,d1x,d1y,d1z`, one row per real node; row i's d1 is the
 /// director of the edge starting at node i (the last row repeats the last edge's).
 pub fn write_final_csv(dir: &Path, m: &Model, o: &Outcome) -> std::io::Result<()> {
-    let mut w = std::io::BufWriter::new(std::fs::File::create(dir.join("final.csv"))?);
+    let mut w = Vec::new();
     writeln!(w, "s,x,y,z,d1x,d1y,d1z")?;
     let s = &o.state;
     let last_edge = m.real.end - 2;
@@ -126,11 +242,13 @@ pub fn write_final_csv(dir: &Path, m: &Model, o: &Outcome) -> std::io::Result<()
             d1[2]
         )?;
     }
-    w.flush()
+    write_atomic(&dir.join("final.csv"), &w)
 }
 
+type Npz = npyz::npz::NpzWriter<std::io::Cursor<Vec<u8>>>;
+
 fn put(
-    npz: &mut npyz::npz::NpzWriter<std::io::BufWriter<std::fs::File>>,
+    npz: &mut Npz,
     name: &str,
     shape: &[u64],
     data: impl IntoIterator<Item = f64>,
@@ -154,7 +272,8 @@ pub fn write_trajectory(
     frames: &[Frame],
     extra: &[(&str, Vec<Vec<f64>>)],
 ) -> std::io::Result<()> {
-    let mut npz = npyz::npz::NpzWriter::create(dir.join("trajectory.npz"))?;
+    // Assembled in memory (an in-memory zip cannot fail half-way), then written atomically.
+    let mut npz = npyz::npz::NpzWriter::new(std::io::Cursor::new(Vec::new()));
     let nf = frames.len() as u64;
     let nn = m.real.len() as u64;
     let ne = nn - 1;
@@ -196,7 +315,7 @@ pub fn write_trajectory(
         &[nf, nn, 3],
         frames.iter().flat_map(|fr| {
             fr.v.iter().zip(&fr.normal).flat_map(|(v, n)| {
-                if *n > 0.0 {
+                if crate::observe::in_contact(m, *n) {
                     [v[0], v[1], 0.0]
                 } else {
                     [0.0; 3]
@@ -213,7 +332,12 @@ pub fn write_trajectory(
             data.iter().flatten().copied(),
         )?;
     }
-    Ok(())
+    let bytes = npz
+        .zip_writer()
+        .finish()
+        .map_err(std::io::Error::other)?
+        .into_inner();
+    write_atomic(&dir.join("trajectory.npz"), &bytes)
 }
 
 /// Centroid displacement between the first and last frame (m).
@@ -249,44 +373,46 @@ pub fn write_figures(
         fl.t.last().copied().unwrap_or(1.0).max(1e-300)
     };
     let t_over: Vec<f64> = fl.t.iter().map(|t| t / period).collect();
-    let err = |e: plot::PlotError| e.to_string();
     let a = m.diameter;
     let elev_a: Vec<Vec<f64>> = fl
         .elevation
         .iter()
         .map(|r| r.iter().map(|e| e / a).collect())
         .collect();
-    plot::kymograph(
-        &dir.join("kymograph_elevation.png"),
-        "Elevation",
-        "(z - a/2) / a",
-        &fl.s,
-        &t_over,
-        &elev_a,
-        false,
-    )
-    .map_err(err)?;
-    plot::kymograph(
-        &dir.join("kymograph_slip.png"),
-        "Slip speed",
-        "|v| (m/s)",
-        &fl.s,
-        &t_over,
-        &fl.slip,
-        false,
-    )
-    .map_err(err)?;
-    if !fl.s_window.is_empty() {
+    figure(&dir.join("kymograph_elevation.png"), |p| {
         plot::kymograph(
-            &dir.join("kymograph_lambda.png"),
-            "Local link density (window L/10)",
-            "lambda (turns/m)",
-            &fl.s_window,
+            p,
+            "Elevation",
+            "(z - a/2) / a",
+            &fl.s,
             &t_over,
-            &fl.lambda,
-            true,
+            &elev_a,
+            false,
         )
-        .map_err(err)?;
+    })?;
+    figure(&dir.join("kymograph_slip.png"), |p| {
+        plot::kymograph(
+            p,
+            "Slip speed",
+            "|v| (m/s)",
+            &fl.s,
+            &t_over,
+            &fl.slip,
+            false,
+        )
+    })?;
+    if !fl.s_window.is_empty() {
+        figure(&dir.join("kymograph_lambda.png"), |p| {
+            plot::kymograph(
+                p,
+                "Local link density (window L/10)",
+                "lambda (turns/m)",
+                &fl.s_window,
+                &t_over,
+                &fl.lambda,
+                true,
+            )
+        })?;
     }
     let picks: Vec<usize> = {
         let n = frames.len();
@@ -297,24 +423,22 @@ pub fn write_figures(
         .iter()
         .map(|&j| (frames[j].t, frames[j].x.clone()))
         .collect();
-    plot::snapshots(
-        &dir.join("snapshots.png"),
-        "Body: top and side views",
-        &snaps,
-    )
-    .map_err(err)?;
-    plot::series(
-        &dir.join("topology.png"),
-        "Twist, writhe and link of the ribbon (r, d1)",
-        "turns",
-        &fl.t,
-        &[
-            ("Tw", fl.tw.clone()),
-            ("Wr", fl.wr.clone()),
-            ("Lk = Tw + Wr", fl.lk.clone()),
-        ],
-    )
-    .map_err(err)?;
+    figure(&dir.join("snapshots.png"), |p| {
+        plot::snapshots(p, "Body: top and side views", &snaps)
+    })?;
+    figure(&dir.join("topology.png"), |p| {
+        plot::series(
+            p,
+            "Twist, writhe and link of the ribbon (r, d1)",
+            "turns",
+            &fl.t,
+            &[
+                ("Tw", fl.tw.clone()),
+                ("Wr", fl.wr.clone()),
+                ("Lk = Tw + Wr", fl.lk.clone()),
+            ],
+        )
+    })?;
     // ParaView: elevation, slip speed and lambda interpolated to the nodes.
     let lambda_nodes: Vec<Vec<f64>> = fl
         .lambda
@@ -336,8 +460,12 @@ pub fn write_figures(
         })
         .collect();
     let positions: Vec<Vec<[f64; 3]>> = frames.iter().map(|f| f.x.clone()).collect();
+    // Written into `.vtk.tmp/vtk/` and moved to `vtk/` when complete.
+    let staging = dir.join(".vtk.tmp");
+    let _ = std::fs::remove_dir_all(&staging);
+    let vtk_dir = dir.join("vtk");
     vtk::write_vtk(
-        dir,
+        &staging,
         &fl.t,
         &positions,
         &[
@@ -346,5 +474,14 @@ pub fn write_figures(
             ("lambda", lambda_nodes),
         ],
     )
-    .map_err(|e| e.to_string())
+    .and_then(|_| {
+        let _ = std::fs::remove_dir(&vtk_dir);
+        std::fs::rename(staging.join("vtk"), &vtk_dir)
+    })
+    .map_err(|e| {
+        let _ = std::fs::remove_dir_all(&staging);
+        format!("{}: {e}", vtk_dir.display())
+    })?;
+    let _ = std::fs::remove_dir_all(&staging);
+    Ok(())
 }

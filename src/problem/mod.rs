@@ -5,6 +5,8 @@
 //! file and returns errors that name the file, the key, its line and the allowed range.
 
 mod gait;
+pub mod limits;
+pub mod ranges;
 mod solver;
 
 pub use gait::{GaitSpec, Kind};
@@ -226,6 +228,16 @@ pub enum ProblemError {
         /// Cause.
         source: std::io::Error,
     },
+    /// The file is not valid UTF-8.
+    #[error("{file}:{line}: not valid UTF-8 (byte {byte} of the file); save it as UTF-8 text")]
+    Encoding {
+        /// File.
+        file: PathBuf,
+        /// 1-based line of the first invalid byte.
+        line: usize,
+        /// 0-based offset of the first invalid byte.
+        byte: usize,
+    },
     /// TOML syntax, type, unknown or missing key.
     #[error("{file}: {message}")]
     Parse {
@@ -262,11 +274,44 @@ pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
     Ok(p)
 }
 
-/// The text of an input file (problem, study or phase file).
-pub(crate) fn read(path: &Path) -> Result<String, ProblemError> {
-    std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
+/// Read, parse and validate a problem file for `slither run`: also refuses a run above the
+/// size limits of [`limits`] unless `force`.
+pub fn load_for_run(path: &Path, force: bool) -> Result<Problem, ProblemError> {
+    let text = read(path)?;
+    let p = parse(&text, path)?;
+    if !force {
+        limits::check_run_size(&p, &text, path)?;
+    }
+    Ok(p)
+}
+
+/// The text of an input file (problem, study or phase file). A directory is "is a directory";
+/// bytes that are not UTF-8 are an [`ProblemError::Encoding`] naming the line and byte.
+pub fn read(path: &Path) -> Result<String, ProblemError> {
+    let io = |source| ProblemError::Io {
         file: path.into(),
         source,
+    };
+    if path.is_dir() {
+        return Err(io(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "is a directory, not a file",
+        )));
+    }
+    let bytes = std::fs::read(path).map_err(io)?;
+    utf8(bytes, path)
+}
+
+/// `bytes` as text, or an [`ProblemError::Encoding`] naming the first invalid byte and its line.
+pub fn utf8(bytes: Vec<u8>, path: &Path) -> Result<String, ProblemError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let byte = e.utf8_error().valid_up_to();
+        let line = 1 + e.as_bytes()[..byte].iter().filter(|&&b| b == b'\n').count();
+        ProblemError::Encoding {
+            file: path.into(),
+            line,
+            byte,
+        }
     })
 }
 
@@ -278,7 +323,10 @@ pub(crate) fn from_toml<T: serde::de::DeserializeOwned>(
     toml::from_str(text).map_err(|e| {
         let message = e.to_string().trim_end().to_string();
         let message = match toml_error_key(text, &e) {
-            Some(key) => format!("`{key}`: {message}"),
+            Some(key) => match ranges::allowed(&key) {
+                Some(allowed) => format!("`{key}`: {message}\nallowed: `{key}` must be {allowed}"),
+                None => format!("`{key}`: {message}"),
+            },
             None => message,
         };
         ProblemError::Parse {
@@ -451,6 +499,7 @@ impl Checker<'_> {
 }
 
 fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
+    ranges::check_lengths(text, path)?;
     let c = Checker { text, path };
     let r = &p.rod;
     c.positive("rod", "length", r.length, "m")?;
@@ -590,6 +639,33 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     c.range("gait", "sigma", g.sigma, 0.0, 1.0, "fraction of rod.length")?;
     c.positive("gait", "speed", g.speed, "m/s")?;
     c.finite("gait", "centers", &g.centers, "fractions of rod.length")?;
+    // The couples' centres and width matter for the Gaussian gaits: a centre off the body or a
+    // width below one element (a Gaussian that falls between the nodes) runs without muscle
+    // action.
+    if matches!(
+        g.kind,
+        crate::gait::Kind::SStart | crate::gait::Kind::Sidewinding
+    ) {
+        if !g.centers.iter().all(|x| (0.0..=1.0).contains(x)) {
+            return Err(c.fail(
+                "gait",
+                "centers",
+                format!("{:?}", g.centers),
+                "3 numbers in [0, 1] (fractions of rod.length; 0 is the head)",
+            ));
+        }
+        let min_sigma = 1.0 / r.elements as f64;
+        if g.sigma < min_sigma {
+            return Err(c.fail(
+                "gait",
+                "sigma",
+                format!("{}", g.sigma),
+                &format!(
+                    "at least one element length, 1/rod.elements = {min_sigma} (fraction of rod.length), and at most 1"
+                ),
+            ));
+        }
+    }
     c.finite("gait", "scales", &g.scales, "dimensionless")?;
     c.positive("gait", "period", g.period, "s")?;
     if !(g.ramp.is_finite() && (0.0..=1.0).contains(&g.ramp)) {

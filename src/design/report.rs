@@ -1,0 +1,203 @@
+//! `optimum.json` and the figures of a study.
+
+use super::*;
+
+/// `optimum.json`.
+#[derive(Serialize)]
+pub(super) struct Optimum<'a> {
+    study: String,
+    base: String,
+    base_hash: &'a str,
+    /// The optimised parameters and their bounds.
+    optimized: &'a [Dim],
+    /// Fastest finished evaluation within the heading limit (null if there is none).
+    best: Option<Summary<'a>>,
+    /// The starting point.
+    initial: Summary<'a>,
+    /// `best.v_s - initial.v_s` (m/s).
+    v_s_gain: Option<f64>,
+    evaluations: usize,
+    simulations: usize,
+    reused: usize,
+    repeats: usize,
+    failed: usize,
+    max_evaluations: usize,
+    iterations: usize,
+    termination: &'a str,
+    duration_pulses: f64,
+    wall_time_s: f64,
+}
+
+#[derive(Serialize)]
+pub(super) struct Summary<'a> {
+    eval: usize,
+    /// Muscle stress (Pa).
+    stress: f64,
+    /// Couple width (fraction of L).
+    sigma: f64,
+    /// Travelling speed (m/s).
+    speed: f64,
+    duration_s: f64,
+    dimensionless: Groups,
+    v_s: f64,
+    v_s_over_v_m: f64,
+    writhe_max: f64,
+    writhe_mean: f64,
+    /// Net displacement's angle from the initial head direction (degrees).
+    displacement_angle_deg: f64,
+    regime: &'a str,
+    status: Status,
+}
+
+#[derive(Serialize)]
+pub(super) struct Groups {
+    /// Scaled torque `G = Gamma a^3 L / B`.
+    #[serde(rename = "G")]
+    g: f64,
+    /// Scaled weight `W = rho g a^2 L^3 / B`.
+    #[serde(rename = "W")]
+    w: f64,
+    /// `W / G = rho g L^2 / (Gamma a)`.
+    #[serde(rename = "W_over_G")]
+    w_over_g: f64,
+}
+
+pub(super) fn summary(e: &Evaluation) -> Summary<'_> {
+    Summary {
+        eval: e.eval,
+        stress: e.point.stress,
+        sigma: e.point.sigma,
+        speed: e.point.speed,
+        duration_s: e.duration,
+        dimensionless: Groups {
+            g: e.g,
+            w: e.w,
+            w_over_g: e.w / e.g,
+        },
+        v_s: e.v_s,
+        v_s_over_v_m: e.v_s_over_v_m,
+        writhe_max: e.writhe_max,
+        writhe_mean: e.writhe_mean,
+        displacement_angle_deg: e.displacement_angle_deg,
+        regime: &e.regime,
+        status: e.status,
+    }
+}
+
+/// JSON numbers cannot be NaN or infinite: serde_json writes them as null.
+pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(), DesignError> {
+    let o = Optimum {
+        study: study.path.display().to_string(),
+        base: study.base_path.display().to_string(),
+        base_hash: &study.base_hash,
+        optimized: &study.space.dims,
+        best: r.best.as_ref().map(summary),
+        initial: summary(&r.initial),
+        v_s_gain: r.best.as_ref().map(|b| b.v_s - r.initial.v_s),
+        evaluations: r.evaluations,
+        simulations: r.simulations,
+        reused: r.reused,
+        repeats: r.repeats,
+        failed: r.failed,
+        max_evaluations: study.max_evaluations,
+        iterations: r.iterations.len().saturating_sub(1),
+        termination: &r.termination,
+        duration_pulses: study.duration_pulses,
+        wall_time_s: r.wall_time_s,
+    };
+    let path = out.join("optimum.json");
+    let text = serde_json::to_string_pretty(&o).map_err(|e| DesignError::Io {
+        path: path.clone(),
+        source: std::io::Error::other(e),
+    })?;
+    // Through a temporary name: a full disk leaves no truncated optimum.json.
+    crate::output::write_atomic(&path, (text + "\n").as_bytes())
+        .map_err(|source| DesignError::Io { path, source })
+}
+
+pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(), DesignError> {
+    let ok: Vec<&Evaluation> = r
+        .visited
+        .iter()
+        .map(|v| &v.0)
+        .filter(|e| e.status == Status::Ok)
+        .collect();
+    let path = out.join("speed_vs_writhe.png");
+    let (within, beyond): (Vec<&Evaluation>, Vec<&Evaluation>) =
+        ok.iter().partition(|e| study.meets_heading(e));
+    let mut series: Vec<(String, Vec<(f64, f64)>)> = vec![(
+        format!("finished evaluations ({})", within.len()),
+        within
+            .iter()
+            .map(|e| (e.writhe_max, e.v_s_over_v_m))
+            .collect(),
+    )];
+    if let (Some(max), false) = (study.max_heading_deg, beyond.is_empty()) {
+        series.push((
+            format!(
+                "more than {max} deg off the head direction ({})",
+                beyond.len()
+            ),
+            beyond
+                .iter()
+                .map(|e| (e.writhe_max, e.v_s_over_v_m))
+                .collect(),
+        ));
+    }
+    if r.initial.status == Status::Ok {
+        series.push((
+            "start".into(),
+            vec![(r.initial.writhe_max, r.initial.v_s_over_v_m)],
+        ));
+    }
+    if let Some(b) = &r.best {
+        series.push((
+            format!("optimum (eval {}, v_s = {:.4} m/s)", b.eval, b.v_s),
+            vec![(b.writhe_max, b.v_s_over_v_m)],
+        ));
+    }
+    if !ok.is_empty() {
+        let s: Vec<(&str, Vec<(f64, f64)>)> = series
+            .iter()
+            .map(|(n, p)| (n.as_str(), p.clone()))
+            .collect();
+        plot::scatter(
+            &path,
+            "Gait design: speed against writhe",
+            "largest |writhe| Wr_max (turns)",
+            "v_s / v_m (dimensionless)",
+            &s,
+        )
+        .map_err(|source| DesignError::Plot {
+            path: path.clone(),
+            source,
+        })?;
+    }
+    let path = out.join("history.png");
+    let mut best = f64::NEG_INFINITY;
+    let mut each = Vec::new();
+    let mut running = Vec::new();
+    for (k, (e, _)) in r.visited.iter().enumerate() {
+        let x = (k + 1) as f64;
+        if e.status == Status::Ok {
+            each.push((x, e.v_s));
+            best = best.max(e.v_s);
+        } else {
+            each.push((x, f64::NAN));
+        }
+        running.push((x, if best.is_finite() { best } else { f64::NAN }));
+    }
+    if each.iter().any(|p| p.1.is_finite()) {
+        plot::xy(
+            &path,
+            "Gait design: objective per evaluation",
+            "evaluation (this run)",
+            "forward speed v_s (m/s)",
+            &[("v_s of the evaluation", each), ("best so far", running)],
+            false,
+            false,
+        )
+        .map_err(|source| DesignError::Plot { path, source })?;
+    }
+    Ok(())
+}

@@ -1,0 +1,583 @@
+//! The study file: schema, defaults, validation and the search space.
+
+use super::*;
+
+/// A whole study file (TOML).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudySpec {
+    /// `[study]`: the base problem and the budget (required table).
+    pub study: StudyTable,
+    /// `[optimize]`: bounds of the optimised parameters (required table).
+    pub optimize: Option<OptimizeTable>,
+}
+
+/// `[study]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudyTable {
+    /// Problem file, relative to the study file. Required. Its gait must have a kind other
+    /// than "none" and its time mode must be "dynamic".
+    pub base: String,
+    /// Evaluations (cost-function calls: simulations plus answers from `history.csv`) before the
+    /// search stops. Default 30, an integer in [n + 1, 100000] for n optimised parameters.
+    #[serde(default = "d_max_evaluations")]
+    pub max_evaluations: usize,
+    /// Simulated duration in pulse times `L / v_m`: every evaluation runs
+    /// `duration_pulses * L / v_m` seconds. Default: the base file's `time.duration * v_m / L`.
+    /// In (0, 1000].
+    pub duration_pulses: Option<f64>,
+    /// Edge of the initial simplex in normalised coordinates (fraction of each bound's width).
+    /// Default 0.25, in (0, 1].
+    #[serde(default = "d_initial_step")]
+    pub initial_step: f64,
+    /// Nelder-Mead stops when the standard deviation of the cost over the simplex falls below
+    /// this (m/s). Default 1e-5, >= 0.
+    #[serde(default = "d_tolerance")]
+    pub tolerance: f64,
+    /// Penalty on a vertex outside the bounds (m/s per unit of normalised distance outside the
+    /// unit cube). Default 1.0, >= 0.
+    #[serde(default = "d_penalty")]
+    pub penalty: f64,
+    /// Heading limit (degrees): a finished run whose net displacement lies more than this off
+    /// the initial head direction costs `penalty * (angle - max_heading_deg) / 90` extra (m/s)
+    /// and cannot be the optimum. Default: no limit; in (0, 180].
+    pub max_heading_deg: Option<f64>,
+}
+pub(super) fn d_max_evaluations() -> usize {
+    30
+}
+pub(super) fn d_initial_step() -> f64 {
+    0.25
+}
+pub(super) fn d_tolerance() -> f64 {
+    1e-5
+}
+pub(super) fn d_penalty() -> f64 {
+    1.0
+}
+
+/// `[optimize]`: `[lo, hi]` bounds of each optimised parameter; a parameter without bounds
+/// keeps the base problem's value.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptimizeTable {
+    /// Bounds of the muscle stress `Gamma` (Pa), `0 <= lo < hi`.
+    pub stress: Option<[f64; 2]>,
+    /// Bounds of the couple width `sigma` (fraction of L), `0 < lo < hi <= 1`; for the
+    /// Gaussian gaits (s-start, sidewinding) also `lo >= 1/N`, one element of the base file's
+    /// `N = rod.elements`.
+    pub sigma: Option<[f64; 2]>,
+    /// Bounds of the travelling speed `v_m` (m/s), `0 < lo < hi`.
+    pub speed: Option<[f64; 2]>,
+    /// Starting point; each value must lie in its bounds. Default: the base problem's values.
+    #[serde(default)]
+    pub initial: InitialTable,
+}
+
+/// `[optimize] initial = { ... }`: the starting point (only optimised parameters).
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialTable {
+    /// Muscle stress (Pa).
+    pub stress: Option<f64>,
+    /// Couple width (fraction of L).
+    pub sigma: Option<f64>,
+    /// Travelling speed (m/s).
+    pub speed: Option<f64>,
+}
+
+/// One of the three gait parameters the optimiser may vary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Param {
+    /// `gait.stress`, the muscle stress `Gamma` (Pa).
+    Stress,
+    /// `gait.sigma`, the couple width (fraction of L).
+    Sigma,
+    /// `gait.speed`, the travelling speed `v_m` (m/s).
+    Speed,
+}
+
+impl Param {
+    /// All three, in column order.
+    pub const ALL: [Param; 3] = [Param::Stress, Param::Sigma, Param::Speed];
+
+    /// Key in `[optimize]` and `[gait]`.
+    pub fn key(self) -> &'static str {
+        match self {
+            Param::Stress => "stress",
+            Param::Sigma => "sigma",
+            Param::Speed => "speed",
+        }
+    }
+
+    /// Unit, as written in messages.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Param::Stress => "Pa",
+            Param::Sigma => "fraction of rod.length",
+            Param::Speed => "m/s",
+        }
+    }
+
+    pub(super) fn get(self, p: &Point) -> f64 {
+        match self {
+            Param::Stress => p.stress,
+            Param::Sigma => p.sigma,
+            Param::Speed => p.speed,
+        }
+    }
+
+    pub(super) fn set(self, p: &mut Point, v: f64) {
+        match self {
+            Param::Stress => p.stress = v,
+            Param::Sigma => p.sigma = v,
+            Param::Speed => p.speed = v,
+        }
+    }
+}
+
+/// Gait parameters of one evaluation (physical units).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Point {
+    /// Muscle stress `Gamma` (Pa).
+    pub stress: f64,
+    /// Couple width `sigma` (fraction of L).
+    pub sigma: f64,
+    /// Travelling speed `v_m` (m/s).
+    pub speed: f64,
+}
+
+/// One optimised dimension: bounds and starting value (physical units).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Dim {
+    /// Which parameter.
+    pub param: Param,
+    /// Lower bound.
+    pub lo: f64,
+    /// Upper bound (> `lo`).
+    pub hi: f64,
+    /// Starting value, in `[lo, hi]`.
+    pub initial: f64,
+}
+
+/// The search space: the optimised dimensions and the fixed values of the others.
+#[derive(Clone, Debug)]
+pub struct Space {
+    /// Optimised dimensions, in the order stress, sigma, speed (those present).
+    pub dims: Vec<Dim>,
+    /// Values of every parameter when not optimised (the base problem's).
+    pub fixed: Point,
+}
+
+impl Space {
+    /// Normalised coordinates `u_i = (x_i - lo_i) / (hi_i - lo_i)` of a physical point.
+    pub fn to_unit(&self, p: &Point) -> Vec<f64> {
+        self.dims
+            .iter()
+            .map(|d| (d.param.get(p) - d.lo) / (d.hi - d.lo))
+            .collect()
+    }
+
+    /// The physical point of normalised coordinates `u`, clamped to the bounds, and the
+    /// Euclidean distance of `u` from the unit cube (0 inside). Non-finite coordinates clamp
+    /// to the lower bound at infinite distance.
+    pub fn point(&self, u: &[f64]) -> (Point, f64) {
+        let mut p = self.fixed;
+        let mut d2 = 0.0;
+        for (d, &ui) in self.dims.iter().zip(u) {
+            let (c, out) = if ui.is_nan() {
+                (0.0, f64::INFINITY)
+            } else {
+                let c = ui.clamp(0.0, 1.0);
+                (c, ui - c)
+            };
+            d2 += out * out;
+            // Exact bounds at the cube's faces (no round-off past lo or hi).
+            let x = if c <= 0.0 {
+                d.lo
+            } else if c >= 1.0 {
+                d.hi
+            } else {
+                (d.lo + c * (d.hi - d.lo)).clamp(d.lo, d.hi)
+            };
+            d.param.set(&mut p, x);
+        }
+        (p, d2.sqrt())
+    }
+
+    /// The starting point (physical).
+    pub fn initial(&self) -> Point {
+        let mut p = self.fixed;
+        for d in &self.dims {
+            d.param.set(&mut p, d.initial);
+        }
+        p
+    }
+
+    /// The initial simplex in normalised coordinates: the starting point and, for each
+    /// dimension, the starting point moved by `step` along it (backward where forward would
+    /// leave the unit cube).
+    pub fn initial_simplex(&self, step: f64) -> Vec<Vec<f64>> {
+        let u0 = self.to_unit(&self.initial());
+        let mut simplex = vec![u0.clone()];
+        for i in 0..u0.len() {
+            let mut v = u0.clone();
+            v[i] = if u0[i] + step <= 1.0 {
+                u0[i] + step
+            } else {
+                u0[i] - step
+            };
+            simplex.push(v);
+        }
+        simplex
+    }
+}
+
+/// A validated study.
+#[derive(Clone, Debug)]
+pub struct Study {
+    /// The study file.
+    pub path: PathBuf,
+    /// The base problem file (resolved against the study file's directory).
+    pub base_path: PathBuf,
+    /// The base problem.
+    pub base: Problem,
+    /// FNV-1a 64 hash of the base file's text (16 hex digits): resume only reuses rows whose
+    /// hash matches.
+    pub base_hash: String,
+    /// Evaluation budget.
+    pub max_evaluations: usize,
+    /// Duration of every evaluation in pulse times `L / v_m`.
+    pub duration_pulses: f64,
+    /// Initial simplex edge (normalised).
+    pub initial_step: f64,
+    /// Nelder-Mead cost standard-deviation tolerance (m/s).
+    pub tolerance: f64,
+    /// Out-of-bounds penalty (m/s per unit normalised distance).
+    pub penalty: f64,
+    /// Heading limit (degrees), if any.
+    pub max_heading_deg: Option<f64>,
+    /// The search space.
+    pub space: Space,
+}
+
+impl Study {
+    /// Whether a run's heading is within `max_heading_deg` (always, without a limit).
+    pub fn meets_heading(&self, e: &Evaluation) -> bool {
+        self.max_heading_deg
+            .is_none_or(|max| !(e.displacement_angle_deg > max))
+    }
+
+    /// Extra cost (m/s) of a finished run that heads more than `max_heading_deg` off the
+    /// initial head direction: `penalty * (angle - max_heading_deg) / 90`; zero otherwise.
+    pub fn heading_penalty(&self, e: &Evaluation) -> f64 {
+        match (self.max_heading_deg, e.status) {
+            (Some(max), Status::Ok) if e.displacement_angle_deg > max => {
+                self.penalty * (e.displacement_angle_deg - max) / 90.0
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// Duration of a run at travelling speed `speed` (s).
+    pub fn duration(&self, speed: f64) -> f64 {
+        self.duration_pulses * self.base.rod.length / speed
+    }
+
+    /// The base problem with the point's gait values and the matching duration.
+    pub fn problem_at(&self, p: &Point) -> Problem {
+        let mut pr = self.base.clone();
+        pr.gait.stress = p.stress;
+        pr.gait.sigma = p.sigma;
+        pr.gait.speed = p.speed;
+        pr.time.duration = Some(self.duration(p.speed));
+        pr
+    }
+}
+
+/// A study-file error: names the file, the dotted key, its line and what is allowed.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// The study file could not be read, is not valid TOML of the study's shape, or has a value
+    /// outside its allowed range (the same errors as a problem file's).
+    #[error(transparent)]
+    File(#[from] ProblemError),
+    /// The base problem file is missing or invalid.
+    #[error("{file}:{line}: `study.base` = {value:?}: {source}; must be a valid problem file (path relative to the study file)")]
+    Base {
+        /// The study file.
+        file: PathBuf,
+        /// Line of `base`.
+        line: usize,
+        /// The value as written.
+        value: String,
+        /// The problem-file error (names the base file, its key and line).
+        source: ProblemError,
+    },
+}
+
+/// Read, parse and validate a study file (and its base problem).
+pub fn load_study(path: &Path) -> Result<Study, StudyError> {
+    parse_study(&problem::read(path)?, path)
+}
+
+/// Parse and validate study text; `path` locates the base file and names the study in messages.
+pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
+    let spec: StudySpec = problem::from_toml(text, path)?;
+    problem::ranges::check_lengths(text, path)?;
+    let fail = |table: &str, key: &str, value: String, allowed: String| {
+        let top = key.split('.').next().unwrap_or(key);
+        StudyError::from(ProblemError::Invalid {
+            file: path.into(),
+            line: key_line(text, table, top),
+            key: format!("{table}.{key}"),
+            value,
+            allowed,
+        })
+    };
+    let s = &spec.study;
+    let base_path = path.parent().unwrap_or_else(|| Path::new("")).join(&s.base);
+    let base_text =
+        problem::read(&base_path).and_then(|t| problem::parse(&t, &base_path).map(|p| (t, p)));
+    let (base_text, base) = base_text.map_err(|source| StudyError::Base {
+        file: path.into(),
+        line: key_line(text, "study", "base"),
+        value: s.base.clone(),
+        source,
+    })?;
+    let base_fail = |allowed: &str| {
+        StudyError::from(ProblemError::Invalid {
+            file: path.into(),
+            line: key_line(text, "study", "base"),
+            key: "study.base".into(),
+            value: format!("{:?}", s.base),
+            allowed: allowed.into(),
+        })
+    };
+    if base.gait.kind == gait::Kind::None {
+        return Err(base_fail(
+            "a problem whose [gait] kind is \"s-start\", \"sidewinding\" or \"serpenoid\" (there is no gait to optimise)",
+        ));
+    }
+    if base.time.mode != problem::Mode::Dynamic {
+        return Err(base_fail("a problem in dynamic mode (a gait needs time)"));
+    }
+    let fixed = Point {
+        stress: base.gait.stress,
+        sigma: base.gait.sigma,
+        speed: base.gait.speed,
+    };
+    let Some(opt) = &spec.optimize else {
+        return Err(ProblemError::Invalid {
+            file: path.into(),
+            line: text.lines().count().max(1),
+            key: "optimize".into(),
+            value: "(missing)".into(),
+            allowed: "a table with at least one of optimize.stress (Pa), optimize.sigma (fraction of L), optimize.speed (m/s)".into(),
+        }
+        .into());
+    };
+    let mut dims = Vec::new();
+    for param in Param::ALL {
+        let (bounds, initial) = match param {
+            Param::Stress => (opt.stress, opt.initial.stress),
+            Param::Sigma => (opt.sigma, opt.initial.sigma),
+            Param::Speed => (opt.speed, opt.initial.speed),
+        };
+        let key = param.key();
+        let unit = param.unit();
+        let Some([lo, hi]) = bounds else {
+            if let Some(v) = initial {
+                return Err(fail(
+                    "optimize",
+                    &format!("initial.{key}"),
+                    format!("{v}"),
+                    format!("absent unless optimize.{key} gives bounds ({unit})"),
+                ));
+            }
+            continue;
+        };
+        let (ok, allowed) = match param {
+            Param::Stress => (
+                lo.is_finite() && hi.is_finite() && lo >= 0.0 && lo < hi,
+                format!("[lo, hi] with 0 <= lo < hi, finite ({unit})"),
+            ),
+            Param::Sigma => {
+                // The Gaussian gaits need at least one element of the base mesh (a narrower
+                // Gaussian falls between the nodes and the muscles do nothing).
+                let gaussian =
+                    matches!(base.gait.kind, gait::Kind::SStart | gait::Kind::Sidewinding);
+                let min = 1.0 / base.rod.elements as f64;
+                (
+                    lo > 0.0 && lo < hi && hi <= 1.0 && (!gaussian || lo >= min),
+                    if gaussian {
+                        format!(
+                            "[lo, hi] with 0 < lo < hi <= 1 and lo at least one element, 1/rod.elements = {min} ({unit})"
+                        )
+                    } else {
+                        format!("[lo, hi] with 0 < lo < hi <= 1 ({unit})")
+                    },
+                )
+            }
+            Param::Speed => (
+                lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi,
+                format!("[lo, hi] with 0 < lo < hi, finite ({unit})"),
+            ),
+        };
+        if !ok {
+            return Err(fail("optimize", key, format!("[{lo}, {hi}]"), allowed));
+        }
+        let x0 = initial.unwrap_or(param.get(&fixed));
+        if !(x0 >= lo && x0 <= hi) {
+            return Err(match initial {
+                Some(v) => fail(
+                    "optimize",
+                    &format!("initial.{key}"),
+                    format!("{v}"),
+                    format!("in [{lo}, {hi}] ({unit}), the bounds optimize.{key}"),
+                ),
+                None => fail(
+                    "optimize",
+                    key,
+                    format!("[{lo}, {hi}]"),
+                    format!(
+                        "bounds containing the base file's gait.{key} = {x0} ({unit}), or give optimize.initial.{key}"
+                    ),
+                ),
+            });
+        }
+        dims.push(Dim {
+            param,
+            lo,
+            hi,
+            initial: x0,
+        });
+    }
+    if dims.is_empty() {
+        return Err(ProblemError::Invalid {
+            file: path.into(),
+            line: key_line(text, "optimize", "stress"),
+            key: "optimize".into(),
+            value: "(no bounds)".into(),
+            allowed: "at least one of optimize.stress (Pa), optimize.sigma (fraction of L), optimize.speed (m/s)".into(),
+        }
+        .into());
+    }
+    let n = dims.len();
+    if !(n + 1..=100_000).contains(&s.max_evaluations) {
+        return Err(fail(
+            "study",
+            "max_evaluations",
+            format!("{}", s.max_evaluations),
+            format!(
+                "an integer in [{}, 100000] (the initial simplex of {n} optimised parameters needs {} evaluations)",
+                n + 1,
+                n + 1
+            ),
+        ));
+    }
+    let base_duration = base.time.duration.unwrap_or(0.0);
+    let duration_pulses = match s.duration_pulses {
+        Some(v) => {
+            if !(v.is_finite() && v > 0.0 && v <= 1000.0) {
+                return Err(fail(
+                    "study",
+                    "duration_pulses",
+                    format!("{v}"),
+                    "in (0, 1000] (pulse times L / v_m)".into(),
+                ));
+            }
+            v
+        }
+        None => base_duration * base.gait.speed / base.rod.length,
+    };
+    if !(s.initial_step.is_finite() && s.initial_step > 0.0 && s.initial_step <= 1.0) {
+        return Err(fail(
+            "study",
+            "initial_step",
+            format!("{}", s.initial_step),
+            "in (0, 1] (fraction of each bound's width)".into(),
+        ));
+    }
+    if !(s.tolerance.is_finite() && s.tolerance >= 0.0) {
+        return Err(fail(
+            "study",
+            "tolerance",
+            format!("{}", s.tolerance),
+            "a finite number >= 0 (m/s)".into(),
+        ));
+    }
+    if !(s.penalty.is_finite() && s.penalty >= 0.0) {
+        return Err(fail(
+            "study",
+            "penalty",
+            format!("{}", s.penalty),
+            "a finite number >= 0 (m/s per unit normalised distance)".into(),
+        ));
+    }
+    if let Some(h) = s.max_heading_deg {
+        if !(h.is_finite() && h > 0.0 && h <= 180.0) {
+            return Err(fail(
+                "study",
+                "max_heading_deg",
+                format!("{h}"),
+                "a number in (0, 180] (degrees)".into(),
+            ));
+        }
+    }
+    let space = Space { dims, fixed };
+    let study = Study {
+        path: path.into(),
+        base_path,
+        base_hash: format!("{:016x}", fnv1a(base_text.as_bytes())),
+        base,
+        max_evaluations: s.max_evaluations,
+        duration_pulses,
+        initial_step: s.initial_step,
+        tolerance: s.tolerance,
+        penalty: s.penalty,
+        max_heading_deg: s.max_heading_deg,
+        space,
+    };
+    // The shortest run (at the fastest speed) must hold at least one time step.
+    let v_max = study
+        .space
+        .dims
+        .iter()
+        .find(|d| d.param == Param::Speed)
+        .map_or(fixed.speed, |d| d.hi);
+    let dt = study.base.time.dt.unwrap_or(0.0);
+    let shortest = study.duration(v_max);
+    if shortest < dt {
+        let (table, key) = if s.duration_pulses.is_some() {
+            ("study", "duration_pulses")
+        } else {
+            ("optimize", "speed")
+        };
+        return Err(fail(
+            table,
+            key,
+            if key == "speed" {
+                format!("{v_max}")
+            } else {
+                format!("{duration_pulses}")
+            },
+            format!(
+                "such that the shortest run, duration_pulses * L / v_m = {shortest} s at v_m = {v_max} m/s, is at least the base file's time.dt = {dt} s"
+            ),
+        ));
+    }
+    Ok(study)
+}
+
+/// FNV-1a, 64 bit (stable across Rust versions, unlike `DefaultHasher`).
+pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}

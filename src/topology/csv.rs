@@ -1,0 +1,143 @@
+//! The framed-curve CSV reader of `slither topology`.
+
+use super::*;
+
+/// A closed curve's last row repeats its first node when they are closer than this fraction of
+/// the mean edge length (such a row is dropped by [`parse_curve_csv`]).
+pub const REPEAT_TOL: f64 = 1e-9;
+
+/// [`parse_curve_csv`] rejects a director whose component perpendicular to its edge is at most
+/// this fraction of its length (within about 1e-6 rad of the tangent): twist is measured from
+/// that component, so it would be round-off.
+pub const ALONG_TANGENT_TOL: f64 = 1e-6;
+
+/// Parse CSV text: a header row, then rows `x,y,z,d1x,d1y,d1z` (row `i`'s
+/// `d1` is the director of the edge starting at node `i`; for an open curve
+/// the last row's `d1` is ignored). Blank lines are skipped; fields may be
+/// surrounded by whitespace. A header `s,x,y,z,d1x,d1y,d1z` (the `final.csv` of
+/// `slither run`) marks a leading arc-length column, which is skipped.
+///
+/// Errors carry the 1-based line number and say what is wrong: wrong field
+/// count, a field that is not a number, a non-finite value, a zero director
+/// (for rows whose director is used), a first line that looks like data
+/// instead of a header, fewer than 3 data rows, a zero-length edge (a node repeated), or a
+/// director along its edge's tangent (see [`ALONG_TANGENT_TOL`]).
+///
+/// With `closed`, a last row that repeats the first node (within [`REPEAT_TOL`] of the mean
+/// edge length) is dropped: the closing edge is implied and must not be written twice.
+pub fn parse_curve_csv(text: &str, closed: bool) -> Result<FramedCurve, CsvError> {
+    const NAMES: [&str; 6] = ["x", "y", "z", "d1x", "d1y", "d1z"];
+    let mut nodes: Vec<V3> = Vec::new();
+    let mut d1: Vec<V3> = Vec::new();
+    let mut row_lines: Vec<usize> = Vec::new();
+    let mut last_line = 0;
+    // A leading `s` column (as in `slither run`'s final.csv: s,x,y,z,d1x,d1y,d1z) is skipped.
+    let mut skip = 0;
+    for (idx, raw) in text.lines().enumerate() {
+        let line_no = idx + 1;
+        last_line = line_no;
+        let line = raw.trim();
+        if idx == 0 {
+            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+            if fields.len() == 6 && fields.iter().all(|f| f.parse::<f64>().is_ok()) {
+                return Err(CsvError {
+                    line: 1,
+                    message: "first line looks like data; a header row \
+                              (e.g. x,y,z,d1x,d1y,d1z) is required"
+                        .to_string(),
+                });
+            }
+            if fields.len() == 7 && fields[0] == "s" {
+                skip = 1;
+            }
+            continue;
+        }
+        if line.is_empty() {
+            continue;
+        }
+        let fields: Vec<&str> = line.split(',').map(str::trim).skip(skip).collect();
+        if fields.len() != 6 {
+            return Err(CsvError {
+                line: line_no,
+                message: format!(
+                    "expected 6 fields (x,y,z,d1x,d1y,d1z), found {}",
+                    fields.len()
+                ),
+            });
+        }
+        let mut v = [0.0; 6];
+        for (k, f) in fields.iter().enumerate() {
+            let x: f64 = f.parse().map_err(|_| CsvError {
+                line: line_no,
+                message: format!("field {} ({}) is not a number: {:?}", k + 1, NAMES[k], f),
+            })?;
+            if !x.is_finite() {
+                return Err(CsvError {
+                    line: line_no,
+                    message: format!("field {} ({}) is not finite: {:?}", k + 1, NAMES[k], f),
+                });
+            }
+            v[k] = x;
+        }
+        nodes.push([v[0], v[1], v[2]]);
+        d1.push([v[3], v[4], v[5]]);
+        row_lines.push(line_no);
+    }
+    if last_line == 0 {
+        return Err(CsvError {
+            line: 1,
+            message: "empty input: missing header row".to_string(),
+        });
+    }
+    if nodes.len() < 3 {
+        return Err(CsvError {
+            line: last_line,
+            message: format!("fewer than 3 data rows (found {})", nodes.len()),
+        });
+    }
+    if closed && nodes.len() > 3 {
+        // A closed curve written with its first node repeated at the end: the repeated node
+        // (and the director of the zero-length edge it would start) is dropped.
+        let n = nodes.len();
+        let mean_edge = (0..n - 1)
+            .map(|i| norm(&sub(&nodes[i + 1], &nodes[i])))
+            .sum::<f64>()
+            / (n - 1) as f64;
+        if norm(&sub(&nodes[n - 1], &nodes[0])) <= REPEAT_TOL * mean_edge {
+            nodes.pop();
+            d1.pop();
+            row_lines.pop();
+        }
+    }
+    if !closed {
+        d1.pop();
+    }
+    let n = nodes.len();
+    for (k, d) in d1.iter().enumerate() {
+        if norm(d) == 0.0 {
+            return Err(CsvError {
+                line: row_lines[k],
+                message: "director d1 is the zero vector".to_string(),
+            });
+        }
+        let e = sub(&nodes[(k + 1) % n], &nodes[k]);
+        let Some(t) = unit(&e) else {
+            return Err(CsvError {
+                line: row_lines[k],
+                message: format!(
+                    "the edge from this row's node to the node of line {} has zero length (a repeated node)",
+                    row_lines[(k + 1) % n]
+                ),
+            });
+        };
+        if norm(&reject(d, &t)) <= ALONG_TANGENT_TOL * norm(d) {
+            return Err(CsvError {
+                line: row_lines[k],
+                message: format!(
+                    "director d1 = {d:?} lies along its edge's tangent {t:?}; it must have a component perpendicular to the edge (more than {ALONG_TANGENT_TOL} of its length)"
+                ),
+            });
+        }
+    }
+    Ok(FramedCurve { nodes, d1, closed })
+}

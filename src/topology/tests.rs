@@ -1,0 +1,661 @@
+//! Tests of the topology module: identities, invariances, densities, CSV.
+
+use super::*;
+
+/// Small deterministic PRNG (xorshift64*), uniform in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn sym(&mut self) -> f64 {
+        2.0 * self.next() - 1.0
+    }
+}
+
+/// Director for edge (a -> b): `u` made perpendicular to the edge, then
+/// rotated by `alpha` about the edge tangent.
+fn director(a: &V3, b: &V3, u: &V3, alpha: f64) -> V3 {
+    let t = unit(&sub(b, a)).unwrap();
+    let u = unit(&reject(u, &t)).unwrap();
+    let w = cross(&t, &u);
+    add(&scale(&u, alpha.cos()), &scale(&w, alpha.sin()))
+}
+
+/// Circle of radius 1 in the xy-plane, d1 rotating `k` turns about the tangent.
+fn twisted_ring(n: usize, k: i32) -> FramedCurve {
+    let nodes: Vec<V3> = (0..n)
+        .map(|i| {
+            let th = 2.0 * PI * i as f64 / n as f64;
+            [th.cos(), th.sin(), 0.0]
+        })
+        .collect();
+    let d1 = (0..n)
+        .map(|i| {
+            let thm = 2.0 * PI * (i as f64 + 0.5) / n as f64;
+            let radial = [thm.cos(), thm.sin(), 0.0];
+            director(&nodes[i], &nodes[(i + 1) % n], &radial, k as f64 * thm)
+        })
+        .collect();
+    FramedCurve {
+        nodes,
+        d1,
+        closed: true,
+    }
+}
+
+/// (p,q) torus knot on the torus (R, a); d1 = direction away from the tube
+/// core, plus `extra` full turns about the tangent.
+fn torus_knot(p: f64, q: f64, n: usize, extra: i32) -> FramedCurve {
+    let (rr, a) = (2.0, 0.8);
+    let pos = |phi: f64| {
+        let rad = rr + a * (q * phi).cos();
+        [
+            rad * (p * phi).cos(),
+            rad * (p * phi).sin(),
+            a * (q * phi).sin(),
+        ]
+    };
+    let core = |phi: f64| [rr * (p * phi).cos(), rr * (p * phi).sin(), 0.0];
+    let nodes: Vec<V3> = (0..n)
+        .map(|i| pos(2.0 * PI * i as f64 / n as f64))
+        .collect();
+    let d1 = (0..n)
+        .map(|i| {
+            let phm = 2.0 * PI * (i as f64 + 0.5) / n as f64;
+            let (r0, r1) = (&nodes[i], &nodes[(i + 1) % n]);
+            let mid = scale(&add(r0, r1), 0.5);
+            let u = sub(&mid, &core(phm));
+            director(r0, r1, &u, extra as f64 * phm)
+        })
+        .collect();
+    FramedCurve {
+        nodes,
+        d1,
+        closed: true,
+    }
+}
+
+fn is_integer(x: f64, tol: f64) -> bool {
+    (x - x.round()).abs() < tol
+}
+
+/// Literal Klenin-Langowski eqs. 13-16 (arcsine sum over face normals),
+/// used as an independent oracle for well-conditioned pairs.
+fn kl_literal(p1: &V3, p2: &V3, p3: &V3, p4: &V3) -> f64 {
+    let (r12, r34) = (sub(p2, p1), sub(p4, p3));
+    let (r13, r14, r23, r24) = (sub(p3, p1), sub(p4, p1), sub(p3, p2), sub(p4, p2));
+    let n1 = unit(&cross(&r13, &r14)).unwrap();
+    let n2 = unit(&cross(&r14, &r24)).unwrap();
+    let n3 = unit(&cross(&r24, &r23)).unwrap();
+    let n4 = unit(&cross(&r23, &r13)).unwrap();
+    let asin = |a: &V3, b: &V3| dot(a, b).clamp(-1.0, 1.0).asin();
+    let omega_star = asin(&n1, &n2) + asin(&n2, &n3) + asin(&n3, &n4) + asin(&n4, &n1);
+    omega_star * dot(&cross(&r34, &r12), &r13).signum()
+}
+
+#[test]
+fn stable_solid_angle_agrees_with_literal_klenin_langowski() {
+    let mut rng = Rng(7);
+    for _ in 0..2000 {
+        let p: Vec<V3> = (0..4).map(|_| [rng.sym(), rng.sym(), rng.sym()]).collect();
+        let a = pair_solid_angle(&p[0], &p[1], &p[2], &p[3]);
+        let b = kl_literal(&p[0], &p[1], &p[2], &p[3]);
+        assert!((a - b).abs() < 1e-9, "{a} vs {b} for {p:?}");
+    }
+}
+
+// (nearly) straight rods far from the origin have (nearly) zero writhe;
+// the literal arcsine formula fails this (|Wr| ~ 5e-2 at offset 10).
+#[test]
+fn near_straight_rod_writhe_is_tiny() {
+    let d = unit(&[1.0, 2.0, -0.5]).unwrap();
+    let e1 = any_perpendicular(&d);
+    let e2 = cross(&d, &e1);
+    for &off in &[0.0, 10.0, 1000.0] {
+        for &amp in &[0.0, 1e-10, 1e-7] {
+            let nodes: Vec<V3> = (0..200)
+                .map(|i| {
+                    let s = i as f64 * 0.01;
+                    let wig = add(
+                        &scale(&e1, amp * (7.0 * s).sin()),
+                        &scale(&e2, amp * (5.0 * s).cos()),
+                    );
+                    add(&add(&[off, -off, off], &scale(&d, s)), &wig)
+                })
+                .collect();
+            let wr = writhe(&nodes, false);
+            assert!(wr.abs() < 1e-9, "offset {off}, wiggle {amp}: wr = {wr:e}");
+        }
+    }
+}
+
+// 0. the segment-pair solid angle equals the Gauss double integral
+#[test]
+fn segment_pair_matches_gauss_quadrature() {
+    let mut rng = Rng(0x1234_5678_9abc_def1);
+    for _ in 0..5 {
+        let p1 = [rng.sym(), rng.sym(), rng.sym()];
+        let p2 = [rng.sym(), rng.sym(), rng.sym()];
+        let p3 = [rng.sym(), rng.sym(), 2.0 + rng.sym()];
+        let p4 = [rng.sym(), 0.5 * rng.sym(), 2.5 + rng.sym()];
+        let da = sub(&p2, &p1);
+        let db = sub(&p4, &p3);
+        let dadb = cross(&da, &db);
+        // composite Simpson on [0,1]^2
+        let m = 200;
+        let w = |k: usize| {
+            if k == 0 || k == m {
+                1.0
+            } else if k % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            }
+        };
+        let mut sum = 0.0;
+        for i in 0..=m {
+            let x = add(&p1, &scale(&da, i as f64 / m as f64));
+            for j in 0..=m {
+                let y = add(&p3, &scale(&db, j as f64 / m as f64));
+                let d = sub(&x, &y);
+                let r = norm(&d);
+                sum += w(i) * w(j) * dot(&d, &dadb) / (r * r * r);
+            }
+        }
+        let h = 1.0 / m as f64;
+        let quad = sum * h * h / 9.0 / (4.0 * PI);
+        let exact = pair_solid_angle(&p1, &p2, &p3, &p4) / (4.0 * PI);
+        assert!((quad - exact).abs() < 1e-8, "quad {quad} vs exact {exact}");
+        assert!(exact.abs() > 1e-4, "test pair too degenerate");
+    }
+}
+
+// 1. twisted rings
+#[test]
+fn twisted_ring_link_equals_twist_plus_writhe() {
+    for &k in &[0, 1, 3, -2] {
+        let c = twisted_ring(100, k);
+        let topo = topology(&c);
+        let lk = gauss_link(&c, 0.01);
+        assert!(is_integer(lk, 1e-6), "k={k}: lk={lk} not integer");
+        assert!((lk - k as f64).abs() < 1e-6, "k={k}: lk={lk}");
+        assert!(
+            (lk - (topo.tw + topo.wr)).abs() < 1e-6,
+            "k={k}: {lk} vs {topo:?}"
+        );
+        assert!((topo.lk - topo.tw - topo.wr).abs() == 0.0);
+        assert!(topo.wr.abs() < 1e-12, "planar writhe {}", topo.wr);
+        assert!((topo.tw - k as f64).abs() < 1e-9, "tw={}", topo.tw);
+    }
+}
+
+// 2. torus knots
+#[test]
+fn torus_trefoils_link_equals_twist_plus_writhe() {
+    for &(p, q) in &[(2.0, 3.0), (3.0, 2.0)] {
+        let mut lk0 = None;
+        for &extra in &[0, 2, -1] {
+            let c = torus_knot(p, q, 200, extra);
+            let topo = topology(&c);
+            let lk = gauss_link(&c, 1e-3);
+            let lk2 = gauss_link(&c, 1e-2);
+            assert!(is_integer(lk, 1e-6), "({p},{q}) lk={lk}");
+            assert!((lk - lk2).abs() < 1e-6, "eps dependence {lk} {lk2}");
+            assert!(
+                (lk - (topo.tw + topo.wr)).abs() < 1e-6,
+                "({p},{q}) extra={extra}: lk={lk} topo={topo:?}"
+            );
+            assert!(topo.wr.abs() > 1.0, "trefoil writhe {}", topo.wr);
+            match lk0 {
+                None => {
+                    // torus-surface framing of T(p,q) has |Lk| = p q
+                    assert_eq!(lk.round().abs(), p * q, "({p},{q}) lk={lk}");
+                    lk0 = Some(lk.round());
+                }
+                Some(l0) => assert_eq!(lk.round(), l0 + extra as f64),
+            }
+        }
+    }
+}
+
+fn random_rotation(rng: &mut Rng) -> [[f64; 3]; 3] {
+    let mut q = [rng.sym(), rng.sym(), rng.sym(), rng.sym()];
+    let l = (q.iter().map(|x| x * x).sum::<f64>()).sqrt();
+    q.iter_mut().for_each(|x| *x /= l);
+    let [w, x, y, z] = q;
+    [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y - w * z),
+            2.0 * (x * z + w * y),
+        ],
+        [
+            2.0 * (x * y + w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z - w * x),
+        ],
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ]
+}
+
+// 3. invariances
+#[test]
+fn writhe_invariances() {
+    let mut rng = Rng(42);
+    // open random walk, 101 nodes
+    let mut walk = vec![[0.0; 3]];
+    for _ in 0..100 {
+        let last = *walk.last().unwrap();
+        let step = unit(&[rng.sym(), rng.sym(), rng.sym()]).unwrap();
+        walk.push(add(&last, &step));
+    }
+    let trefoil = torus_knot(2.0, 3.0, 120, 0).nodes;
+    for (nodes, closed) in [(walk, false), (trefoil, true)] {
+        let wr = writhe(&nodes, closed);
+        assert!(wr.abs() > 1e-3, "test curve should have nonzero writhe");
+        for _ in 0..3 {
+            let rot = random_rotation(&mut rng);
+            let shift = [10.0 * rng.sym(), 10.0 * rng.sym(), 10.0 * rng.sym()];
+            let s = 0.1 + 5.0 * rng.next();
+            let moved: Vec<V3> = nodes
+                .iter()
+                .map(|r| {
+                    let rr = [dot(&rot[0], r), dot(&rot[1], r), dot(&rot[2], r)];
+                    add(&scale(&rr, s), &shift)
+                })
+                .collect();
+            let wr2 = writhe(&moved, closed);
+            assert!((wr - wr2).abs() < 1e-10, "rigid/scale: {wr} vs {wr2}");
+        }
+        let reversed: Vec<V3> = nodes.iter().rev().copied().collect();
+        assert!((writhe(&reversed, closed) - wr).abs() < 1e-10);
+        let mirror: Vec<V3> = nodes.iter().map(|r| [-r[0], r[1], r[2]]).collect();
+        assert!((writhe(&mirror, closed) + wr).abs() < 1e-10);
+    }
+    // no non-adjacent pairs
+    assert_eq!(
+        writhe(&[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.3]], false),
+        0.0
+    );
+    assert_eq!(
+        writhe(&[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.3]], true),
+        0.0
+    );
+}
+
+// 4a. uniformly twisted straight rod (non-uniform spacing, tilted axis)
+#[test]
+fn densities_straight_rod_uniform_twist() {
+    let tau0 = 2.0; // rad per metre
+    let dir = unit(&[1.0, 2.0, -0.5]).unwrap();
+    let e1 = any_perpendicular(&dir);
+    let e2 = cross(&dir, &e1);
+    let mut s = vec![0.0];
+    for i in 0..60 {
+        let last = *s.last().unwrap();
+        s.push(last + 0.05 * (1.0 + 0.3 * (1.7 * i as f64).sin()));
+    }
+    let nodes: Vec<V3> = s
+        .iter()
+        .map(|&si| add(&[0.3, -1.0, 2.0], &scale(&dir, si)))
+        .collect();
+    let d1: Vec<V3> = (0..s.len() - 1)
+        .map(|e| {
+            let a = tau0 * 0.5 * (s[e] + s[e + 1]);
+            add(&scale(&e1, a.cos()), &scale(&e2, a.sin()))
+        })
+        .collect();
+    let c = FramedCurve {
+        nodes,
+        d1,
+        closed: false,
+    };
+    let delta = 0.37;
+    let d = densities(&c, delta);
+    assert!(d.s.len() > 10);
+    for k in 0..d.s.len() {
+        assert!((d.s[k] - s[k]).abs() < 1e-12);
+        assert!(d.s[k] + delta <= s[s.len() - 1] + 1e-9);
+        assert!(
+            (d.tau[k] - tau0 / (2.0 * PI)).abs() < 1e-9,
+            "tau[{k}]={}",
+            d.tau[k]
+        );
+        assert!(d.omega[k].abs() < 1e-12, "omega[{k}]={}", d.omega[k]);
+        assert_eq!(d.lambda[k], d.tau[k] + d.omega[k]);
+    }
+    // the last fitting window is present
+    let last_start = *d.s.last().unwrap();
+    assert!(s
+        .iter()
+        .any(|&si| si > last_start && si + delta > s[s.len() - 1] + 1e-9));
+}
+
+// 4b. helix writhe density has the helix's sign
+#[test]
+fn densities_helix_sign() {
+    let helix = |pitch: f64| {
+        let n = 401;
+        let nodes: Vec<V3> = (0..n)
+            .map(|i| {
+                let t = 8.0 * PI * i as f64 / (n - 1) as f64;
+                [t.cos(), t.sin(), pitch * t]
+            })
+            .collect();
+        let d1 = (0..n - 1)
+            .map(|i| {
+                let m = scale(&add(&nodes[i], &nodes[i + 1]), 0.5);
+                director(&nodes[i], &nodes[i + 1], &[-m[0], -m[1], 0.0], 0.0)
+            })
+            .collect();
+        FramedCurve {
+            nodes,
+            d1,
+            closed: false,
+        }
+    };
+    let right = densities(&helix(0.2), 7.0);
+    let left = densities(&helix(-0.2), 7.0);
+    assert!(!right.s.is_empty());
+    assert_eq!(right.s.len(), left.s.len());
+    for k in 0..right.s.len() {
+        assert!(
+            right.omega[k] > 1e-3,
+            "right-handed omega[{k}]={}",
+            right.omega[k]
+        );
+        assert!(
+            left.omega[k] < -1e-3,
+            "left-handed omega[{k}]={}",
+            left.omega[k]
+        );
+        assert!((right.omega[k] + left.omega[k]).abs() < 1e-12);
+    }
+    // a window covering the whole curve reproduces the curve's writhe
+    let c = helix(0.2);
+    let total: f64 = (0..c.nodes.len() - 1)
+        .map(|i| norm(&sub(&c.nodes[i + 1], &c.nodes[i])))
+        .sum();
+    let whole = densities(&c, total);
+    assert_eq!(whole.s.len(), 1);
+    assert!((whole.omega[0] * total - writhe(&c.nodes, false)).abs() < 1e-10);
+}
+
+// 4c. closed curves: a full-length window integrates the total twist
+#[test]
+fn densities_closed_full_window_gives_total_twist() {
+    let c = torus_knot(2.0, 3.0, 150, 1);
+    let n = c.nodes.len();
+    let total: f64 = (0..n)
+        .map(|i| norm(&sub(&c.nodes[(i + 1) % n], &c.nodes[i])))
+        .sum();
+    let d = densities(&c, total);
+    assert_eq!(d.s.len(), n);
+    let tw = twist(&c);
+    for k in 0..n {
+        assert!(
+            (d.tau[k] * total - tw).abs() < 1e-9,
+            "{} vs {tw}",
+            d.tau[k] * total
+        );
+    }
+    assert!(densities(&c, 1.01 * total).s.is_empty());
+    assert!(densities(&c, -1.0).s.is_empty());
+}
+
+// 5. CSV
+fn to_csv(c: &FramedCurve) -> String {
+    let mut s = String::from("x,y,z,d1x,d1y,d1z\n");
+    for (i, r) in c.nodes.iter().enumerate() {
+        let d = c.d1.get(i).copied().unwrap_or([0.0, 0.0, 1.0]);
+        s += &format!("{},{},{},{},{},{}\n", r[0], r[1], r[2], d[0], d[1], d[2]);
+    }
+    s
+}
+
+#[test]
+fn csv_round_trip() {
+    let closed = torus_knot(3.0, 2.0, 50, 1);
+    assert_eq!(parse_curve_csv(&to_csv(&closed), true).unwrap(), closed);
+    let mut open = twisted_ring(20, 2);
+    open.closed = false;
+    open.d1.pop();
+    assert_eq!(parse_curve_csv(&to_csv(&open), false).unwrap(), open);
+    // whitespace, CRLF and blank lines are tolerated
+    let text = "x, y, z, d1x, d1y, d1z\r\n0, 0, 0, 0, 1, 0\r\n\r\n1,0,0, 0,1,0\r\n2,0,0,0,1,0\r\n";
+    let c = parse_curve_csv(text, false).unwrap();
+    assert_eq!(c.nodes.len(), 3);
+    assert_eq!(c.d1.len(), 2);
+}
+
+#[test]
+fn csv_errors_report_line_numbers() {
+    let h = "x,y,z,d1x,d1y,d1z\n";
+    let ok = "0,0,0,0,1,0\n";
+    let cases: Vec<(String, usize, &str)> = vec![
+        (
+            format!("{h}{ok}{ok}1,2,3,4,5\n{ok}"),
+            4,
+            "expected 6 fields",
+        ),
+        (format!("{h}{ok}{ok}{ok}1,2,abc,0,1,0\n"), 5, "not a number"),
+        (format!("{h}{ok}1,2,inf,0,1,0\n{ok}"), 3, "not finite"),
+        (format!("{h}{ok}1,2,3,0,NaN,0\n{ok}"), 3, "not finite"),
+        (format!("{h}{ok}{ok}"), 3, "fewer than 3"),
+        (format!("{ok}{ok}{ok}{ok}"), 1, "header"),
+        (String::new(), 1, "empty"),
+        (format!("{h}{ok}1,0,0,0,0,0\n{ok}"), 3, "zero"),
+    ];
+    for (text, line, what) in cases {
+        let err = parse_curve_csv(&text, true).unwrap_err();
+        assert_eq!(err.line, line, "{text:?}: {err}");
+        assert!(err.message.contains(what), "{err}");
+        assert!(err.to_string().starts_with(&format!("line {line}:")));
+    }
+    // the last row's director is ignored for open curves
+    let text = format!("{h}{ok}1,0,0,0,1,0\n2,0,0,0,0,0\n");
+    assert!(parse_curve_csv(&text, false).is_ok());
+    let e: Box<dyn std::error::Error> = Box::new(parse_curve_csv("", true).unwrap_err());
+    assert!(!e.to_string().is_empty());
+}
+
+// twist is unchanged by a constant rotation of all directors
+#[test]
+fn twist_invariant_under_constant_director_rotation() {
+    let c = torus_knot(2.0, 3.0, 100, 1);
+    let n = c.nodes.len();
+    let mut c2 = c.clone();
+    for i in 0..n {
+        let (r0, r1) = (&c.nodes[i], &c.nodes[(i + 1) % n]);
+        c2.d1[i] = director(r0, r1, &c.d1[i], 0.7);
+    }
+    assert!((twist(&c) - twist(&c2)).abs() < 1e-10);
+}
+
+/// The windows' writhe computed directly: the sub-polygon of each window (its whole edges
+/// and the interpolated last point), summed pair by pair with [`writhe`].
+fn direct_window_writhe(c: &FramedCurve, d: &Densities, delta: f64) -> Vec<f64> {
+    let n = c.nodes.len();
+    let m = edge_count(n, c.closed);
+    let lens: Vec<f64> = (0..m)
+        .map(|e| norm(&sub(&c.nodes[(e + 1) % n], &c.nodes[e])))
+        .collect();
+    let total: f64 = lens.iter().sum();
+    d.s.iter()
+        .enumerate()
+        .map(|(w, &a)| {
+            let i = (0..n)
+                .position(|k| lens[..k].iter().sum::<f64>() == a)
+                .unwrap();
+            let b = (a + delta).min(if c.closed { f64::INFINITY } else { total });
+            let mut pts = vec![c.nodes[i]];
+            let mut pos = a;
+            for k in i..i + m {
+                let e = k % m;
+                let (p, q) = (c.nodes[e], c.nodes[(e + 1) % n]);
+                if pos + lens[e] >= b - 1e-12 * total.max(delta) {
+                    let f = ((b - pos) / lens[e]).clamp(0.0, 1.0);
+                    pts.push(add(&p, &scale(&sub(&q, &p), f)));
+                    break;
+                }
+                pts.push(q);
+                pos += lens[e];
+            }
+            let _ = w;
+            writhe(&pts, false)
+        })
+        .collect()
+}
+
+#[test]
+fn sliding_window_writhe_equals_the_direct_sum() {
+    // A random walk (open) and a trefoil (closed), windows of several sizes, some ending
+    // inside an edge and one exactly at nodes.
+    let mut rng = Rng(99);
+    let mut walk = vec![[0.0; 3]];
+    for _ in 0..80 {
+        let last = *walk.last().unwrap();
+        let step = scale(
+            &unit(&[rng.sym(), rng.sym(), rng.sym()]).unwrap(),
+            0.5 + rng.next(),
+        );
+        walk.push(add(&last, &step));
+    }
+    let d1: Vec<V3> = (0..walk.len() - 1)
+        .map(|i| director(&walk[i], &walk[i + 1], &[0.3, -0.2, 1.0], 0.1 * i as f64))
+        .collect();
+    let open = FramedCurve {
+        nodes: walk,
+        d1,
+        closed: false,
+    };
+    let knot = torus_knot(2.0, 3.0, 90, 1);
+    for (c, deltas) in [(&open, [3.3, 10.0, 25.7]), (&knot, [1.1, 4.0, 9.5])] {
+        for delta in deltas {
+            let d = densities(c, delta);
+            assert!(d.s.len() > 10, "{delta}: {} windows", d.s.len());
+            let direct = direct_window_writhe(c, &d, delta);
+            let mut largest: f64 = 0.0;
+            for (k, wr) in direct.iter().enumerate() {
+                largest = largest.max(wr.abs());
+                let got = d.omega[k] * delta;
+                assert!((got - wr).abs() < 1e-12, "window {k}: {got} vs {wr}");
+            }
+            assert!(largest > 1e-4, "windows should writhe: {largest}");
+        }
+    }
+}
+
+#[test]
+fn shortened_last_window_keeps_the_count_and_divides_by_its_length() {
+    // A uniformly twisted straight rod of 10 unit edges, windows of 3: at rest 8 windows
+    // fit; compressed by 1e-4 only 7 do, and the 8th is shortened, not NaN or missing.
+    let rod = |scale_: f64| {
+        let nodes: Vec<V3> = (0..=10).map(|i| [scale_ * i as f64, 0.0, 0.0]).collect();
+        let d1 = (0..10)
+            .map(|e| {
+                let a = 0.5 * (e as f64 + 0.5);
+                [0.0, a.cos(), a.sin()]
+            })
+            .collect();
+        FramedCurve {
+            nodes,
+            d1,
+            closed: false,
+        }
+    };
+    assert_eq!(densities(&rod(1.0), 3.0).s.len(), 8);
+    let squeezed = rod(1.0 - 1e-4);
+    assert_eq!(densities(&squeezed, 3.0).s.len(), 7);
+    let d = densities_shortened(&squeezed, 3.0, 8);
+    assert_eq!(d.s.len(), 8);
+    let rate = 0.5 / (1.0 - 1e-4) / (2.0 * PI);
+    for k in 0..8 {
+        assert!((d.tau[k] - rate).abs() < 1e-9, "tau[{k}] = {}", d.tau[k]);
+        assert!(d.lambda[k].is_finite());
+    }
+}
+
+#[test]
+fn planar_figure_eight_has_zero_writhe() {
+    // A lemniscate in the plane z = 0 crosses itself once: its writhe is 0 (the crossing
+    // pair's principal value), also after a rotation in space.
+    let n = 120;
+    let eight: Vec<V3> = (0..n)
+        .map(|i| {
+            let t = 2.0 * PI * (i as f64 + 0.25) / n as f64;
+            [t.sin(), t.sin() * t.cos(), 0.0]
+        })
+        .collect();
+    assert!(
+        writhe(&eight, true).abs() < 1e-12,
+        "{}",
+        writhe(&eight, true)
+    );
+    let mut rng = Rng(5);
+    let rot = random_rotation(&mut rng);
+    let moved: Vec<V3> = eight
+        .iter()
+        .map(|r| [dot(&rot[0], r), dot(&rot[1], r), dot(&rot[2], r)])
+        .collect();
+    assert!(
+        writhe(&moved, true).abs() < 1e-9,
+        "{}",
+        writhe(&moved, true)
+    );
+    // Lifting the crossing by +-h gives writhe of opposite signs, symmetric about 0.
+    let lift = |h: f64| -> Vec<V3> {
+        eight
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let t = 2.0 * PI * (i as f64 + 0.25) / n as f64;
+                [r[0], r[1], h * t.cos()]
+            })
+            .collect()
+    };
+    let (up, down) = (writhe(&lift(1e-3), true), writhe(&lift(-1e-3), true));
+    assert!(up.abs() > 1e-3 && (up + down).abs() < 1e-9, "{up} {down}");
+}
+
+#[test]
+fn csv_closed_repeated_closing_node_is_dropped() {
+    let ring = twisted_ring(40, -1);
+    let mut text = to_csv(&ring);
+    let r = ring.nodes[0];
+    let d = ring.d1[0];
+    text += &format!("{},{},{},{},{},{}\n", r[0], r[1], r[2], d[0], d[1], d[2]);
+    let c = parse_curve_csv(&text, true).unwrap();
+    assert_eq!(c, ring);
+    assert!((gauss_link(&c, 1e-3) + 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn csv_rejects_a_director_along_the_tangent_and_a_zero_edge() {
+    let h = "x,y,z,d1x,d1y,d1z\n";
+    let text = format!("{h}0,0,0,0,0,1\n1,0,0,0,0,1\n1,1,0,0,0,1\n0,1,0,0,-3,0\n");
+    let e = parse_curve_csv(&text, true).unwrap_err();
+    assert_eq!(e.line, 5, "{e}");
+    assert!(e.message.contains("along its edge's tangent"), "{e}");
+    let text = format!("{h}0,0,0,0,1,0\n1,0,0,0,1,0\n1,0,0,0,1,0\n0,1,0,1,0,0\n");
+    let e = parse_curve_csv(&text, false).unwrap_err();
+    assert_eq!(e.line, 3, "{e}");
+    assert!(e.message.contains("zero length"), "{e}");
+}
+
+#[test]
+#[should_panic(expected = "closed curves only")]
+fn gauss_link_rejects_open_curves() {
+    let mut c = twisted_ring(10, 0);
+    c.closed = false;
+    c.d1.pop();
+    gauss_link(&c, 0.01);
+}

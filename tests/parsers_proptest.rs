@@ -1,0 +1,224 @@
+//! Property test of every input parser: mutated problem, study and phase files, curve CSVs,
+//! `history.csv` and `phase.csv` never make a parser panic; each gives a value or a clean
+//! error (the CLI's exit 0 or 2). Parse-only (no simulation), a few hundred cases each.
+mod common;
+
+use proptest::prelude::*;
+use slither::model::Model;
+use slither::{design, problem, topology};
+use std::path::{Path, PathBuf};
+
+/// Values a mutation may write after a `key =`.
+const TOKENS: &[&str] = &[
+    "-5",
+    "0",
+    "1",
+    "-0.0",
+    "1e308",
+    "1e-300",
+    "nan",
+    "inf",
+    "-inf",
+    "99999999999999999999",
+    "\"1.0\"",
+    "\"\"",
+    "true",
+    "[]",
+    "[1.0]",
+    "[1.0, 2.0, 3.0, 4.0, 5.0]",
+    "[0.2, 0.35, 1.5]",
+    "[\"a\", 1]",
+    "{}",
+    "{ stress = 1.0 }",
+    "1979-05-27",
+    "[[x]]",
+    "\"s-start\"",
+    "\"sidewinding\"",
+    "\"static\"",
+    "\"explicit\"",
+    "\"tail\"",
+    "\"../nope.toml\"",
+    "\".\"",
+];
+
+/// Bytes a mutation may insert.
+const BYTES: &[u8] = &[
+    b'[', b']', b'=', b'\n', b',', b'"', b'#', b'.', b'-', b'e', b'0', b'9', b' ', 0, 0xff, 0xe9,
+    b'\r', b'{', b'}',
+];
+
+/// One mutation: what, where (a fraction of the text), and which token or byte.
+#[derive(Clone, Debug)]
+struct Mutation {
+    kind: u8,
+    at: f64,
+    pick: usize,
+}
+
+fn mutations() -> impl Strategy<Value = Vec<Mutation>> {
+    prop::collection::vec(
+        (0u8..6, 0.0f64..1.0, 0usize..1000).prop_map(|(kind, at, pick)| Mutation {
+            kind,
+            at,
+            pick,
+        }),
+        1..4,
+    )
+}
+
+/// Apply the mutations to `text`: replace a line's value, delete, duplicate or swap lines,
+/// insert a byte, or cut the text.
+fn mutate(text: &str, muts: &[Mutation]) -> Vec<u8> {
+    let mut bytes = text.as_bytes().to_vec();
+    for m in muts {
+        let s = String::from_utf8_lossy(&bytes).into_owned();
+        let mut lines: Vec<String> = s.lines().map(String::from).collect();
+        if lines.is_empty() {
+            lines.push(String::new());
+        }
+        let li = ((m.at * lines.len() as f64) as usize).min(lines.len() - 1);
+        match m.kind {
+            0 => {
+                let token = TOKENS[m.pick % TOKENS.len()];
+                if let Some((k, _)) = lines[li].split_once('=') {
+                    lines[li] = format!("{k}= {token}");
+                } else if let Some((k, _)) = lines[li].split_once(',') {
+                    lines[li] = format!("{k},{token}");
+                } else {
+                    lines[li] = token.to_string();
+                }
+            }
+            1 => {
+                lines.remove(li);
+            }
+            2 => {
+                let l = lines[li].clone();
+                lines.insert(li, l);
+            }
+            3 => {
+                let other = m.pick % lines.len();
+                lines.swap(li, other);
+            }
+            4 => {
+                let pos = ((m.at * bytes.len() as f64) as usize).min(bytes.len());
+                bytes.insert(pos, BYTES[m.pick % BYTES.len()]);
+                continue;
+            }
+            _ => {
+                let pos = ((m.at * bytes.len() as f64) as usize).min(bytes.len());
+                bytes.truncate(pos);
+                continue;
+            }
+        }
+        bytes = (lines.join("\n") + "\n").into_bytes();
+    }
+    bytes
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("slither-proptest-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+const TINY_GAIT: &str = "[rod]\nlength = 1.0\ndiameter = 0.02\nelements = 20\nbending_stiffness = 0.01308\nnatural_curvature = [0.0, 1.0]\n[initial]\nvelocity = [0.1, 0.0, 0.0]\nheight = 0.0\n[ground]\nmu_forward = 0.55\n[gait]\nkind = \"s-start\"\nstress = 24525.0\nsigma = 0.0525\nspeed = 0.28\ncenters = [0.2, 0.35, 0.5]\nscales = [1.0, 1.0, 1.0]\n[time]\ndt = 1e-2\nduration = 0.1\n[output]\ninterval = 0.02\n[solver]\ntolerance = 1e-9\nmax_iterations = 50\n";
+
+fn problem_seeds() -> Vec<String> {
+    let mut v = vec![TINY_GAIT.to_string()];
+    for f in ["s_start", "slide", "cantilever_sag", "serpenoid", "incline"] {
+        v.push(std::fs::read_to_string(format!("problems/{f}.toml")).unwrap());
+    }
+    v
+}
+
+/// Parse a mutated problem (bytes, as a file would give them): a value or an error; a valid
+/// problem's size estimate and (for small meshes) its model build do not panic either.
+fn check_problem(bytes: Vec<u8>) {
+    let path = Path::new("mutated.toml");
+    let Ok(text) = problem::utf8(bytes, path) else {
+        return;
+    };
+    if let Ok(p) = problem::parse(&text, path) {
+        let _ = problem::limits::check_run_size(&p, &text, path);
+        if p.rod.elements <= 200 {
+            let _ = Model::new(&p);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn problem_files(seed in 0usize..6, muts in mutations()) {
+        let seeds = problem_seeds();
+        check_problem(mutate(&seeds[seed % seeds.len()], &muts));
+    }
+
+    #[test]
+    fn study_files(muts in mutations()) {
+        let d = scratch("study");
+        std::fs::write(d.join("base.toml"), TINY_GAIT).unwrap();
+        let study = "[study]\nbase = \"base.toml\"\nmax_evaluations = 12\nduration_pulses = 0.1\ninitial_step = 0.25\ntolerance = 1e-5\npenalty = 1.0\nmax_heading_deg = 30.0\n[optimize]\nstress = [15000.0, 35000.0]\nsigma = [0.05, 0.07]\nspeed = [0.2, 0.4]\ninitial = { stress = 24525.0 }\n";
+        let path = d.join("study.toml");
+        if let Ok(text) = problem::utf8(mutate(study, &muts), &path) {
+            let _ = design::parse_study(&text, &path);
+        }
+    }
+
+    #[test]
+    fn phase_files(muts in mutations()) {
+        let d = scratch("phase");
+        std::fs::write(d.join("base.toml"), TINY_GAIT).unwrap();
+        let path = d.join("phase.toml");
+        std::fs::write(&path, mutate("[phase]\nbase = \"base.toml\"\nweight = [100.0, 300.0]\ntorque = [5.0, 15.0]\n", &muts)).unwrap();
+        let _ = design::phase::load(&path);
+    }
+
+    #[test]
+    fn curve_csvs(closed in any::<bool>(), muts in mutations()) {
+        let mut csv = String::from("x,y,z,d1x,d1y,d1z\n");
+        for i in 0..12 {
+            let t = i as f64 * 0.5;
+            csv += &format!("{},{},{},0,0,1\n", t.cos(), t.sin(), 0.1 * t);
+        }
+        let bytes = mutate(&csv, &muts);
+        if let Ok(text) = problem::utf8(bytes, Path::new("c.csv")) {
+            if let Ok(c) = topology::parse_curve_csv(&text, closed) {
+                let t = topology::topology(&c);
+                prop_assert!(t.tw.is_finite() && t.wr.is_finite());
+                let _ = topology::densities(&c, 1.0);
+                if closed {
+                    prop_assert!(topology::gauss_link(&c, 1e-4).is_finite());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn history_csvs(muts in mutations()) {
+        let d = scratch("history");
+        let path = d.join(design::HISTORY_FILE);
+        let row = "1,24525,0.0525,0.28,3.57,15,300,0.08,0.3,0.4,0.2,29.2,S,ok,12.5,-0.08,00ff00ff00ff00ff,\n";
+        let text = format!("{}\n{row}{}", design::HISTORY_HEADER, row.replacen('1', "2", 1));
+        std::fs::write(&path, mutate(&text, &muts)).unwrap();
+        let _ = design::read_history(&path);
+    }
+
+    #[test]
+    fn phase_csvs(muts in mutations()) {
+        let d = scratch("phasecsv");
+        let out = d.join("out");
+        std::fs::create_dir_all(&out).unwrap();
+        let csv = out.join("phase.csv");
+        let header = design::phase::HEADER;
+        let text = format!("{header}\n3e2,1.5e1,2e1,ok,S,3e-1,2.9e1,6e0,2,4e-1,9.9e-1,S,1.2e-1,6e0,9.6e-1,4e-1,12.500,00000000000000ab,\n1e2,5e0,2e1,failed,-,NaN,NaN,NaN,0,NaN,NaN,-,NaN,NaN,NaN,NaN,0.000,00000000000000ab,step rejected\n");
+        // The unmutated file reads back both rows.
+        let unmutated = d.join("unmutated.csv");
+        std::fs::write(&unmutated, &text).unwrap();
+        prop_assert_eq!(design::phase::read_phase_csv(&unmutated, 0xab).unwrap().cells.len(), 2);
+        std::fs::write(&csv, mutate(&text, &muts)).unwrap();
+        let _ = design::phase::read_phase_csv(&csv, 0xab);
+    }
+}
