@@ -89,26 +89,38 @@ impl Outcome {
 /// Progress callback: fraction done in [0, 1].
 pub type Progress<'a> = &'a mut dyn FnMut(f64);
 
-/// The steps of a dynamic run: `steps` steps of `dt`, a frame recorded every `every` steps
-/// (and after the last).
+/// The steps of a dynamic run: `steps` steps of `dt`, the last one of `last` (so the run ends
+/// exactly at its duration), a frame recorded every `every` steps (and after the last).
 #[derive(Clone, Copy, Debug)]
 pub struct Schedule {
     /// Step (s).
     pub dt: f64,
     /// Number of steps.
     pub steps: usize,
+    /// Size of the last step (s), `dt` unless the duration is not a whole number of steps.
+    pub last: f64,
     /// Steps between recorded frames.
     pub every: usize,
 }
 
 impl Schedule {
-    /// The model's own schedule: `duration / dt` steps (rounded, at least one), frames at the
-    /// output interval.
+    /// The model's own schedule: steps of `dt` to the duration, the last step shortened to
+    /// land on it when the duration is not a whole number of steps (to 1e-9 of a step);
+    /// frames at the output interval.
     pub fn of(model: &Model) -> Self {
+        let (dt, duration) = (model.dt, model.duration);
+        let whole = (duration / dt).round();
+        let (steps, last) = if (whole * dt - duration).abs() <= 1e-9 * dt {
+            (whole.max(1.0) as usize, dt)
+        } else {
+            let n = (duration / dt).ceil().max(1.0);
+            (n as usize, duration - (n - 1.0) * dt)
+        };
         Schedule {
-            dt: model.dt,
-            steps: (model.duration / model.dt).round().max(1.0) as usize,
-            every: ((model.output_interval / model.dt).round() as usize).max(1),
+            dt,
+            steps,
+            last,
+            every: ((model.output_interval / dt).round() as usize).max(1),
         }
     }
 
@@ -117,6 +129,7 @@ impl Schedule {
         Schedule {
             dt,
             steps,
+            last: dt,
             every: steps.max(1),
         }
     }
@@ -206,7 +219,12 @@ pub fn drive(
     let mut slip_speed_max: f64 = 0.0;
     let n_steps = schedule.steps;
     for k in 1..=n_steps {
-        if let Err(e) = integ.step(&mut s, schedule.dt) {
+        let h = if k == n_steps {
+            schedule.last
+        } else {
+            schedule.dt
+        };
+        if let Err(e) = integ.step(&mut s, h) {
             error = Some(e);
             break;
         }
@@ -215,7 +233,7 @@ pub fn drive(
         if integ.has_contact() {
             for (r, i) in model.real.clone().enumerate() {
                 max_penetration = max_penetration.max(0.5 * model.diameter - s.node(i)[2]);
-                if normal[r] > 0.0 {
+                if model.in_contact(normal[r]) {
                     let v = s.node_velocity(i);
                     slip_speed_max = slip_speed_max.max((v[0] * v[0] + v[1] * v[1]).sqrt());
                 }

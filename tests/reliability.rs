@@ -648,3 +648,21 @@ fn topology_closed_curves() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn a_duration_that_is_not_a_whole_number_of_steps_ends_exactly_on_it() {
+    // dt 0.4 s over 0.59 s: one step of 0.4 s and a last one of 0.19 s (main ran one step and
+    // reported t = 0.4 as completed).
+    let d = scratch("last-step");
+    let text = TINY
+        .replace("dt = 0.005", "dt = 0.4")
+        .replace("duration = 0.01", "duration = 0.59")
+        .replace("[time]", "[output]\ninterval = 0.4\n\n[time]");
+    let (o, out) = run_text(&d, &text, &["--no-plots"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let t = summary["t_final"].as_f64().unwrap();
+    assert!((t - 0.59).abs() < 1e-12, "t_final {t}");
+    assert_eq!(summary["steps"].as_u64(), Some(2), "{summary}");
+}

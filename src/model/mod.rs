@@ -95,6 +95,12 @@ pub struct Model {
     pub gait: Gait,
 }
 
+/// A node carries contact when its normal force exceeds this fraction of its share of the
+/// weight, `m_total g / N` (a millionth: well above the conic solver's interior-point residue,
+/// far below any supporting force). One test for every slip statistic, the kymographs and the
+/// run loop.
+pub const CONTACT_FRACTION: f64 = 1e-6;
+
 /// Dimensionless groups of a model (MODEL.md section 6).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Dimensionless {
@@ -278,6 +284,17 @@ impl Model {
     /// Arc length of internal node `i` from the head (m).
     pub fn arc_length(&self, i: usize) -> f64 {
         (i as f64 - self.real.start as f64) * self.length / self.elements() as f64
+    }
+
+    /// The normal force (N) above which a node counts as in contact ([`CONTACT_FRACTION`] of
+    /// its share of the weight; 0 without gravity).
+    pub fn contact_threshold(&self) -> f64 {
+        CONTACT_FRACTION * self.total_mass() * f::norm(self.gravity) / self.elements() as f64
+    }
+
+    /// Whether a node with normal force `normal` (N) is in contact.
+    pub fn in_contact(&self, normal: f64) -> bool {
+        normal > self.contact_threshold()
     }
 
     /// Dimensionless groups.

@@ -166,20 +166,17 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// A node carries contact when its normal force exceeds this fraction of its share of the
-/// weight, `m_total g / N` (a millionth: well above the conic solver's interior-point residue,
-/// far below any supporting force).
-pub const CONTACT_FRACTION: f64 = 1e-6;
+pub use crate::model::CONTACT_FRACTION;
 
 /// The normal force (N) above which a node of `m` counts as in contact
-/// ([`CONTACT_FRACTION`] of its share of the weight; 0 without gravity).
+/// ([`Model::contact_threshold`]).
 pub fn contact_threshold(m: &Model) -> f64 {
-    CONTACT_FRACTION * m.total_mass() * f::norm(m.gravity) / m.elements() as f64
+    m.contact_threshold()
 }
 
-/// Whether a node with normal force `normal` (N) is in contact (see [`contact_threshold`]).
+/// Whether a node with normal force `normal` (N) is in contact ([`Model::in_contact`]).
 pub fn in_contact(m: &Model, normal: f64) -> bool {
-    normal > contact_threshold(m)
+    m.in_contact(normal)
 }
 
 /// Slip speed (m/s) of a node: its horizontal speed if it is in contact, NaN in the air.

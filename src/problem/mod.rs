@@ -644,7 +644,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     // action.
     if matches!(
         g.kind,
-        crate::gait::Kind::SStart | crate::gait::Kind::Sidewinding
+        Kind::SStart | Kind::Sidewinding
     ) {
         if !g.centers.iter().all(|x| (0.0..=1.0).contains(x)) {
             return Err(c.fail(
