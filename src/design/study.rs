@@ -313,8 +313,9 @@ pub enum StudyError {
         line: usize,
         /// The value as written.
         value: String,
-        /// The problem-file error (names the base file, its key and line).
-        source: ProblemError,
+        /// The problem-file error (names the base file, its key and line); boxed to keep the
+        /// error small.
+        source: Box<ProblemError>,
     },
 }
 
@@ -345,7 +346,7 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         file: path.into(),
         line: key_line(text, "study", "base"),
         value: s.base.clone(),
-        source,
+        source: Box::new(source),
     })?;
     let base_fail = |allowed: &str| {
         StudyError::from(ProblemError::Invalid {

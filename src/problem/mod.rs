@@ -642,10 +642,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     // The couples' centres and width matter for the Gaussian gaits: a centre off the body or a
     // width below one element (a Gaussian that falls between the nodes) runs without muscle
     // action.
-    if matches!(
-        g.kind,
-        Kind::SStart | Kind::Sidewinding
-    ) {
+    if matches!(g.kind, Kind::SStart | Kind::Sidewinding) {
         if !g.centers.iter().all(|x| (0.0..=1.0).contains(x)) {
             return Err(c.fail(
                 "gait",
