@@ -76,19 +76,7 @@ impl Evaluation {
     }
 
     pub(super) fn csv_row(&self, base_hash: &str) -> String {
-        let reason: String = self
-            .reason
-            .chars()
-            .map(|c| {
-                if c == ',' {
-                    ';'
-                } else if c.is_control() {
-                    ' '
-                } else {
-                    c
-                }
-            })
-            .collect();
+        let reason = super::csv_field(&self.reason);
         format!(
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             self.eval,

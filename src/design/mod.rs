@@ -154,3 +154,15 @@ pub struct Report {
     /// Wall time of the whole study run (s).
     pub wall_time_s: f64,
 }
+
+/// A free-text value (a failure reason) as one CSV field of the result files: commas and line
+/// breaks become `;`, other control characters spaces, so a row stays one line of fixed width.
+pub(crate) fn csv_field(s: &str) -> String {
+    s.chars()
+        .map(|c| match c {
+            ',' | '\n' | '\r' => ';',
+            c if c.is_control() => ' ',
+            c => c,
+        })
+        .collect()
+}

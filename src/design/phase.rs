@@ -252,19 +252,7 @@ impl Cell {
     }
 
     fn row(&self, hash: u64) -> String {
-        let clean: String = self
-            .reason
-            .chars()
-            .map(|c| {
-                if c == ',' || c == '\n' || c == '\r' {
-                    ';'
-                } else if c.is_control() {
-                    ' '
-                } else {
-                    c
-                }
-            })
-            .collect();
+        let clean = super::csv_field(&self.reason);
         format!(
             "{:e},{:e},{:e},{},{},{:e},{:e},{:e},{},{:e},{:e},{},{:e},{:e},{:e},{:e},{:.3},{:016x},{}",
             self.weight,

@@ -3,7 +3,7 @@
 //! curvature `kappa0_i` (integrated, dimensionless) that may change with time (muscles).
 
 use super::autodiff::{self, StencilEnergy};
-use super::stencil::{EdgeJets, Jets, StencilDerivatives};
+use super::stencil::{self, EdgeJets, Jets, StencilDerivatives};
 use super::{Assembly, Ctx, Term};
 use crate::rod::{frames, frames::StencilFrame, V3};
 use nalgebra::{SMatrix, SVector};
@@ -83,42 +83,21 @@ impl<D: StencilDerivatives> Term for Bend<D> {
     }
     fn eval(&self, ctx: &Ctx, q: &[f64], out: Option<&mut Assembly>, project: bool) -> f64 {
         let m = ctx.model;
-        let stencil = |i: usize| BendStencil {
+        let make = |i: usize| BendStencil {
             frame: &ctx.frames[i - 1],
             kappa0: ctx.kappa0[i],
             coef: m.bend / (2.0 * m.voronoi[i]),
         };
-        let Some(asm) = out else {
-            let mut e = 0.0;
-            for i in 1..m.nodes - 1 {
-                e += stencil(i).eval(&autodiff::intrinsic(q, i));
-            }
-            return e;
-        };
-        let edges = asm.take_edges(ctx, q);
-        let mut e = 0.0;
-        for i in 1..m.nodes - 1 {
-            let y = autodiff::intrinsic(q, i);
-            let local = self.0.bend(&stencil(i), [&edges[i - 1], &edges[i]], &y);
-            e += autodiff::add_local(asm, i, local, project);
-        }
-        asm.put_edges(edges);
-        e
+        stencil::assemble_nodes(ctx, q, out, project, make, |st, e, y| self.0.bend(st, e, y))
     }
     fn gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64], _scratch: &mut Assembly) -> f64 {
         let m = ctx.model;
-        let mut e = 0.0;
-        for i in 1..m.nodes - 1 {
-            let st = BendStencil {
-                frame: &ctx.frames[i - 1],
-                kappa0: ctx.kappa0[i],
-                coef: m.bend / (2.0 * m.voronoi[i]),
-            };
-            let (v, g) = self.0.bend_gradient(&st, &autodiff::intrinsic(q, i));
-            e += v;
-            autodiff::add_gradient(grad, i, &g);
-        }
-        e
+        let make = |i: usize| BendStencil {
+            frame: &ctx.frames[i - 1],
+            kappa0: ctx.kappa0[i],
+            coef: m.bend / (2.0 * m.voronoi[i]),
+        };
+        stencil::gradient_nodes(ctx, q, grad, make, |st, y| self.0.bend_gradient(st, y))
     }
 }
 

@@ -222,3 +222,55 @@ impl Current {
         (energy, [g0[0], g0[1], g0[2], g1[0], g1[1], g1[2], -gm, gm])
     }
 }
+
+/// Sum of one stencil energy over the interior nodes, with its derivatives added to `out`
+/// when given (the edge frames taken once per assembly): the body of the bending and twist
+/// terms. `make(i)` is node `i`'s stencil, `local` its value, gradient and Hessian.
+pub(crate) fn assemble_nodes<S: StencilEnergy>(
+    ctx: &crate::energy::Ctx,
+    q: &[f64],
+    out: Option<&mut crate::energy::Assembly>,
+    project: bool,
+    make: impl Fn(usize) -> S,
+    local: impl Fn(&S, [&EdgeJets; 2], &[f64; 8]) -> Local,
+) -> f64 {
+    use super::autodiff::{add_local, intrinsic};
+    let nodes = ctx.model.nodes;
+    let mut e = 0.0;
+    let Some(asm) = out else {
+        for i in 1..nodes - 1 {
+            e += make(i).eval(&intrinsic(q, i));
+        }
+        return e;
+    };
+    let edges = asm.take_edges(ctx, q);
+    for i in 1..nodes - 1 {
+        let y = intrinsic(q, i);
+        e += add_local(
+            asm,
+            i,
+            local(&make(i), [&edges[i - 1], &edges[i]], &y),
+            project,
+        );
+    }
+    asm.put_edges(edges);
+    e
+}
+
+/// Sum of one stencil energy over the interior nodes, its gradient added to `grad`.
+pub(crate) fn gradient_nodes<S>(
+    ctx: &crate::energy::Ctx,
+    q: &[f64],
+    grad: &mut [f64],
+    make: impl Fn(usize) -> S,
+    gradient: impl Fn(&S, &[f64; 8]) -> (f64, [f64; 8]),
+) -> f64 {
+    use super::autodiff::{add_gradient, intrinsic};
+    let mut e = 0.0;
+    for i in 1..ctx.model.nodes - 1 {
+        let (v, g) = gradient(&make(i), &intrinsic(q, i));
+        e += v;
+        add_gradient(grad, i, &g);
+    }
+    e
+}

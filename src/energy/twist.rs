@@ -3,7 +3,7 @@
 //! twist `m0_i` (integrated, rad) that may change with time (muscles).
 
 use super::autodiff::{self, StencilEnergy};
-use super::stencil::{EdgeJets, Jets, StencilDerivatives};
+use super::stencil::{self, EdgeJets, Jets, StencilDerivatives};
 use super::{Assembly, Ctx, Term};
 use crate::rod::{frames, frames::StencilFrame, V3};
 use nalgebra::{SMatrix, SVector};
@@ -74,42 +74,23 @@ impl<D: StencilDerivatives> Term for Twist<D> {
     }
     fn eval(&self, ctx: &Ctx, q: &[f64], out: Option<&mut Assembly>, project: bool) -> f64 {
         let m = ctx.model;
-        let stencil = |i: usize| TwistStencil {
+        let make = |i: usize| TwistStencil {
             frame: &ctx.frames[i - 1],
             m0: ctx.m0[i],
             coef: m.twist / (2.0 * m.voronoi[i]),
         };
-        let Some(asm) = out else {
-            let mut e = 0.0;
-            for i in 1..m.nodes - 1 {
-                e += stencil(i).eval(&autodiff::intrinsic(q, i));
-            }
-            return e;
-        };
-        let edges = asm.take_edges(ctx, q);
-        let mut e = 0.0;
-        for i in 1..m.nodes - 1 {
-            let y = autodiff::intrinsic(q, i);
-            let local = self.0.twist(&stencil(i), [&edges[i - 1], &edges[i]], &y);
-            e += autodiff::add_local(asm, i, local, project);
-        }
-        asm.put_edges(edges);
-        e
+        stencil::assemble_nodes(ctx, q, out, project, make, |st, e, y| {
+            self.0.twist(st, e, y)
+        })
     }
     fn gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64], _scratch: &mut Assembly) -> f64 {
         let m = ctx.model;
-        let mut e = 0.0;
-        for i in 1..m.nodes - 1 {
-            let st = TwistStencil {
-                frame: &ctx.frames[i - 1],
-                m0: ctx.m0[i],
-                coef: m.twist / (2.0 * m.voronoi[i]),
-            };
-            let (v, g) = self.0.twist_gradient(&st, &autodiff::intrinsic(q, i));
-            e += v;
-            autodiff::add_gradient(grad, i, &g);
-        }
-        e
+        let make = |i: usize| TwistStencil {
+            frame: &ctx.frames[i - 1],
+            m0: ctx.m0[i],
+            coef: m.twist / (2.0 * m.voronoi[i]),
+        };
+        stencil::gradient_nodes(ctx, q, grad, make, |st, y| self.0.twist_gradient(st, y))
     }
 }
 
