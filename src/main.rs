@@ -628,7 +628,7 @@ fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
         b
     });
     let report = |done: usize, todo: usize, c: &design::phase::Cell| {
-        let line = if c.status == "ok" {
+        let line = if c.status == design::Status::Ok {
             format!(
                 "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a, {:.1} s",
                 c.weight,
@@ -675,7 +675,11 @@ fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
             out.join("phase.csv").display()
         );
     }
-    let failed = sw.cells.iter().filter(|c| c.status != "ok").count();
+    let failed = sw
+        .cells
+        .iter()
+        .filter(|c| c.status != design::Status::Ok)
+        .count();
     eprintln!(
         "{}: {} cells ({} simulated, {} reused, {} failed) in {:.1} s; wrote {}",
         path.display(),

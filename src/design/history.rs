@@ -20,10 +20,20 @@ pub enum Status {
 }
 
 impl Status {
-    pub(super) fn as_str(self) -> &'static str {
+    /// As written in `history.csv` and `phase.csv`.
+    pub fn as_str(self) -> &'static str {
         match self {
             Status::Ok => "ok",
             Status::Failed => "failed",
+        }
+    }
+
+    /// From its written form.
+    pub fn parse(s: &str) -> Option<Status> {
+        match s {
+            "ok" => Some(Status::Ok),
+            "failed" => Some(Status::Failed),
+            _ => None,
         }
     }
 }

@@ -175,8 +175,8 @@ pub struct Cell {
     pub weight: f64,
     /// Scaled torque `G`.
     pub torque: f64,
-    /// "ok" or "failed".
-    pub status: String,
+    /// Whether the cell's simulation finished (written "ok" or "failed").
+    pub status: crate::design::Status,
     /// Regime (`None` when failed; written "-").
     pub regime: Option<Regime>,
     /// For `M`: the S criteria it missed, `;`-separated (e.g. "pulse_speed;heading"); "-"
@@ -220,7 +220,7 @@ impl Cell {
         Cell {
             weight: w,
             torque: g,
-            status: "failed".into(),
+            status: crate::design::Status::Failed,
             regime: None,
             regime_detail: "-".into(),
             v_s_over_v_m: f64::NAN,
@@ -258,7 +258,7 @@ impl Cell {
             self.weight,
             self.torque,
             self.weight / self.torque,
-            self.status,
+            self.status.as_str(),
             self.regime.map_or("-", Regime::as_str),
             self.v_s_over_v_m,
             self.displacement_angle_deg,
@@ -287,7 +287,7 @@ impl Cell {
             Cell {
                 weight: num(0)?,
                 torque: num(1)?,
-                status: f[3].into(),
+                status: crate::design::Status::parse(f[3])?,
                 regime: match f[4] {
                     "-" => None,
                     r => Some(r.parse().ok()?),
@@ -331,7 +331,7 @@ pub fn simulate(base: &Problem, w: f64, g: f64) -> Cell {
         Ok(Ok((ob, o))) => Cell {
             weight: w,
             torque: g,
-            status: "ok".into(),
+            status: crate::design::Status::Ok,
             regime: Some(ob.regime),
             regime_detail: if ob.regime_reason.not_s.is_empty() {
                 "-".into()
@@ -657,7 +657,9 @@ fn regime_map(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotE
             )))
             .map_err(|e| err(&e))?;
         let label = match c.regime {
-            Some(r) if c.status == "ok" => format!("{r} {:.3}", c.v_s_over_v_m),
+            Some(r) if c.status == crate::design::Status::Ok => {
+                format!("{r} {:.3}", c.v_s_over_v_m)
+            }
             _ => "failed".into(),
         };
         let (x, y, dy) = (
@@ -716,7 +718,7 @@ fn speed_chart(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::Plot
         .map(|(&g, name)| {
             let mut pts: Vec<(f64, f64)> = cells
                 .iter()
-                .filter(|c| c.torque == g && c.status == "ok")
+                .filter(|c| c.torque == g && c.status == crate::design::Status::Ok)
                 .map(|c| (c.weight / c.torque, c.v_s_over_v_m))
                 .collect();
             pts.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -763,7 +765,7 @@ mod tests {
         let c = Cell {
             weight: 300.0,
             torque: 15.0,
-            status: "failed".into(),
+            status: crate::design::Status::Failed,
             regime: None,
             regime_detail: "-".into(),
             v_s_over_v_m: f64::NAN,
@@ -803,7 +805,7 @@ mod tests {
         assert_eq!(d.reason, "step rejected; at t = 1;again");
         // An M cell keeps its label and the criteria it missed.
         let m = Cell {
-            status: "ok".into(),
+            status: crate::design::Status::Ok,
             regime: Some(Regime::M),
             regime_detail: "heading;pulse_speed".into(),
             v_s_over_v_m: 0.29,
