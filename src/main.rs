@@ -78,6 +78,21 @@ enum Cmd {
         /// No progress bar and no per-cell lines.
         #[arg(long)]
         quiet: bool,
+        /// Run only shard I of N (cell k of the weight-major grid belongs to shard k % N + 1):
+        /// for a job array; `slither merge` combines the shard directories. No figures.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<design::phase::Shard>,
+    },
+    /// Combine the output directories of `slither phase --shard I/N` runs (one phase file and
+    /// base problem) into one: the same phase.csv, phase.json and figures as an unsharded run.
+    /// Refuses directories of another grid or base file and reports missing cells.
+    Merge {
+        /// Shard output directories.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output directory (created if absent).
+        #[arg(long)]
+        out: PathBuf,
     },
 }
 
@@ -132,7 +147,13 @@ fn main() -> ExitCode {
         Cmd::Topology { curve, closed } => topo(&curve, closed),
         Cmd::Chart { which } => chart_cmd(which),
         Cmd::Optimize { study, out, quiet } => optimize(&study, &out, quiet),
-        Cmd::Phase { file, out, quiet } => phase(&file, &out, quiet),
+        Cmd::Phase {
+            file,
+            out,
+            quiet,
+            shard,
+        } => phase(&file, &out, quiet, shard),
+        Cmd::Merge { dirs, out } => merge(&dirs, &out),
     }
 }
 
@@ -595,7 +616,33 @@ fn chart_cmd(which: ChartCmd) -> ExitCode {
     }
 }
 
-fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
+fn merge(dirs: &[PathBuf], out: &Path) -> ExitCode {
+    let _lock = match lock_out(out) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    match design::phase::merge(dirs, out) {
+        Ok(m) => {
+            eprintln!(
+                "merged {} cells from {} directories ({} found twice with identical results); wrote {}",
+                m.cells.len(),
+                dirs.len(),
+                m.duplicates,
+                out.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(match e {
+                design::phase::PhaseError::Io { .. } | design::phase::PhaseError::Plot { .. } => 1,
+                _ => 2,
+            })
+        }
+    }
+}
+
+fn phase(path: &Path, out: &Path, quiet: bool, shard: Option<design::phase::Shard>) -> ExitCode {
     let ph = match design::phase::load(path) {
         Ok(p) => p,
         Err(e) => {
@@ -607,7 +654,11 @@ fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let total = ph.weight.len() * ph.torque.len();
+    let grid = ph.weight.len() * ph.torque.len();
+    let total = match shard {
+        Some(s) => (0..grid).filter(|&k| s.owns(k)).count(),
+        None => grid,
+    };
     if !quiet {
         eprintln!(
             "{}: {} cells (W in {:?} x G in {:?}) of {}; finished cells in {} are reused",
@@ -655,7 +706,7 @@ fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
         }
     };
     let t0 = Instant::now();
-    let result = design::phase::sweep(&ph, out, &report);
+    let result = design::phase::sweep_shard(&ph, out, shard, &report);
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
@@ -690,7 +741,7 @@ fn phase(path: &Path, out: &Path, quiet: bool) -> ExitCode {
         t0.elapsed().as_secs_f64(),
         out.display()
     );
-    if failed == sw.cells.len() {
+    if failed == sw.cells.len() && !sw.cells.is_empty() {
         eprintln!(
             "error: {}: every cell failed; see {}",
             path.display(),

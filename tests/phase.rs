@@ -167,3 +167,161 @@ fn bad_phase_files_exit_2_naming_the_key() {
         &["width"],
     );
 }
+
+fn run_args(args: &[&str]) -> Output {
+    Command::new(BIN).args(args).output().unwrap()
+}
+
+/// Rows of a `phase.csv` keyed by `(W, G)`, without the wall-time column.
+fn rows(csv: &Path) -> std::collections::BTreeMap<(String, String), String> {
+    let text = std::fs::read_to_string(csv).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let mut f: Vec<&str> = l.split(',').collect();
+            f[16] = "";
+            ((f[0].to_string(), f[1].to_string()), f.join(","))
+        })
+        .collect()
+}
+
+#[test]
+fn shards_merged_equal_the_unsharded_run_cell_for_cell() {
+    let dir = scratch("shards");
+    // A log-spaced weight range: 100, 1000, 10000.
+    let file = phase(
+        &dir,
+        "base = \"base.toml\"\nweight = { from = 100.0, to = 1e4, count = 3 }\ntorque = [10.0, 20.0]\n",
+    );
+    let f = file.to_str().unwrap();
+    let whole = dir.join("whole");
+    let o = run(&file, &whole);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let info: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(whole.join("phase.json")).unwrap()).unwrap();
+    let w: Vec<f64> = info["weight"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert_eq!(w.len(), 3);
+    assert!((w[0] - 100.0).abs() < 1e-9 && (w[1] - 1000.0).abs() < 1e-9 && w[2] == 1e4);
+    let reference = rows(&whole.join("phase.csv"));
+    assert_eq!(reference.len(), 6);
+    for n in [2, 3] {
+        let mut dirs = Vec::new();
+        let mut cells = 0;
+        for i in 1..=n {
+            let d = dir.join(format!("shard{i}of{n}"));
+            let shard = format!("{i}/{n}");
+            let o = run_args(&["phase", f, "--out", d.to_str().unwrap(), "--shard", &shard]);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            assert!(!d.join("phase.png").exists(), "a shard draws no figures");
+            cells += rows(&d.join("phase.csv")).len();
+            dirs.push(d);
+        }
+        assert_eq!(cells, 6, "every cell in exactly one of {n} shards");
+        let merged = dir.join(format!("merged{n}"));
+        let mut args = vec!["merge"];
+        args.extend(dirs.iter().map(|d| d.to_str().unwrap()));
+        args.extend(["--out", merged.to_str().unwrap()]);
+        let o = run_args(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(rows(&merged.join("phase.csv")), reference, "{n} shards");
+        assert!(merged.join("phase.png").exists() && merged.join("speed.png").exists());
+        // A missing shard is reported, not papered over.
+        let out = dir.join(format!("partial{n}"));
+        let o = run_args(&[
+            "merge",
+            dirs[0].to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains("miss"), "{err}");
+    }
+}
+
+#[test]
+fn merge_refuses_shards_of_another_grid_and_bad_ranges_are_named() {
+    let dir = scratch("mismatch");
+    let a = phase(
+        &dir,
+        "base = \"base.toml\"\nweight = [300.0, 3000.0]\ntorque = [15.0]\n",
+    );
+    let da = dir.join("a");
+    let o = run_args(&[
+        "phase",
+        a.to_str().unwrap(),
+        "--out",
+        da.to_str().unwrap(),
+        "--shard",
+        "1/2",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let b = dir.join("other.toml");
+    std::fs::write(
+        &b,
+        "[phase]\nbase = \"base.toml\"\nweight = [300.0, 3000.0]\ntorque = [20.0]\n",
+    )
+    .unwrap();
+    let db = dir.join("b");
+    let o = run_args(&[
+        "phase",
+        b.to_str().unwrap(),
+        "--out",
+        db.to_str().unwrap(),
+        "--shard",
+        "2/2",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = dir.join("m");
+    let o = run_args(&[
+        "merge",
+        da.to_str().unwrap(),
+        db.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("cannot merge") && err.contains("grid"),
+        "{err}"
+    );
+    assert!(!out.join("phase.csv").exists());
+    // Bad ranges and shards.
+    for (body, needle) in [
+        ("weight = { from = 0.0, to = 10.0, count = 3 }", "from > 0"),
+        ("weight = { from = 10.0, to = 1.0, count = 3 }", "from < to"),
+        ("weight = { from = 1.0, to = 10.0, count = 0 }", "count"),
+        (
+            "weight = { from = 1.0, to = 10.0, count = 3, spacing = \"cubic\" }",
+            "spacing",
+        ),
+    ] {
+        let p = phase(
+            &dir,
+            &format!("base = \"base.toml\"\n{body}\ntorque = [10.0]\n"),
+        );
+        let o = run(&p, &dir.join("bad"));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{body}: {err}");
+        assert!(
+            err.contains("phase.weight") && err.contains(needle),
+            "{body}: {err}"
+        );
+    }
+    let o = run_args(&[
+        "phase",
+        a.to_str().unwrap(),
+        "--out",
+        dir.join("s").to_str().unwrap(),
+        "--shard",
+        "3/2",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("I/N"));
+}

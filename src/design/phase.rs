@@ -62,8 +62,65 @@ struct PhaseFile {
 #[serde(deny_unknown_fields)]
 struct PhaseTable {
     base: String,
-    weight: Vec<f64>,
-    torque: Vec<f64>,
+    weight: toml::Value,
+    torque: toml::Value,
+}
+
+/// A grid axis as written: a list, or `{ from, to, count, spacing = "log" | "linear" }`
+/// (log by default; the ends included).
+fn grid_axis(v: &toml::Value) -> Result<Vec<f64>, String> {
+    let num = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+    match v {
+        toml::Value::Array(a) => a
+            .iter()
+            .map(|x| num(x).ok_or_else(|| format!("{x} is not a number")))
+            .collect(),
+        toml::Value::Table(t) => {
+            for k in t.keys() {
+                if !matches!(k.as_str(), "from" | "to" | "count" | "spacing") {
+                    return Err(format!("unknown key `{k}` (from, to, count, spacing)"));
+                }
+            }
+            let get = |k: &str| {
+                t.get(k)
+                    .and_then(num)
+                    .ok_or(format!("`{k}` is missing or not a number"))
+            };
+            let (from, to) = (get("from")?, get("to")?);
+            let count =
+                t.get("count")
+                    .and_then(|c| c.as_integer())
+                    .filter(|&c| (1..=10_000).contains(&c))
+                    .ok_or("`count` must be an integer in [1, 10000]")? as usize;
+            let log = match t.get("spacing").map(|s| s.as_str()) {
+                None | Some(Some("log")) => true,
+                Some(Some("linear")) => false,
+                _ => return Err("`spacing` must be \"log\" or \"linear\"".into()),
+            };
+            if !(from.is_finite() && to.is_finite()) || (count > 1 && to <= from) {
+                return Err(format!("from = {from}, to = {to}: need finite from < to"));
+            }
+            if log && from <= 0.0 {
+                return Err(format!("from = {from}: a log-spaced range needs from > 0"));
+            }
+            if count == 1 {
+                return Ok(vec![from]);
+            }
+            let n = (count - 1) as f64;
+            Ok((0..count)
+                .map(|k| {
+                    if k == count - 1 {
+                        to
+                    } else if log {
+                        from * (to / from).powf(k as f64 / n)
+                    } else {
+                        from + (to - from) * k as f64 / n
+                    }
+                })
+                .collect())
+        }
+        other => Err(format!("{other} is neither a list nor a range table")),
+    }
 }
 
 /// Read and validate a phase file and its base problem.
@@ -98,15 +155,26 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         }
         Ok(())
     };
+    let axis = |key: &str, v: &toml::Value| {
+        grid_axis(v).map_err(|why| {
+            invalid(
+                key,
+                format!("{v}"),
+                &format!("a list of numbers or {{ from, to, count, spacing = \"log\" | \"linear\" }}: {why}"),
+            )
+        })
+    };
+    let weight = axis("weight", &t.weight)?;
+    let torque = axis("torque", &t.torque)?;
     check(
         "weight",
-        &t.weight,
+        &weight,
         |x| x.is_finite() && x > 0.0,
         "scaled weights W > 0",
     )?;
     check(
         "torque",
-        &t.torque,
+        &torque,
         |x| x.is_finite() && x >= 0.0,
         "scaled torques G >= 0",
     )?;
@@ -150,8 +218,8 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         base_hash: super::fnv1a(base_text.as_bytes()),
         base_path,
         base,
-        weight: t.weight,
-        torque: t.torque,
+        weight,
+        torque,
     })
 }
 
@@ -375,6 +443,22 @@ pub enum PhaseError {
         /// 1-based line.
         line: usize,
     },
+    /// A directory cannot be merged with the others.
+    #[error("{dir}: cannot merge: {why}")]
+    Merge {
+        /// The directory.
+        dir: PathBuf,
+        /// Why.
+        why: String,
+    },
+    /// The merged directories do not cover the grid.
+    #[error("the shards miss {count} cells of the grid: {cells}; run the missing shards (or rerun them into their directories) and merge again")]
+    Missing {
+        /// Number of missing cells.
+        count: usize,
+        /// The first ten.
+        cells: String,
+    },
     /// A figure could not be drawn.
     #[error("{file}: {source}")]
     Plot {
@@ -472,11 +556,79 @@ pub fn read_phase_csv(csv: &Path, base_hash: u64) -> Result<PhaseCsv, PhaseError
     Ok(out)
 }
 
+/// One share of a sweep's cells: `index` of `count` (1-based), for spreading a study over a
+/// job array. Cell `k` of the grid (weight-major) belongs to shard `k % count + 1`: a
+/// deterministic split in which every cell is in exactly one shard.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Shard {
+    /// This shard, 1..=count.
+    pub index: usize,
+    /// Number of shards.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Whether grid cell `k` (weight-major) is in this shard.
+    pub fn owns(&self, k: usize) -> bool {
+        k % self.count == self.index - 1
+    }
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let bad = || format!("`{s}`: a shard is I/N with integers 1 <= I <= N (e.g. 2/4)");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count) = (
+            i.trim().parse::<usize>().map_err(|_| bad())?,
+            n.trim().parse::<usize>().map_err(|_| bad())?,
+        );
+        if index == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+/// `phase.json`: what a sweep directory holds, so shards can be checked before merging.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RunInfo {
+    /// The phase file.
+    pub phase_file: String,
+    /// The base problem file.
+    pub base_file: String,
+    /// Hash of the base problem's text (hex).
+    pub base_hash: String,
+    /// Scaled weights of the grid.
+    pub weight: Vec<f64>,
+    /// Scaled torques of the grid.
+    pub torque: Vec<f64>,
+    /// The shard this directory holds (`null`: every cell).
+    pub shard: Option<Shard>,
+}
+
+fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
+    let file = out.join("phase.json");
+    let text = serde_json::to_string_pretty(info).expect("serialisable");
+    std::fs::write(&file, text + "\n").map_err(|source| PhaseError::Io { file, source })
+}
+
 /// Run the diagram into `out` (`phase.csv`, `phase.png`, `speed.png`), reusing finished rows.
 /// `report(done, total, cell)` is called after each newly simulated cell.
 pub fn sweep(
     ph: &Phase,
     out: &Path,
+    report: &(dyn Fn(usize, usize, &Cell) + Sync),
+) -> Result<Sweep, PhaseError> {
+    sweep_shard(ph, out, None, report)
+}
+
+/// [`sweep`] of one shard's cells only (all with `None`). A shard's directory gets
+/// `phase.csv` and `phase.json` but no figures; [`merge`] combines the shards.
+pub fn sweep_shard(
+    ph: &Phase,
+    out: &Path,
+    shard: Option<Shard>,
     report: &(dyn Fn(usize, usize, &Cell) + Sync),
 ) -> Result<Sweep, PhaseError> {
     let io = |file: &Path| {
@@ -502,10 +654,24 @@ pub fn sweep(
             .and_then(|_| file.flush())
             .map_err(io(&csv))?;
     }
+    write_info(
+        out,
+        &RunInfo {
+            phase_file: ph.file.display().to_string(),
+            base_file: ph.base_path.display().to_string(),
+            base_hash: format!("{:016x}", ph.base_hash),
+            weight: ph.weight.clone(),
+            torque: ph.torque.clone(),
+            shard,
+        },
+    )?;
     let grid: Vec<(f64, f64)> = ph
         .weight
         .iter()
         .flat_map(|&w| ph.torque.iter().map(move |&g| (w, g)))
+        .enumerate()
+        .filter(|(k, _)| shard.is_none_or(|s| s.owns(*k)))
+        .map(|(_, c)| c)
         .collect();
     let todo: Vec<(f64, f64)> = grid
         .iter()
@@ -546,11 +712,151 @@ pub fn sweep(
         reused,
         dropped_partial_row: old.dropped_partial_row,
     };
-    let png = out.join("phase.png");
-    regime_map(&png, ph, &sw.cells).map_err(|source| PhaseError::Plot { file: png, source })?;
-    let png = out.join("speed.png");
-    speed_chart(&png, ph, &sw.cells).map_err(|source| PhaseError::Plot { file: png, source })?;
+    if shard.is_none_or(|s| s.count == 1) {
+        figures(out, &ph.weight, &ph.torque, &sw.cells)?;
+    }
     Ok(sw)
+}
+
+/// `phase.png` and `speed.png` of a complete grid.
+fn figures(out: &Path, weight: &[f64], torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
+    let png = out.join("phase.png");
+    regime_map(&png, weight, torque, cells)
+        .map_err(|source| PhaseError::Plot { file: png, source })?;
+    let png = out.join("speed.png");
+    speed_chart(&png, torque, cells).map_err(|source| PhaseError::Plot { file: png, source })
+}
+
+/// What [`merge`] combined.
+#[derive(Debug)]
+pub struct Merged {
+    /// Every cell, weight-major.
+    pub cells: Vec<Cell>,
+    /// Cells found in more than one directory (with identical results).
+    pub duplicates: usize,
+}
+
+/// Combine the `phase.csv` of shard directories (of one phase file and base problem, checked
+/// with their `phase.json`) into `out`: the same `phase.csv` (rows in grid order),
+/// `phase.json` and figures as an unsharded run. Refuses directories of other grids or base
+/// files, cells found twice with different results, and a grid with missing cells (listed).
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, PhaseError> {
+    let mismatch = |dir: &Path, why: String| PhaseError::Merge {
+        dir: dir.to_path_buf(),
+        why,
+    };
+    let mut reference: Option<RunInfo> = None;
+    let mut found: HashMap<(u64, u64), (Cell, String)> = HashMap::new();
+    let mut duplicates = 0;
+    for dir in dirs {
+        let file = dir.join("phase.json");
+        let text = std::fs::read_to_string(&file).map_err(|e| {
+            mismatch(
+                dir,
+                format!("no readable phase.json ({e}): not a `slither phase` output directory"),
+            )
+        })?;
+        let info: RunInfo = serde_json::from_str(&text)
+            .map_err(|e| mismatch(dir, format!("phase.json is not valid: {e}")))?;
+        match &reference {
+            None => reference = Some(info.clone()),
+            Some(r) => {
+                if r.base_hash != info.base_hash {
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "base problem {} (hash {}) differs from {} (hash {})",
+                            info.base_file, info.base_hash, r.base_file, r.base_hash
+                        ),
+                    ));
+                }
+                if r.weight != info.weight || r.torque != info.torque {
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "grid W {:?} x G {:?} differs from W {:?} x G {:?}",
+                            info.weight, info.torque, r.weight, r.torque
+                        ),
+                    ));
+                }
+            }
+        }
+        let hash = u64::from_str_radix(&info.base_hash, 16)
+            .map_err(|_| mismatch(dir, "phase.json: base_hash is not hexadecimal".into()))?;
+        for (key, c) in read_phase_csv(&dir.join("phase.csv"), hash)?.cells {
+            let row = comparable_row(&c, hash);
+            match found.get(&key) {
+                Some((_, seen)) if *seen == row => duplicates += 1,
+                Some(_) => return Err(mismatch(
+                    dir,
+                    format!(
+                        "cell W = {}, G = {} is also in another directory with a different result",
+                        c.weight, c.torque
+                    ),
+                )),
+                None => {
+                    found.insert(key, (c, row));
+                }
+            }
+        }
+    }
+    let info =
+        reference.ok_or_else(|| mismatch(Path::new("."), "no directories to merge".into()))?;
+    let grid: Vec<(f64, f64)> = info
+        .weight
+        .iter()
+        .flat_map(|&w| info.torque.iter().map(move |&g| (w, g)))
+        .collect();
+    let missing: Vec<String> = grid
+        .iter()
+        .filter(|(w, g)| !found.contains_key(&(w.to_bits(), g.to_bits())))
+        .map(|(w, g)| format!("(W {w}, G {g})"))
+        .collect();
+    if !missing.is_empty() {
+        return Err(PhaseError::Missing {
+            count: missing.len(),
+            cells: missing
+                .iter()
+                .take(10)
+                .cloned()
+                .collect::<Vec<_>>()
+                .join(", "),
+        });
+    }
+    let hash = u64::from_str_radix(&info.base_hash, 16).expect("checked above");
+    let cells: Vec<Cell> = grid
+        .iter()
+        .map(|(w, g)| found[&(w.to_bits(), g.to_bits())].0.clone())
+        .collect();
+    std::fs::create_dir_all(out).map_err(|source| PhaseError::Io {
+        file: out.to_path_buf(),
+        source,
+    })?;
+    let mut text = format!("{HEADER}\n");
+    for c in &cells {
+        text += &(c.row(hash) + "\n");
+    }
+    let csv = out.join("phase.csv");
+    std::fs::write(&csv, text).map_err(|source| PhaseError::Io { file: csv, source })?;
+    write_info(
+        out,
+        &RunInfo {
+            shard: None,
+            ..info.clone()
+        },
+    )?;
+    figures(out, &info.weight, &info.torque, &cells)?;
+    Ok(Merged { cells, duplicates })
+}
+
+/// A cell's row without its wall time (what must agree between two runs of one cell).
+pub fn comparable_row(c: &Cell, hash: u64) -> String {
+    let row = c.row(hash);
+    let mut f: Vec<&str> = row.split(',').collect();
+    if f.len() > 16 {
+        f[16] = "";
+    }
+    f.join(",")
 }
 
 /// Colour of a regime in the map (dark grey for a failed cell).
@@ -604,12 +910,17 @@ fn lin_edges(c: &[f64]) -> Vec<f64> {
 /// The regime map: one coloured rectangle per cell (log W across, G up), labelled with the
 /// regime and `v_s / v_m` (and, for `M`, the S criteria it missed), with a legend of the
 /// regimes and their cell counts on the right.
-fn regime_map(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotError> {
+fn regime_map(
+    path: &Path,
+    weight: &[f64],
+    torque: &[f64],
+    cells: &[Cell],
+) -> Result<(), plot::PlotError> {
     use plotters::style::text_anchor::{HPos, Pos, VPos};
     plot::register_fonts()?;
     let err = |e: &dyn std::fmt::Display| plot::PlotError::Draw(e.to_string());
-    let xe = log_edges(&ph.weight);
-    let ye = lin_edges(&ph.torque);
+    let xe = log_edges(weight);
+    let ye = lin_edges(torque);
     let root = BitMapBackend::new(path, (1300, 750)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let (left, right) = root.split_horizontally(1000);
@@ -641,7 +952,7 @@ fn regime_map(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotE
             .color(&BLACK)
             .pos(Pos::new(HPos::Center, VPos::Center))
     };
-    let nt = ph.torque.len();
+    let nt = torque.len();
     for (k, c) in cells.iter().enumerate() {
         let (i, j) = (k / nt, k % nt);
         chart
@@ -709,10 +1020,9 @@ fn regime_map(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotE
 }
 
 /// `v_s / v_m` against `W / G` (the paper's speed chart), one series per torque.
-fn speed_chart(path: &Path, ph: &Phase, cells: &[Cell]) -> Result<(), plot::PlotError> {
-    let names: Vec<String> = ph.torque.iter().map(|g| format!("G = {g}")).collect();
-    let series: Vec<(&str, Vec<(f64, f64)>)> = ph
-        .torque
+fn speed_chart(path: &Path, torque: &[f64], cells: &[Cell]) -> Result<(), plot::PlotError> {
+    let names: Vec<String> = torque.iter().map(|g| format!("G = {g}")).collect();
+    let series: Vec<(&str, Vec<(f64, f64)>)> = torque
         .iter()
         .zip(&names)
         .map(|(&g, name)| {
