@@ -229,7 +229,15 @@ fn shards_merged_equal_the_unsharded_run_cell_for_cell() {
         let o = run_args(&args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         assert_eq!(rows(&merged.join("phase.csv")), reference, "{n} shards");
-        assert!(merged.join("phase.png").exists() && merged.join("speed.png").exists());
+        for fig in [
+            "phase.png",
+            "speed.png",
+            "writhe_vs_ratio.png",
+            "speed_vs_writhe.png",
+            "speed_vs_ratio.png",
+        ] {
+            assert!(merged.join(fig).exists(), "{fig}");
+        }
         // A missing shard is reported, not papered over.
         let out = dir.join(format!("partial{n}"));
         let o = run_args(&[

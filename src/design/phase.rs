@@ -724,7 +724,92 @@ fn figures(out: &Path, weight: &[f64], torque: &[f64], cells: &[Cell]) -> Result
     regime_map(&png, weight, torque, cells)
         .map_err(|source| PhaseError::Plot { file: png, source })?;
     let png = out.join("speed.png");
-    speed_chart(&png, torque, cells).map_err(|source| PhaseError::Plot { file: png, source })
+    speed_chart(&png, torque, cells).map_err(|source| PhaseError::Plot { file: png, source })?;
+    fig3(out, torque, cells)
+}
+
+/// The paper's Fig. 3 from the cells: (a) `writhe_vs_ratio.png`, the largest writhe and the
+/// writhe at the snapshot instant against `W/G`, one series per torque; (b)
+/// `speed_vs_writhe.png`, `v_s/v_m` against the largest writhe, one series per regime; (c)
+/// `speed_vs_ratio.png`, `v_s/v_m` against `W/G` (as `speed.png`). Failed cells are left out;
+/// a figure with no finite point is skipped.
+fn fig3(out: &Path, torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
+    let ok: Vec<&Cell> = cells
+        .iter()
+        .filter(|c| c.status == crate::design::Status::Ok && c.torque > 0.0)
+        .collect();
+    let plot_err = |file: PathBuf| move |source| PhaseError::Plot { file, source };
+    let skip_empty = |r: Result<(), PhaseError>| match r {
+        Err(PhaseError::Plot {
+            source: plot::PlotError::Invalid(_),
+            ..
+        }) => Ok(()),
+        r => r,
+    };
+    // (a)
+    let mut names = Vec::new();
+    let mut pts = Vec::new();
+    for &g in torque.iter().filter(|&&g| g > 0.0) {
+        let mut max: Vec<(f64, f64)> = Vec::new();
+        let mut snap: Vec<(f64, f64)> = Vec::new();
+        for c in ok.iter().filter(|c| c.torque == g) {
+            max.push((c.weight / c.torque, c.writhe_max));
+            snap.push((c.weight / c.torque, c.writhe_snapshot));
+        }
+        max.sort_by(|a, b| a.0.total_cmp(&b.0));
+        snap.sort_by(|a, b| a.0.total_cmp(&b.0));
+        names.push(format!("G = {g}: Wr max"));
+        pts.push(max);
+        names.push(format!("G = {g}: Wr at snapshot"));
+        pts.push(snap);
+    }
+    let series: Vec<(&str, Vec<(f64, f64)>)> = names.iter().map(String::as_str).zip(pts).collect();
+    let png = out.join("writhe_vs_ratio.png");
+    skip_empty(
+        plot::xy(
+            &png,
+            "Writhe against W/G (Fig. 3a)",
+            "W / G",
+            "writhe (turns)",
+            &series,
+            true,
+            false,
+        )
+        .map_err(plot_err(png.clone())),
+    )?;
+    // (b)
+    let regimes = [Regime::S, Regime::M, Regime::F, Regime::N, Regime::U];
+    let by_regime: Vec<(String, Vec<(f64, f64)>)> = regimes
+        .iter()
+        .map(|&r| {
+            (
+                r.as_str().to_string(),
+                ok.iter()
+                    .filter(|c| c.regime == Some(r))
+                    .map(|c| (c.writhe_max, c.v_s_over_v_m))
+                    .collect(),
+            )
+        })
+        .filter(|(_, p): &(String, Vec<(f64, f64)>)| !p.is_empty())
+        .collect();
+    let series: Vec<(&str, Vec<(f64, f64)>)> = by_regime
+        .iter()
+        .map(|(n, p)| (n.as_str(), p.clone()))
+        .collect();
+    let png = out.join("speed_vs_writhe.png");
+    skip_empty(
+        plot::scatter(
+            &png,
+            "Speed against writhe, by regime (Fig. 3b)",
+            "largest writhe Wr max (turns)",
+            "v_s / v_m",
+            &series,
+        )
+        .map_err(plot_err(png.clone())),
+    )?;
+    // (c)
+    let png = out.join("speed_vs_ratio.png");
+    speed_chart(&png, torque, cells).map_err(plot_err(png.clone()))
 }
 
 /// What [`merge`] combined.
@@ -787,13 +872,15 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, PhaseError> {
             let row = comparable_row(&c, hash);
             match found.get(&key) {
                 Some((_, seen)) if *seen == row => duplicates += 1,
-                Some(_) => return Err(mismatch(
-                    dir,
-                    format!(
+                Some(_) => {
+                    return Err(mismatch(
+                        dir,
+                        format!(
                         "cell W = {}, G = {} is also in another directory with a different result",
                         c.weight, c.torque
                     ),
-                )),
+                    ))
+                }
                 None => {
                     found.insert(key, (c, row));
                 }
