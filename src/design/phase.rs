@@ -725,7 +725,106 @@ fn figures(out: &Path, weight: &[f64], torque: &[f64], cells: &[Cell]) -> Result
         .map_err(|source| PhaseError::Plot { file: png, source })?;
     let png = out.join("speed.png");
     speed_chart(&png, torque, cells).map_err(|source| PhaseError::Plot { file: png, source })?;
+    let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
+    let file = out.join("boundaries.json");
+    let text =
+        serde_json::to_string_pretty(&boundaries(weight, torque, &labels)).expect("serialisable");
+    std::fs::write(&file, text + "\n").map_err(|source| PhaseError::Io { file, source })?;
     fig3(out, torque, cells)
+}
+
+/// A fitted boundary between two regimes: the line `log10 G = slope log10 W + intercept`
+/// through the midpoints (in log W, log G) of neighbouring cells with these two labels. The
+/// paper's boundaries are lines of constant `W/G`: slope 1.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Boundary {
+    /// The two regimes, e.g. "F/N" (alphabetical).
+    pub pair: String,
+    /// Slope in log-log (`None` with fewer than two distinct weights among the points).
+    pub slope: Option<f64>,
+    /// Intercept of `log10 G` at `log10 W = 0`.
+    pub intercept: Option<f64>,
+    /// `W/G` on the line at `G = 10`.
+    pub ratio_at_g10: Option<f64>,
+    /// Root-mean-square residual of `log10 G` (decades).
+    pub residual: Option<f64>,
+    /// The neighbouring cells `[[W, G], [W, G]]` whose midpoints were fitted.
+    pub cells: Vec<[[f64; 2]; 2]>,
+}
+
+/// Fit every boundary between neighbouring cells (along W and along G, cells with `G > 0`) of
+/// a weight-major grid of labels (`None`: failed cell, not used).
+pub fn boundaries(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]) -> Vec<Boundary> {
+    let nt = torque.len();
+    let mut pairs: std::collections::BTreeMap<String, Vec<[[f64; 2]; 2]>> = Default::default();
+    let mut add = |a: (usize, usize), b: (usize, usize)| {
+        let (la, lb) = (labels[a.0 * nt + a.1], labels[b.0 * nt + b.1]);
+        if let (Some(ra), Some(rb)) = (la, lb) {
+            if ra != rb && torque[a.1] > 0.0 && torque[b.1] > 0.0 {
+                let (x, y) = if ra.as_str() < rb.as_str() {
+                    (ra, rb)
+                } else {
+                    (rb, ra)
+                };
+                pairs
+                    .entry(format!("{}/{}", x.as_str(), y.as_str()))
+                    .or_default()
+                    .push([[weight[a.0], torque[a.1]], [weight[b.0], torque[b.1]]]);
+            }
+        }
+    };
+    for i in 0..weight.len() {
+        for j in 0..nt {
+            if i + 1 < weight.len() {
+                add((i, j), (i + 1, j));
+            }
+            if j + 1 < nt {
+                add((i, j), (i, j + 1));
+            }
+        }
+    }
+    pairs
+        .into_iter()
+        .map(|(pair, cells)| {
+            let pts: Vec<(f64, f64)> = cells
+                .iter()
+                .map(|[a, b]| {
+                    (
+                        0.5 * (a[0].log10() + b[0].log10()),
+                        0.5 * (a[1].log10() + b[1].log10()),
+                    )
+                })
+                .collect();
+            let n = pts.len() as f64;
+            let (mx, my) = (
+                pts.iter().map(|p| p.0).sum::<f64>() / n,
+                pts.iter().map(|p| p.1).sum::<f64>() / n,
+            );
+            let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+            let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+            let fit = (sxx > 1e-12).then(|| {
+                let slope = sxy / sxx;
+                let intercept = my - slope * mx;
+                let rms = (pts
+                    .iter()
+                    .map(|p| (p.1 - slope * p.0 - intercept).powi(2))
+                    .sum::<f64>()
+                    / n)
+                    .sqrt();
+                (slope, intercept, rms)
+            });
+            Boundary {
+                pair,
+                slope: fit.map(|f| f.0),
+                intercept: fit.map(|f| f.1),
+                ratio_at_g10: fit
+                    .filter(|f| f.0.abs() > 1e-12)
+                    .map(|(s, c, _)| 10f64.powf((1.0 - c) / s) / 10.0),
+                residual: fit.map(|f| f.2),
+                cells,
+            }
+        })
+        .collect()
 }
 
 /// The paper's Fig. 3 from the cells: (a) `writhe_vs_ratio.png`, the largest writhe and the
@@ -1155,6 +1254,46 @@ mod tests {
         assert!((e1 / e0 - 1.0).abs() < 1e-12);
         assert_eq!(p.gait.speed, base.gait.speed);
         assert_eq!(p.rod.length, base.rod.length);
+    }
+
+    #[test]
+    fn boundaries_of_labels_set_by_w_over_g_have_slope_one() {
+        // Labels set by W/G alone (S below 20, F up to 60, N beyond): straight boundaries of
+        // slope 1 in log-log, at W/G 20 and 60 (to the grid's resolution).
+        let weight: Vec<f64> = (0..12).map(|k| 10f64.powf(1.0 + k as f64 / 4.0)).collect();
+        let torque: Vec<f64> = (0..8).map(|k| 10f64.powf(0.5 + k as f64 / 8.0)).collect();
+        let labels: Vec<Option<Regime>> = weight
+            .iter()
+            .flat_map(|&w| {
+                torque.iter().map(move |&g| {
+                    Some(match w / g {
+                        r if r < 20.0 => Regime::S,
+                        r if r < 60.0 => Regime::F,
+                        _ => Regime::N,
+                    })
+                })
+            })
+            .collect();
+        let b = boundaries(&weight, &torque, &labels);
+        let names: Vec<&str> = b.iter().map(|b| b.pair.as_str()).collect();
+        assert_eq!(names, ["F/N", "F/S"]);
+        for (bd, ratio) in b.iter().zip([60.0, 20.0]) {
+            let s = bd.slope.unwrap();
+            let r = bd.ratio_at_g10.unwrap();
+            assert!((s - 1.0).abs() < 0.1, "{}: slope {s}", bd.pair);
+            assert!((r / ratio).log10().abs() < 0.15, "{}: W/G {r}", bd.pair);
+        }
+        // A boundary that is not of constant W/G (labels by W alone) has slope far from 1.
+        let by_w: Vec<Option<Regime>> = weight
+            .iter()
+            .flat_map(|&w| {
+                torque
+                    .iter()
+                    .map(move |_| Some(if w < 300.0 { Regime::S } else { Regime::N }))
+            })
+            .collect();
+        let b = boundaries(&weight, &torque, &by_w);
+        assert!(b[0].slope.is_none_or(|s| s.abs() > 5.0), "{:?}", b[0].slope);
     }
 
     #[test]
