@@ -798,3 +798,46 @@ fn dotted_key_range_error_names_its_own_line() {
         "a finite number >= 0",
     );
 }
+
+#[test]
+fn solver_settings_out_of_range() {
+    for (i, (line, key, allowed)) in [
+        ("armijo = 0.7", "solver.armijo", "in (0, 0.5)"),
+        (
+            "normal_force_tolerance = 0.0",
+            "solver.normal_force_tolerance",
+            "in (0, 1]",
+        ),
+        (
+            "max_backtracks = 0",
+            "solver.max_backtracks",
+            "an integer in [1, 200]",
+        ),
+        (
+            "clarabel_method = \"mkl\"",
+            "solver.clarabel_method",
+            "\"qdldl\" or \"faer\"",
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let text = format!("{BASE}\n[solver]\n{line}\n");
+        let prefix = line.split(' ').next().unwrap();
+        range_error(&format!("solver_{i}"), &text, key, prefix, allowed);
+    }
+}
+
+#[test]
+fn bdf2_in_static_mode() {
+    let text = edit("[time]", "[time]\nmode = \"static\"");
+    let text = edit_text(&text, "[rod]", "[rod]\nclamp = \"tail\"");
+    let text = format!("{text}\n[solver]\nintegrator = \"bdf2\"\n");
+    range_error(
+        "bdf2_static",
+        &text,
+        "solver.integrator",
+        "integrator",
+        "\"implicit\" in static mode",
+    );
+}
