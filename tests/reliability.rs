@@ -525,8 +525,8 @@ fn contact_slip_uses_one_threshold() {
         "[rod]\nlength = 1.0\ndiameter = 0.02\nelements = 10\nbending_stiffness = 1.0\n[ground]\n[time]\ndt = 0.01\nduration = 0.1\n",
     );
     let w_node = m.total_mass() * 9.81 / 10.0;
-    let th = observe::contact_threshold(&m);
-    assert!((th / w_node - observe::CONTACT_FRACTION).abs() < 1e-12);
+    let th = m.contact_threshold();
+    assert!((th / w_node - slither::model::CONTACT_FRACTION).abs() < 1e-12);
     // A tiny positive normal force (interior-point residue) is not contact.
     assert!(observe::contact_slip(&m, [1.0, 0.0, 0.0], 1e-3 * th).is_nan());
     assert_eq!(observe::contact_slip(&m, [3.0, 4.0, 9.0], 2.0 * th), 5.0);

@@ -3,8 +3,8 @@
 //! ([`regime`]: S, M, F, N, U as the paper defines them, with the thresholds and the reason for
 //! each label).
 //!
-//! Contact and slip: a node is in contact when its normal force exceeds [`CONTACT_FRACTION`]
-//! of its share of the weight ([`in_contact`]); slip speeds are reported only for such nodes
+//! Contact and slip: a node is in contact when its normal force exceeds
+//! [`crate::model::CONTACT_FRACTION`] of its share of the weight ([`Model::in_contact`]); slip speeds are reported only for such nodes
 //! (the horizontal speed of a node in the air is not slip): NaN elsewhere in the kymograph,
 //! the npz `slip_speed` and the ParaView point data ([`contact_slip`]), and the summary's
 //! `slip_speed_max` and every slip statistic use the same test.
@@ -166,36 +166,13 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-pub use crate::model::CONTACT_FRACTION;
-
-/// The normal force (N) above which a node of `m` counts as in contact
-/// ([`Model::contact_threshold`]).
-pub fn contact_threshold(m: &Model) -> f64 {
-    m.contact_threshold()
-}
-
-/// Whether a node with normal force `normal` (N) is in contact ([`Model::in_contact`]).
-pub fn in_contact(m: &Model, normal: f64) -> bool {
-    m.in_contact(normal)
-}
-
 /// Slip speed (m/s) of a node: its horizontal speed if it is in contact, NaN in the air.
 pub fn contact_slip(m: &Model, v: [f64; 3], normal: f64) -> f64 {
-    if in_contact(m, normal) {
+    if m.in_contact(normal) {
         (v[0] * v[0] + v[1] * v[1]).sqrt()
     } else {
         f64::NAN
     }
-}
-
-/// Largest slip speed of a node in contact over the frames (m/s); 0 when none touches.
-pub fn slip_speed_max(m: &Model, frames: &[Frame]) -> f64 {
-    frames
-        .iter()
-        .flat_map(|fr| fr.v.iter().zip(&fr.normal))
-        .map(|(v, &n)| contact_slip(m, *v, n))
-        .filter(|x| x.is_finite())
-        .fold(0.0, f64::max)
 }
 
 /// Fields of every frame.
@@ -316,7 +293,7 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         .max()
         .unwrap_or(0);
     // Contact: nodes carrying more than a millionth of their weight.
-    let in_contact = |n: f64| in_contact(m, n);
+    let in_contact = |n: f64| m.in_contact(n);
     if m.ground.is_some() {
         let mut two = 0;
         let mut slips = Vec::new();

@@ -315,7 +315,7 @@ pub fn write_trajectory(
         &[nf, nn, 3],
         frames.iter().flat_map(|fr| {
             fr.v.iter().zip(&fr.normal).flat_map(|(v, n)| {
-                if crate::observe::in_contact(m, *n) {
+                if m.in_contact(*n) {
                     [v[0], v[1], 0.0]
                 } else {
                     [0.0; 3]
