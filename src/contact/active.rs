@@ -18,6 +18,7 @@
 //! the anisotropic friction set, every sliding contact still slides and no free contact
 //! reached the ground. Otherwise the integrator falls back to the conic program.
 
+use super::reactions::{Reactions, MAX_SWEEPS};
 use super::{Conic, ContactModel, Contacts, Ground};
 use crate::model::Model;
 use crate::newton::{Failure, Newton, Objective, Path, Potential};
@@ -25,7 +26,7 @@ use crate::rod::{dof, vec3::f};
 use std::time::Instant;
 
 /// Status of a contact candidate in the active-set mode.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Mode {
     /// Off the ground, no force.
     Free,
@@ -38,6 +39,11 @@ pub enum Mode {
 /// Slip, relative to the rod diameter, given to a contact that starts sliding from a stick,
 /// along the direction its friction force drives (so the dissipation is differentiable).
 const SLIDE_START: f64 = 1e-6;
+
+/// Stops (sliding to sticking) of one contact within a step's active-set iteration after
+/// which its status is taken to cycle (near the edge of the friction cone a contact can flip
+/// between sticking and sliding for ever) and the conic program takes over.
+const MAX_STOPS: u8 = 3;
 
 impl Contacts {
     /// Tangential slip `(dx . f, dx . s)` of contact `c` at `q` since the start of the step.
@@ -173,6 +179,9 @@ impl Contacts {
         let k = dof::node(self.nodes[c]);
         let old = self.mode[c];
         self.mode[c] = mode;
+        if old == Mode::Slide && mode == Mode::Stick {
+            self.stops[c] = self.stops[c].saturating_add(1);
+        }
         match mode {
             Mode::Free => {
                 held[k] = m.fixed[k];
@@ -201,6 +210,13 @@ impl Contacts {
                 }
             }
         }
+    }
+
+    /// Whether a contact stopped (slid, then stuck) for the [`MAX_STOPS`]th time in this
+    /// step's active-set iteration: at the edge of its friction cone it flips between
+    /// sticking and sliding, and the conic program decides.
+    pub(crate) fn cycling(&self) -> bool {
+        self.stops.iter().any(|&s| s >= MAX_STOPS)
     }
 
     /// Gradient (x, y) and Hessian (xx, xy, yy) of the sliding contact `c`'s dissipation at
@@ -246,6 +262,12 @@ pub struct ActiveSet {
     held: Vec<bool>,
     q_init: Vec<f64>,
     last_conic: bool,
+    reactions: Reactions,
+    /// Objective gradient at `(x, y)` of every sticking contact (its friction force).
+    tangential: Vec<[f64; 2]>,
+    /// Contacts that already changed status before convergence in this step (once each, so
+    /// that a contact at the edge of the friction cone cannot cycle).
+    early: Vec<bool>,
 }
 
 impl ActiveSet {
@@ -256,6 +278,9 @@ impl ActiveSet {
             held: vec![false; m.ndof],
             q_init: vec![0.0; m.ndof],
             last_conic: false,
+            reactions: Reactions::default(),
+            tangential: Vec::new(),
+            early: Vec::new(),
         }
     }
 
@@ -273,6 +298,11 @@ impl ActiveSet {
         let set = &m.solver;
         let ct = &mut self.conic.ct;
         let held = &mut self.held;
+        let reactions = &mut self.reactions;
+        let tangential = &mut self.tangential;
+        let early = &mut self.early;
+        early.clear();
+        early.resize(ct.nodes.len(), false);
         let path = Path::ActiveSet;
         let n = m.ndof;
         let a = m.diameter;
@@ -282,6 +312,8 @@ impl ActiveSet {
         let force_tol = set.contact_force_tolerance;
         held.copy_from_slice(&m.fixed);
         ct.hold(m, q, held);
+        ct.stops.fill(0);
+        nw.stats.residuals.clear();
         // Iterations (each one assembly) and status changes allowed before the conic
         // program takes over.
         let cap = m.max_iterations.min(set.active_set_max_iterations);
@@ -290,6 +322,7 @@ impl ActiveSet {
         // Exact (unprojected) Hessians converge quadratically; the projected one is the
         // fallback when the exact one is not positive definite.
         let mut project = false;
+        tangential.resize(nc, [0.0; 2]);
         let mut it = 0;
         while it < cap {
             it += 1;
@@ -321,12 +354,8 @@ impl ActiveSet {
                 ct.react[c] = nn;
                 ct.normal[c] = nn.max(0.0);
                 if ct.mode[c] == Mode::Stick {
-                    let (r, mag, dir) = ct.stick_ratio(
-                        ground,
-                        c,
-                        [nw.asm.grad[k], nw.asm.grad[k + 1]],
-                        ct.normal[c],
-                    );
+                    tangential[c] = [nw.asm.grad[k], nw.asm.grad[k + 1]];
+                    let (r, mag, dir) = ct.stick_ratio(ground, c, tangential[c], ct.normal[c]);
                     if mag > force_tol * scale {
                         ct.ratio[c] = r;
                         ct.slip_dir[c] = dir;
@@ -355,18 +384,33 @@ impl ActiveSet {
             }
             if switched > 0 {
                 switches += switched;
+                nw.stats.residuals.push(f64::NAN);
                 nw.stats.assembly_s += t0.elapsed().as_secs_f64();
-                if switches > switch_cap {
+                if switches > switch_cap || ct.cycling() {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
                 continue;
             }
             f0 += ct.dissipation(ground, q);
+            reactions.capture(ct, &nw.asm, |c| {
+                let n = ct.normal[c];
+                if n > 0.0 {
+                    let (g2, _, _) = ct.slide_derivatives(ground, c, q);
+                    [g2[0] / n, g2[1] / n]
+                } else {
+                    [0.0; 2]
+                }
+            });
+            let mut residual: f64 = 0.0;
             for k in 0..n {
                 if held[k] {
                     nw.asm.fix(k);
+                } else {
+                    let r = nw.asm.grad[k].abs() / if dof::is_edge(k) { a } else { 1.0 };
+                    residual = residual.max(r / scale);
                 }
             }
+            nw.stats.residuals.push(residual);
             let t1 = Instant::now();
             nw.stats.assembly_s += (t1 - t0).as_secs_f64();
             if project {
@@ -381,6 +425,19 @@ impl ActiveSet {
             let t2 = Instant::now();
             nw.stats.factor_s += (t2 - t1).as_secs_f64();
             nw.solve_direction();
+            // The sliding contacts' normal forces inside the Newton system, then the
+            // predicted change of every reaction over the step.
+            let force_step = set.normal_force_tolerance * scale;
+            let sweeps = if set.contact_coupling && reactions.coupled() {
+                // Sweep until the coupling's remaining error is below the square of this
+                // iterate's residual (so the iteration keeps its quadratic rate).
+                let sweep_tol =
+                    scale * (1e-2 * set.normal_force_tolerance).min(residual * residual);
+                reactions.couple(ct, nw, held, sweep_tol)
+            } else {
+                0
+            };
+            let dn_step = reactions.predict(ct, &nw.dq);
             let t3 = Instant::now();
             nw.stats.solve_s += (t3 - t2).as_secs_f64();
             if nw.dq.iter().any(|d| !d.is_finite()) {
@@ -391,8 +448,8 @@ impl ActiveSet {
             }
             let (dx, dth) = nw.correction_norms();
             let small = dx <= m.tolerance * a && dth <= m.tolerance;
-            let settled = dn <= set.normal_force_tolerance * scale;
-            log::debug!("  active it {it}: dx {dx:.3e} dth {dth:.3e} dN {dn:.3e} N_min {n_min:.3e} stick ratio {worst_ratio:.6} switches {switches}");
+            let settled = dn_step <= force_step;
+            log::debug!("  active it {it}: dx {dx:.3e} dth {dth:.3e} dN {dn:.3e} dN(step) {dn_step:.3e} sweeps {sweeps} N_min {n_min:.3e} stick ratio {worst_ratio:.6} switches {switches}");
             if small && settled {
                 // Exact Coulomb conditions at the converged point; a contact that violates
                 // them changes status (pulling: lifts off; friction outside the cone: slides
@@ -415,14 +472,39 @@ impl ActiveSet {
                     return Ok(it);
                 }
                 switches += switched;
-                if switches > switch_cap {
+                nw.stats.residuals.push(f64::NAN);
+                if switches > switch_cap || ct.cycling() {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
                 continue;
             }
-            // A sliding contact whose full step reverses its slip stops (sticks); a free
-            // contact that the full step takes below the ground lands.
+            // A contact pulling now and after the step lifts off; a sticking force outside the
+            // cone now and after the step slides (see [`super::reactions`]). A sliding contact
+            // whose full step reverses its slip stops (sticks); a free contact that the full
+            // step takes below the ground lands.
             let mut switched = 0;
+            let pull = -force_tol * scale;
+            for c in 0..nc {
+                let ch = reactions.change[c];
+                if early[c] {
+                    continue;
+                }
+                if ct.mode[c] != Mode::Free && ct.react[c] < pull && ct.react[c] + ch[2] < pull {
+                    ct.set_mode(m, c, Mode::Free, q, held);
+                    early[c] = true;
+                    switched += 1;
+                } else if ct.mode[c] == Mode::Stick && ct.ratio[c] > 1.0 + force_tol {
+                    let t = tangential[c];
+                    let after = [t[0] + ch[0], t[1] + ch[1]];
+                    let n_after = (ct.react[c] + ch[2]).max(0.0);
+                    let (r, _, _) = ct.stick_ratio(ground, c, after, n_after);
+                    if r > 1.0 + force_tol {
+                        ct.set_mode(m, c, Mode::Slide, q, held);
+                        early[c] = true;
+                        switched += 1;
+                    }
+                }
+            }
             for c in 0..nc {
                 let k = dof::node(ct.nodes[c]);
                 match ct.mode[c] {
@@ -454,8 +536,9 @@ impl ActiveSet {
             }
             if switched > 0 {
                 switches += switched;
+                nw.stats.residuals.push(f64::NAN);
                 nw.stats.line_search_s += t3.elapsed().as_secs_f64();
-                if switches > switch_cap {
+                if switches > switch_cap || ct.cycling() {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
                 continue;
@@ -468,12 +551,17 @@ impl ActiveSet {
                 })
             };
             nw.stats.line_search_s += t3.elapsed().as_secs_f64();
-            if alpha.is_none() {
+            let Some(alpha) = alpha else {
                 return Err(Failure::LineSearch {
                     path,
                     iteration: it,
                     slope,
                 });
+            };
+            if alpha < 1.0 || project || sweeps == MAX_SWEEPS {
+                // Not a full Newton step of the exact linearisation (damped, projected Hessian
+                // or coupling sweeps not converged): marked for the convergence tests.
+                nw.stats.residuals.push(-1.0);
             }
             std::mem::swap(q, &mut nw.trial);
         }

@@ -62,6 +62,13 @@ pub struct Stats {
     /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
     /// from the step's start.
     pub warm_conic_restarts: usize,
+    /// The last active-set solve's residual at each iterate (largest force on a free
+    /// position coordinate, or torque on a free angle over `a`, relative to the mean weight
+    /// per contact; NaN marks a change of contact statuses, -1 a step that was not a full
+    /// step of the exact linearisation: damped, projected or with unconverged coupling), for
+    /// convergence tests; not written to `summary.json`.
+    #[serde(skip)]
+    pub residuals: Vec<f64>,
 }
 
 /// Which iteration failed (for messages).

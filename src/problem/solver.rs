@@ -64,8 +64,10 @@ pub struct SolverSpec {
     #[serde(default = "d_warm")]
     pub warm_conic_iterations: usize,
     /// Normal forces count as settled when they change by less than this fraction of the mean
-    /// weight per contact `W / n_c` between iterates. Default 1e-3, in (0, 1] (checked with
-    /// `tolerance`, see there).
+    /// weight per contact `W / n_c`: between iterates on the conic path; on the active-set
+    /// path, their predicted change over the last Newton step (the Hessian row at each held
+    /// coordinate times the step, [`crate::contact::reactions`]). Default 1e-3, in (0, 1]
+    /// (checked with `tolerance`, see there).
     #[serde(default = "d_normal_tol")]
     pub normal_force_tolerance: f64,
     /// A contact touches the ground when its gap is below this fraction of `a`; it sticks when
@@ -78,6 +80,12 @@ pub struct SolverSpec {
     /// Default 1e-9, in (0, 1e-3].
     #[serde(default = "d_contact_tol")]
     pub contact_force_tolerance: f64,
+    /// Active-set contact: the sliding contacts' normal forces inside the Newton system (their
+    /// change along the step enters the friction force, so Newton converges quadratically);
+    /// `false` lags them by one iterate (linear convergence, the behaviour before 2026-11-30).
+    /// Default true.
+    #[serde(default = "d_true")]
+    pub contact_coupling: bool,
     /// Clarabel's absolute and relative gap and feasibility tolerances (scaled problem).
     /// Default 1e-10, in (0, 1e-4].
     #[serde(default = "d_conic_tol")]
@@ -114,6 +122,10 @@ pub enum ContactKind {
     ActiveSet,
     /// The conic program at every Newton iterate.
     Conic,
+}
+
+fn d_true() -> bool {
+    true
 }
 
 fn d_tol() -> f64 {
@@ -181,6 +193,7 @@ impl Default for SolverSpec {
             active_set_max_iterations: d_active_iters(),
             active_set_extra_switches: d_switch_margin(),
             warm_conic_iterations: d_warm(),
+            contact_coupling: true,
             normal_force_tolerance: d_normal_tol(),
             contact_tolerance: d_contact_tol(),
             contact_force_tolerance: d_contact_tol(),
