@@ -16,6 +16,7 @@
 
 pub mod autodiff;
 pub mod bend;
+pub mod closed;
 pub mod gravity;
 pub mod stencil;
 pub mod stretch;
@@ -63,7 +64,7 @@ pub fn rod_terms() -> Vec<Box<dyn Term>> {
     vec![
         Box::new(stretch::Stretch),
         Box::new(bend::Bend(stencil::Jets)),
-        Box::new(twist::Twist(stencil::Jets)),
+        Box::new(twist::Twist(closed::Closed)),
         Box::new(gravity::Gravity),
     ]
 }

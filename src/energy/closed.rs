@@ -1,0 +1,285 @@
+//! Closed-form derivatives of the twist stencil, exact with the reference frames transported
+//! in time from the step's frozen frames.
+//!
+//! The reference twist of node `i` is the angle, about `t^i`, from the space-parallel
+//! transport of `a1^{i-1}` to `a1^i`, where each `a1^j` is itself the time-parallel transport
+//! of the frozen director from the frozen tangent `tb^j` to `t^j`. Parallel transport around a
+//! closed loop on the unit sphere rotates by the enclosed solid angle, so composing the
+//! transports gives
+//!
+//! ```text
+//! r(t0, t1) = rb - Omega(tb0, t0, t1) + Omega(tb0, tb1, t1),
+//! Omega(a, b, c) = 2 atan2(a . (b x c), 1 + a.b + b.c + c.a)
+//! ```
+//!
+//! (the signed solid angle of the geodesic triangle `a b c`; `rb` the reference twist at the
+//! frozen frames). Both terms are `atan2` of a polynomial of degree two in the tangents, so the
+//! gradient and Hessian in `(t0, t1)` are short closed forms; the chain rule through
+//! `t = e / |e|` gives them in the edge vectors. The value is computed directly (as
+//! [`crate::rod::frames::strains`] does, with its `2 pi` branch), the derivatives from the
+//! identity; tests compare both with the jets and finite differences on random, strongly bent
+//! stencils.
+
+use super::stencil::{EdgeJets, Jets, Local, StencilDerivatives};
+use super::{bend::BendStencil, twist::TwistStencil};
+use crate::rod::vec3::f;
+use nalgebra::{SMatrix, SVector};
+
+/// Closed-form twist derivatives; bending by the staged jets ([`Jets`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Closed;
+
+/// Gradient and Hessian of `atan2(n, d)` from those of `n` and `d` (over `K` variables).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // value, gradient and Hessian of each argument
+fn atan2_derivatives<const K: usize>(
+    n: f64,
+    gn: &[f64; K],
+    hn: &[[f64; K]; K],
+    d: f64,
+    gd: &[f64; K],
+    hd: &[[f64; K]; K],
+    g: &mut [f64; K],
+    h: &mut [[f64; K]; K],
+    scale: f64,
+) {
+    let rho = 1.0 / (n * n + d * d);
+    let (fn_, fd) = (d * rho, -n * rho);
+    let fnn = -2.0 * n * d * rho * rho;
+    let fdd = -fnn;
+    let fnd = (n * n - d * d) * rho * rho;
+    for i in 0..K {
+        g[i] += scale * (fn_ * gn[i] + fd * gd[i]);
+        for j in 0..K {
+            h[i][j] += scale
+                * (fn_ * hn[i][j]
+                    + fd * hd[i][j]
+                    + fnn * gn[i] * gn[j]
+                    + fdd * gd[i] * gd[j]
+                    + fnd * (gn[i] * gd[j] + gd[i] * gn[j]));
+        }
+    }
+}
+
+/// The reference twist's gradient and Hessian in the tangents `(t0, t1)` (6 variables), with
+/// the frozen tangents `tb0`, `tb1`.
+pub fn ref_twist_tangent_derivatives(
+    t0: [f64; 3],
+    t1: [f64; 3],
+    tb0: [f64; 3],
+    tb1: [f64; 3],
+) -> ([f64; 6], [[f64; 6]; 6]) {
+    let mut g = [0.0; 6];
+    let mut h = [[0.0; 6]; 6];
+    // -Omega(tb0, t0, t1): n = tb0 . (t0 x t1), d = 1 + tb0.t0 + t0.t1 + t1.tb0.
+    let n1 = f::dot(tb0, f::cross(t0, t1));
+    let d1 = 1.0 + f::dot(tb0, t0) + f::dot(t0, t1) + f::dot(t1, tb0);
+    let dn0 = f::cross(t1, tb0);
+    let dn1 = f::cross(tb0, t0);
+    let gn1 = [dn0[0], dn0[1], dn0[2], dn1[0], dn1[1], dn1[2]];
+    let gd1 = [
+        tb0[0] + t1[0],
+        tb0[1] + t1[1],
+        tb0[2] + t1[2],
+        tb0[0] + t0[0],
+        tb0[1] + t0[1],
+        tb0[2] + t0[2],
+    ];
+    // d2 n / dt0 dt1 = -[tb0]x (so that dn/dt0 = t1 x tb0 = -tb0 x t1), and its transpose.
+    let mut hn1 = [[0.0; 6]; 6];
+    let mut hd1 = [[0.0; 6]; 6];
+    let skew = [
+        [0.0, -tb0[2], tb0[1]],
+        [tb0[2], 0.0, -tb0[0]],
+        [-tb0[1], tb0[0], 0.0],
+    ];
+    for i in 0..3 {
+        for j in 0..3 {
+            hn1[i][3 + j] = -skew[i][j];
+            hn1[3 + j][i] = -skew[i][j];
+        }
+        hd1[i][3 + i] = 1.0;
+        hd1[3 + i][i] = 1.0;
+    }
+    atan2_derivatives(n1, &gn1, &hn1, d1, &gd1, &hd1, &mut g, &mut h, -2.0);
+    // +Omega(tb0, tb1, t1): n = (tb0 x tb1) . t1, d = 1 + tb0.tb1 + tb1.t1 + t1.tb0.
+    let c = f::cross(tb0, tb1);
+    let n2 = f::dot(c, t1);
+    let d2 = 1.0 + f::dot(tb0, tb1) + f::dot(tb1, t1) + f::dot(t1, tb0);
+    let gd2 = f::add(tb1, tb0);
+    let zero = [[0.0; 3]; 3];
+    let mut g2 = [0.0; 3];
+    let mut h2 = [[0.0; 3]; 3];
+    atan2_derivatives(n2, &c, &zero, d2, &gd2, &zero, &mut g2, &mut h2, 2.0);
+    for i in 0..3 {
+        g[3 + i] += g2[i];
+        for j in 0..3 {
+            h[3 + i][3 + j] += h2[i][j];
+        }
+    }
+    (g, h)
+}
+
+/// Chain rule through `t = e / |e|` for each of the two edges: gradient and Hessian in the
+/// edge vectors from those in the tangents.
+pub fn tangents_to_edges(
+    t: [[f64; 3]; 2],
+    len: [f64; 2],
+    g: &[f64; 6],
+    h: &[[f64; 6]; 6],
+) -> ([f64; 6], [[f64; 6]; 6]) {
+    // J_j = (I - t t^T) / |e_j| (symmetric).
+    let jac = |j: usize| -> [[f64; 3]; 3] {
+        std::array::from_fn(|a| {
+            std::array::from_fn(|b| ((if a == b { 1.0 } else { 0.0 }) - t[j][a] * t[j][b]) / len[j])
+        })
+    };
+    let js = [jac(0), jac(1)];
+    let mut ge = [0.0; 6];
+    for j in 0..2 {
+        for a in 0..3 {
+            ge[3 * j + a] = (0..3).map(|b| js[j][a][b] * g[3 * j + b]).sum();
+        }
+    }
+    let mut he = [[0.0; 6]; 6];
+    for bj in 0..2 {
+        for bk in 0..2 {
+            // J_j^T H_jk J_k.
+            let mut m = [[0.0; 3]; 3];
+            for a in 0..3 {
+                for c in 0..3 {
+                    m[a][c] = (0..3)
+                        .map(|b| h[3 * bj + a][3 * bk + b] * js[bk][b][c])
+                        .sum();
+                }
+            }
+            for a in 0..3 {
+                for c in 0..3 {
+                    he[3 * bj + a][3 * bk + c] = (0..3).map(|b| js[bj][b][a] * m[b][c]).sum();
+                }
+            }
+        }
+    }
+    // Second derivative of t contracted with the tangent gradient:
+    // -(p t^T + t p^T + (g.t) P) / |e|^2, p = P g.
+    for j in 0..2 {
+        let gj = [g[3 * j], g[3 * j + 1], g[3 * j + 2]];
+        let tj = t[j];
+        let gt = f::dot(gj, tj);
+        let p = f::sub(gj, f::scale(tj, gt));
+        let w = 1.0 / (len[j] * len[j]);
+        for a in 0..3 {
+            for b in 0..3 {
+                let pab = (if a == b { 1.0 } else { 0.0 }) - tj[a] * tj[b];
+                he[3 * j + a][3 * j + b] -= w * (p[a] * tj[b] + tj[a] * p[b] + gt * pab);
+            }
+        }
+    }
+    (ge, he)
+}
+
+/// Value, gradient and Hessian of the twist stencil in closed form.
+pub fn twist_local(st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
+    let fr = st.frame;
+    let val = |v: &[super::autodiff::jet::Jet<3>; 3]| [v[0].v, v[1].v, v[2].v];
+    let t = [val(&edges[0].t), val(&edges[1].t)];
+    let a = [val(&edges[0].a1), val(&edges[1].a1)];
+    let len = [edges[0].len.v, edges[1].len.v];
+    // Value, as `frames::strains`: the angle from the transported a1^{i-1} to a1^i about t^i.
+    let u = f::transport(t[0], t[1], a[0]);
+    let mut r = f::dot(f::cross(u, a[1]), t[1]).atan2(f::dot(u, a[1]));
+    let two_pi = std::f64::consts::TAU;
+    let k = ((fr.ref_twist_prev - r) / two_pi).round();
+    if k != 0.0 {
+        r += k * two_pi;
+    }
+    let (gt, ht) = ref_twist_tangent_derivatives(t[0], t[1], fr.t_old[0], fr.t_old[1]);
+    let (ge, he) = tangents_to_edges(t, len, &gt, &ht);
+    let d = y[7] - y[6] + r - st.m0;
+    let c2 = 2.0 * st.coef;
+    // m = theta1 - theta0 + r: gradient (ge, -1, 1), Hessian he in the edge block.
+    let gm = [ge[0], ge[1], ge[2], ge[3], ge[4], ge[5], -1.0, 1.0];
+    let grad = SVector::<f64, 8>::from_fn(|i, _| c2 * d * gm[i]);
+    let hess = SMatrix::<f64, 8, 8>::from_fn(|i, j| {
+        let curv = if i < 6 && j < 6 { d * he[i][j] } else { 0.0 };
+        c2 * (gm[i] * gm[j] + curv)
+    });
+    (st.coef * d * d, grad, hess)
+}
+
+impl StencilDerivatives for Closed {
+    fn bend(&self, st: &BendStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
+        Jets.bend(st, edges, y)
+    }
+    fn twist(&self, st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
+        twist_local(st, edges, y)
+    }
+    fn bend_gradient(&self, st: &BendStencil, y: &[f64; 8]) -> (f64, [f64; 8]) {
+        Jets.bend_gradient(st, y)
+    }
+    fn twist_gradient(&self, st: &TwistStencil, y: &[f64; 8]) -> (f64, [f64; 8]) {
+        Jets.twist_gradient(st, y)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::energy::autodiff::testing::{rel_diff, stencil};
+
+    /// The closed form equals the staged jets (themselves checked against hyper-dual numbers
+    /// and finite differences) on random, strongly bent stencils with frozen frames away from
+    /// the current tangents.
+    #[test]
+    fn closed_twist_matches_the_jets() {
+        for seed in 1..=300 {
+            let (frame, y, mut r) = stencil(seed);
+            let st = TwistStencil {
+                frame: &frame,
+                m0: 0.5 * r.sym(),
+                coef: 1.0 + r.sym(),
+            };
+            let edges = EdgeJets::of_stencil(&frame, &y);
+            let (v, g, h) = twist_local(&st, [&edges[0], &edges[1]], &y);
+            let (v_ref, g_ref, h_ref) = st.derivatives(y);
+            assert!(
+                (v - v_ref).abs() <= 1e-12 * v_ref.abs().max(1e-12),
+                "value {v} vs {v_ref} (seed {seed})"
+            );
+            let eg = rel_diff(g.as_slice(), g_ref.as_slice());
+            let eh = rel_diff(h.as_slice(), h_ref.as_slice());
+            assert!(
+                eg < 1e-9 && eh < 1e-9,
+                "gradient {eg:e}, Hessian {eh:e} (seed {seed})"
+            );
+        }
+    }
+
+    /// The solid-angle identity's Hessian against central differences of its gradient.
+    #[test]
+    fn ref_twist_tangent_hessian_matches_finite_differences() {
+        let unit = |v: [f64; 3]| f::scale(v, 1.0 / f::norm(v));
+        let t0 = unit([0.3, -0.8, 0.5]);
+        let t1 = unit([-0.2, -0.9, 0.6]);
+        let tb0 = unit([0.1, -1.0, 0.2]);
+        let tb1 = unit([0.0, -0.7, 0.8]);
+        let (_, h) = ref_twist_tangent_derivatives(t0, t1, tb0, tb1);
+        let eps = 1e-6;
+        for k in 0..6 {
+            let shift = |s: f64| {
+                let mut x = [t0[0], t0[1], t0[2], t1[0], t1[1], t1[2]];
+                x[k] += s;
+                ref_twist_tangent_derivatives([x[0], x[1], x[2]], [x[3], x[4], x[5]], tb0, tb1).0
+            };
+            let (gp, gm) = (shift(eps), shift(-eps));
+            for i in 0..6 {
+                let fd = (gp[i] - gm[i]) / (2.0 * eps);
+                assert!(
+                    (fd - h[i][k]).abs() <= 1e-6 * (1.0 + h[i][k].abs()),
+                    "H[{i}][{k}] {} vs {fd}",
+                    h[i][k]
+                );
+            }
+        }
+    }
+}
