@@ -91,9 +91,68 @@ fn bench_assembly(c: &mut Criterion) {
     g.finish();
 }
 
+/// One node's bending and twist value, gradient and Hessian together (intrinsic coordinates,
+/// edge frames included), by the staged jets and by the closed forms, averaged over the 49
+/// interior nodes of the 50-element rod of [`setup`].
+fn bench_stencil(c: &mut Criterion) {
+    use slither::energy::autodiff::intrinsic;
+    use slither::energy::bend::BendStencil;
+    use slither::energy::closed::Closed;
+    use slither::energy::stencil::{EdgeJets, Jets, StencilDerivatives};
+    use slither::energy::twist::TwistStencil;
+    let mut g = c.benchmark_group("stencil_per_node");
+    let (m, s, q, kappa0, m0) = setup(50);
+    let nodes: Vec<usize> = (1..m.nodes - 1).collect();
+    fn per_node<D: StencilDerivatives>(
+        d: &D,
+        m: &Model,
+        s: &State,
+        q: &[f64],
+        kappa0: &[[f64; 2]],
+        m0: &[f64],
+        i: usize,
+    ) -> f64 {
+        let frame = &s.frames[i - 1];
+        let y = intrinsic(q, i);
+        let [e0, e1] = EdgeJets::of_stencil(frame, &y);
+        let bend = BendStencil {
+            frame,
+            kappa0: kappa0[i],
+            coef: m.bend / (2.0 * m.voronoi[i]),
+        };
+        let twist = TwistStencil {
+            frame,
+            m0: m0[i],
+            coef: m.twist / (2.0 * m.voronoi[i]),
+        };
+        let b = d.bend(&bend, [&e0, &e1], &y);
+        let t = d.twist(&twist, [&e0, &e1], &y);
+        b.0 + t.0 + b.2[(3, 4)] + t.2[(1, 2)]
+    }
+    let count = nodes.len() as u64;
+    g.throughput(criterion::Throughput::Elements(count));
+    g.bench_function("jets", |b| {
+        b.iter(|| {
+            nodes
+                .iter()
+                .map(|&i| per_node(&Jets, &m, &s, black_box(&q), &kappa0, &m0, i))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("closed_form", |b| {
+        b.iter(|| {
+            nodes
+                .iter()
+                .map(|&i| per_node(&Closed, &m, &s, black_box(&q), &kappa0, &m0, i))
+                .sum::<f64>()
+        })
+    });
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(2)).warm_up_time(std::time::Duration::from_millis(500));
-    targets = bench_assembly
+    targets = bench_assembly, bench_stencil
 }
 criterion_main!(benches);

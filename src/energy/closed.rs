@@ -25,7 +25,8 @@ use super::{bend::BendStencil, twist::TwistStencil};
 use crate::rod::vec3::f;
 use nalgebra::{SMatrix, SVector};
 
-/// Closed-form twist derivatives; bending by the staged jets ([`Jets`]).
+/// Closed-form bending and twist derivatives (gradients alone, for explicit integration, as
+/// [`Jets`]).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Closed;
 
@@ -207,9 +208,161 @@ pub fn twist_local(st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Lo
     (st.coef * d * d, grad, hess)
 }
 
+/// Value, gradient and Hessian over the 8 stencil coordinates, in plain arrays.
+#[derive(Clone, Copy)]
+struct J8 {
+    v: f64,
+    g: [f64; 8],
+    h: [[f64; 8]; 8],
+}
+
+impl J8 {
+    fn cst(v: f64) -> Self {
+        J8 {
+            v,
+            g: [0.0; 8],
+            h: [[0.0; 8]; 8],
+        }
+    }
+}
+
+/// A function of a few of the 8 coordinates (`idx`): value, gradient and Hessian over them.
+struct Block<const N: usize> {
+    idx: [usize; N],
+    v: f64,
+    g: [f64; N],
+    h: [[f64; N]; N],
+}
+
+/// `out += s A B` for functions `A`, `B` of disjoint sets of coordinates.
+#[inline(always)]
+fn add_product<const NA: usize, const NB: usize>(
+    out: &mut J8,
+    s: f64,
+    a: &Block<NA>,
+    b: &Block<NB>,
+) {
+    out.v += s * a.v * b.v;
+    let (sa, sb) = (s * b.v, s * a.v);
+    for i in 0..NA {
+        out.g[a.idx[i]] += sa * a.g[i];
+        for j in 0..NA {
+            out.h[a.idx[i]][a.idx[j]] += sa * a.h[i][j];
+        }
+        for j in 0..NB {
+            let x = s * a.g[i] * b.g[j];
+            out.h[a.idx[i]][b.idx[j]] += x;
+            out.h[b.idx[j]][a.idx[i]] += x;
+        }
+    }
+    for i in 0..NB {
+        out.g[b.idx[i]] += sb * b.g[i];
+        for j in 0..NB {
+            out.h[b.idx[i]][b.idx[j]] += sb * b.h[i][j];
+        }
+    }
+}
+
+/// Component `k` of edge `j`'s tangent as a function of its edge vector.
+fn tangent(e: &EdgeJets, j: usize, k: usize) -> Block<3> {
+    let t = &e.t[k];
+    Block {
+        idx: [3 * j, 3 * j + 1, 3 * j + 2],
+        v: t.v,
+        g: t.g,
+        h: t.h,
+    }
+}
+
+/// Component `k` of edge `j`'s material directors `(d1, d2)` as functions of its edge vector
+/// and twist angle `theta` (`d1 = cos a1 + sin a2`, `d2 = cos a2 - sin a1`).
+fn directors(e: &EdgeJets, j: usize, k: usize, theta: f64) -> [Block<4>; 2] {
+    let (s, c) = theta.sin_cos();
+    let (a, b) = (&e.a1[k], &e.a2[k]);
+    let idx = [3 * j, 3 * j + 1, 3 * j + 2, 6 + j];
+    let d1v = c * a.v + s * b.v;
+    let d2v = c * b.v - s * a.v;
+    let mut d1 = Block {
+        idx,
+        v: d1v,
+        g: [0.0; 4],
+        h: [[0.0; 4]; 4],
+    };
+    let mut d2 = Block {
+        idx,
+        v: d2v,
+        g: [0.0; 4],
+        h: [[0.0; 4]; 4],
+    };
+    for p in 0..3 {
+        let g1 = c * a.g[p] + s * b.g[p];
+        let g2 = c * b.g[p] - s * a.g[p];
+        d1.g[p] = g1;
+        d2.g[p] = g2;
+        for r in 0..3 {
+            d1.h[p][r] = c * a.h[p][r] + s * b.h[p][r];
+            d2.h[p][r] = c * b.h[p][r] - s * a.h[p][r];
+        }
+        // d/dtheta d1 = d2, d/dtheta d2 = -d1.
+        d1.h[p][3] = g2;
+        d1.h[3][p] = g2;
+        d2.h[p][3] = -g1;
+        d2.h[3][p] = -g1;
+    }
+    d1.g[3] = d2v;
+    d2.g[3] = -d1v;
+    d1.h[3][3] = -d1v;
+    d2.h[3][3] = -d2v;
+    [d1, d2]
+}
+
+/// Value, gradient and Hessian of the bending stencil in closed form: with `chi = 1 + t0.t1`,
+/// the integrated curvatures are `kappa_1 = (t0 . d2^1 - t1 . d2^0) / chi` and
+/// `kappa_2 = (t1 . d1^0 - t0 . d1^1) / chi` (the components of `kb = 2 t0 x t1 / chi` on the
+/// mean material frame), each a sum of products of functions of one edge; the edges' tangents
+/// and transported directors come with their derivatives in [`EdgeJets`].
+pub fn bend_local(st: &BendStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
+    let mut psi = [J8::cst(0.0), J8::cst(0.0)];
+    let mut chi = J8::cst(1.0);
+    let d0: [[Block<4>; 2]; 3] = std::array::from_fn(|k| directors(edges[0], 0, k, y[6]));
+    let d1: [[Block<4>; 2]; 3] = std::array::from_fn(|k| directors(edges[1], 1, k, y[7]));
+    for k in 0..3 {
+        let t0 = tangent(edges[0], 0, k);
+        let t1 = tangent(edges[1], 1, k);
+        add_product(&mut psi[0], 1.0, &t0, &d1[k][1]);
+        add_product(&mut psi[0], -1.0, &t1, &d0[k][1]);
+        add_product(&mut psi[1], 1.0, &t1, &d0[k][0]);
+        add_product(&mut psi[1], -1.0, &t0, &d1[k][0]);
+        add_product(&mut chi, 1.0, &t0, &t1);
+    }
+    // kappa = psi / chi: grad = (grad psi - kappa grad chi) / chi,
+    // Hess = (Hess psi - kappa Hess chi - grad kappa grad chi^T - grad chi grad kappa^T) / chi.
+    let w = 1.0 / chi.v;
+    let mut energy = 0.0;
+    let mut grad = SVector::<f64, 8>::zeros();
+    let mut hess = SMatrix::<f64, 8, 8>::zeros();
+    let c2 = 2.0 * st.coef;
+    for a in 0..2 {
+        let kappa = psi[a].v * w;
+        let gk: [f64; 8] = std::array::from_fn(|i| (psi[a].g[i] - kappa * chi.g[i]) * w);
+        let delta = kappa - st.kappa0[a];
+        energy += st.coef * delta * delta;
+        for i in 0..8 {
+            grad[i] += c2 * delta * gk[i];
+            for j in 0..8 {
+                let hk =
+                    (psi[a].h[i][j] - kappa * chi.h[i][j] - gk[i] * chi.g[j] - chi.g[i] * gk[j])
+                        * w;
+                hess[(i, j)] += c2 * (gk[i] * gk[j] + delta * hk);
+            }
+        }
+    }
+    (energy, grad, hess)
+}
+
 impl StencilDerivatives for Closed {
     fn bend(&self, st: &BendStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
-        Jets.bend(st, edges, y)
+        bend_local(st, edges, y)
     }
     fn twist(&self, st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
         twist_local(st, edges, y)
@@ -241,6 +394,33 @@ mod tests {
             };
             let edges = EdgeJets::of_stencil(&frame, &y);
             let (v, g, h) = twist_local(&st, [&edges[0], &edges[1]], &y);
+            let (v_ref, g_ref, h_ref) = st.derivatives(y);
+            assert!(
+                (v - v_ref).abs() <= 1e-12 * v_ref.abs().max(1e-12),
+                "value {v} vs {v_ref} (seed {seed})"
+            );
+            let eg = rel_diff(g.as_slice(), g_ref.as_slice());
+            let eh = rel_diff(h.as_slice(), h_ref.as_slice());
+            assert!(
+                eg < 1e-9 && eh < 1e-9,
+                "gradient {eg:e}, Hessian {eh:e} (seed {seed})"
+            );
+        }
+    }
+
+    /// The closed-form bending stencil equals the staged jets on random, strongly bent
+    /// stencils with frozen frames away from the current tangents.
+    #[test]
+    fn closed_bend_matches_the_jets() {
+        for seed in 1..=300 {
+            let (frame, y, mut r) = stencil(seed);
+            let st = BendStencil {
+                frame: &frame,
+                kappa0: [0.5 * r.sym(), 0.5 * r.sym()],
+                coef: 1.0 + r.sym(),
+            };
+            let edges = EdgeJets::of_stencil(&frame, &y);
+            let (v, g, h) = bend_local(&st, [&edges[0], &edges[1]], &y);
             let (v_ref, g_ref, h_ref) = st.derivatives(y);
             assert!(
                 (v - v_ref).abs() <= 1e-12 * v_ref.abs().max(1e-12),

@@ -63,7 +63,7 @@ pub trait Term: Send + Sync {
 pub fn rod_terms() -> Vec<Box<dyn Term>> {
     vec![
         Box::new(stretch::Stretch),
-        Box::new(bend::Bend(stencil::Jets)),
+        Box::new(bend::Bend(closed::Closed)),
         Box::new(twist::Twist(closed::Closed)),
         Box::new(gravity::Gravity),
     ]
