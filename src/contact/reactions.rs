@@ -44,6 +44,7 @@ pub struct Reactions {
     pub change: Vec<[f64; 3]>,
     rhs: Vec<f64>,
     prev: Vec<f64>,
+    symmetric: Vec<f64>,
 }
 
 fn row_of(asm: &Assembly, k: usize) -> Row {
@@ -125,13 +126,19 @@ impl Reactions {
     /// Turn the symmetric Newton direction `nw.dq` (solved with the factorisation in `nw.lin`
     /// for the gradient `nw.asm.grad`) into the direction of the coupled system
     /// `(A + sum_c u_c H[z_c, :]) dq = -g`, by sweeps until the normal-force changes move by
-    /// less than `tol` (N). Held coordinates (`held`) keep a zero step. Returns the sweeps.
+    /// less than `tol` (N). Held coordinates (`held`) keep a zero step. Returns the sweeps, or
+    /// [`MAX_SWEEPS`] when the sweeps do not contract (each must at least halve the last
+    /// change: far from the solution the coupling can be too strong for them) and the
+    /// symmetric direction was kept.
     pub fn couple(&mut self, ct: &Contacts, nw: &mut Newton, held: &[bool], tol: f64) -> usize {
         let n = nw.dq.len();
         let nc = ct.nodes.len();
         self.rhs.resize(n, 0.0);
         self.prev.clear();
         self.prev.resize(nc, 0.0);
+        self.symmetric.clear();
+        self.symmetric.extend_from_slice(&nw.dq);
+        let mut last = f64::INFINITY;
         for sweep in 1..=MAX_SWEEPS {
             let mut moved: f64 = 0.0;
             for k in 0..n {
@@ -155,9 +162,14 @@ impl Reactions {
             if moved <= tol {
                 return sweep - 1;
             }
+            if sweep > 1 && moved > 0.5 * last {
+                break;
+            }
+            last = moved;
             nw.dq.copy_from_slice(&self.rhs);
             nw.lin.solve(&mut nw.dq);
         }
+        nw.dq.copy_from_slice(&self.symmetric);
         MAX_SWEEPS
     }
 }
