@@ -288,7 +288,7 @@ fn contact_newton_converges_quadratically() {
         steps
             .iter()
             .flat_map(|r| r.windows(2).map(|w| (w[0], w[1])))
-            .filter(|&(a, b)| a >= 0.0 && a < 0.1 && b > 1e-8)
+            .filter(|&(a, b)| (0.0..0.1).contains(&a) && b > 1e-8)
             .collect()
     };
     let raw = s_start_residuals(true);

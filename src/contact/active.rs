@@ -26,7 +26,7 @@ use crate::rod::{dof, vec3::f};
 use std::time::Instant;
 
 /// Status of a contact candidate in the active-set mode.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
     /// Off the ground, no force.
     Free,
@@ -39,11 +39,6 @@ pub enum Mode {
 /// Slip, relative to the rod diameter, given to a contact that starts sliding from a stick,
 /// along the direction its friction force drives (so the dissipation is differentiable).
 const SLIDE_START: f64 = 1e-6;
-
-/// Stops (sliding to sticking) of one contact within a step's active-set iteration after
-/// which its status is taken to cycle (near the edge of the friction cone a contact can flip
-/// between sticking and sliding for ever) and the conic program takes over.
-const MAX_STOPS: u8 = 3;
 
 impl Contacts {
     /// Tangential slip `(dx . f, dx . s)` of contact `c` at `q` since the start of the step.
@@ -179,9 +174,6 @@ impl Contacts {
         let k = dof::node(self.nodes[c]);
         let old = self.mode[c];
         self.mode[c] = mode;
-        if old == Mode::Slide && mode == Mode::Stick {
-            self.stops[c] = self.stops[c].saturating_add(1);
-        }
         match mode {
             Mode::Free => {
                 held[k] = m.fixed[k];
@@ -210,13 +202,6 @@ impl Contacts {
                 }
             }
         }
-    }
-
-    /// Whether a contact stopped (slid, then stuck) for the [`MAX_STOPS`]th time in this
-    /// step's active-set iteration: at the edge of its friction cone it flips between
-    /// sticking and sliding, and the conic program decides.
-    pub(crate) fn cycling(&self) -> bool {
-        self.stops.iter().any(|&s| s >= MAX_STOPS)
     }
 
     /// Gradient (x, y) and Hessian (xx, xy, yy) of the sliding contact `c`'s dissipation at
@@ -312,7 +297,6 @@ impl ActiveSet {
         let force_tol = set.contact_force_tolerance;
         held.copy_from_slice(&m.fixed);
         ct.hold(m, q, held);
-        ct.stops.fill(0);
         nw.stats.residuals.clear();
         // Iterations (each one assembly) and status changes allowed before the conic
         // program takes over.
@@ -386,7 +370,7 @@ impl ActiveSet {
                 switches += switched;
                 nw.stats.residuals.push(f64::NAN);
                 nw.stats.assembly_s += t0.elapsed().as_secs_f64();
-                if switches > switch_cap || ct.cycling() {
+                if switches > switch_cap {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
                 continue;
@@ -473,7 +457,7 @@ impl ActiveSet {
                 }
                 switches += switched;
                 nw.stats.residuals.push(f64::NAN);
-                if switches > switch_cap || ct.cycling() {
+                if switches > switch_cap {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
                 continue;
@@ -538,7 +522,7 @@ impl ActiveSet {
                 switches += switched;
                 nw.stats.residuals.push(f64::NAN);
                 nw.stats.line_search_s += t3.elapsed().as_secs_f64();
-                if switches > switch_cap || ct.cycling() {
+                if switches > switch_cap {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
                 continue;

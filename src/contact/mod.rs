@@ -143,8 +143,6 @@ pub struct Contacts {
     pub(crate) react: Vec<f64>,
     pub(crate) ratio: Vec<f64>,
     pub(crate) slip_dir: Vec<[f64; 2]>,
-    /// Stops (sliding to sticking) of every contact in the current active-set iteration.
-    pub(crate) stops: Vec<u8>,
 }
 
 /// Outcome of one conic solve.
@@ -194,7 +192,6 @@ impl Contacts {
             react: vec![0.0; nc],
             ratio: vec![0.0; nc],
             slip_dir: vec![[0.0; 2]; nc],
-            stops: vec![0; nc],
         }
     }
 
