@@ -47,6 +47,11 @@ pub struct Summary {
     pub newton_iterations_mean: f64,
     /// Step halvings.
     pub step_halvings: usize,
+    /// Time steps: `adaptive` (error-controlled or fixed), `accepted`, `rejected` (error test
+    /// and failed solves; fixed steps: halvings), `rejected_error`, `rejected_solve`,
+    /// `dt_min` and `dt_max` (s, smallest and largest accepted step), `error_max` (largest
+    /// scaled error estimate of an accepted step, adaptive only).
+    pub time_steps: crate::integrator::adaptive::StepStats,
     /// Dimensionless groups.
     pub dimensionless: crate::model::Dimensionless,
     /// Full solver statistics.
@@ -90,6 +95,7 @@ impl Summary {
             energies_final: o.energies,
             newton_iterations_mean: o.stats.newton_iterations as f64 / o.stats.steps.max(1) as f64,
             step_halvings: o.stats.step_halvings,
+            time_steps: o.steps,
             dimensionless: m.dimensionless(),
             stats: o.stats.clone(),
             max_penetration: o.max_penetration,

@@ -8,9 +8,11 @@ mod gait;
 pub mod limits;
 pub mod ranges;
 mod solver;
+pub mod time;
 
 pub use gait::{GaitSpec, Kind};
 pub use solver::{set_overrides, ContactKind, IntegratorKind, Overrides, SolverSpec};
+pub use time::Adaptive;
 
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -197,13 +199,29 @@ pub struct TimeSpec {
     /// "dynamic" (default) or "static".
     #[serde(default)]
     pub mode: Mode,
-    /// Time step `h` (s). Required in dynamic mode, > 0.
+    /// Time step `h` (s). Required in dynamic mode, > 0. With `adaptive = true`: the first
+    /// step.
     pub dt: Option<f64>,
     /// Simulated duration (s). Required in dynamic mode, > 0.
     pub duration: Option<f64>,
     /// Static mode: number of load increments (gravity and natural strains ramped). Default 1.
     #[serde(default = "d_one")]
     pub load_steps: usize,
+    /// Error-controlled steps ([`crate::integrator::adaptive`]): `dt` is the first step, each
+    /// step is sized so that its local error estimate stays below `error_tolerance`. Default
+    /// false (fixed steps of `dt`). Dynamic mode, `implicit` or `bdf2` integrator.
+    #[serde(default)]
+    pub adaptive: bool,
+    /// Adaptive only: allowed local error per step of any node position, as a fraction of
+    /// `rod.length` (twist angles count with the surface displacement `a/2 * angle`). Default
+    /// [`time::DEFAULT_TOLERANCE`], in [1e-12, 0.1].
+    pub error_tolerance: Option<f64>,
+    /// Adaptive only: largest step (s). Default the output interval (at least `dt`); in
+    /// [dt, duration].
+    pub dt_max: Option<f64>,
+    /// Adaptive only: smallest step (s); a step that would have to be smaller stops the run
+    /// (exit 3) naming the time, step and error. Default `dt * 1e-4`; in (0, dt].
+    pub dt_min: Option<f64>,
 }
 fn d_one() -> usize {
     1
@@ -587,6 +605,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             }
         }
     }
+    time::check(p, &c)?;
     if !(1..=10_000).contains(&t.load_steps) {
         return Err(c.fail(
             "time",

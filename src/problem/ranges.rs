@@ -40,6 +40,13 @@ const ALLOWED: &[(&str, &str)] = &[
     ("time.dt", "a finite number > 0, at most time.duration (s)"),
     ("time.duration", "a finite number > 0 (s)"),
     ("time.load_steps", "an integer in [1, 10000]"),
+    ("time.adaptive", "true or false (false in static mode)"),
+    (
+        "time.error_tolerance",
+        "a number in [1e-12, 0.1] (fraction of rod.length per step), with time.adaptive = true",
+    ),
+    ("time.dt_max", "a number in [time.dt, time.duration] (s), with time.adaptive = true"),
+    ("time.dt_min", "a number in (0, time.dt] (s), with time.adaptive = true"),
     ("output.interval", "a finite number > 0 (s)"),
     ("solver.tolerance", "a number in (0, 0.001]"),
     ("solver.max_iterations", "an integer in [1, 10000]"),
