@@ -42,6 +42,24 @@ pub struct Problem {
     /// Muscle activation (gait). Default: none.
     #[serde(default)]
     pub gait: GaitSpec,
+    /// Accuracy target: `slither run` picks the tolerance and the mesh
+    /// (`crate::chart::accuracy`). Absent: run the file as written.
+    pub accuracy: Option<AccuracySpec>,
+}
+
+/// `[accuracy]`: run the cheapest model whose estimated error of `v_s/v_m` is below a target.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AccuracySpec {
+    /// Relative error of `v_s/v_m` allowed (time and mesh together), e.g. 0.01. Required, in
+    /// [1e-4, 0.5]. `slither run --accuracy X` overrides it.
+    pub target: f64,
+    /// Most elements the mesh refinement may use. Default 400, in [rod.elements, 100000].
+    #[serde(default = "d_max_elements")]
+    pub max_elements: usize,
+}
+fn d_max_elements() -> usize {
+    400
 }
 
 /// `[ground]`: a plane `z = 0` with anisotropic kinetic Coulomb friction.
@@ -606,6 +624,35 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
         }
     }
     time::check(p, &c)?;
+    if let Some(a) = &p.accuracy {
+        if !(a.target.is_finite() && (1e-4..=0.5).contains(&a.target)) {
+            return Err(c.fail(
+                "accuracy",
+                "target",
+                format!("{}", a.target),
+                "in [1e-4, 0.5] (relative error of v_s/v_m)",
+            ));
+        }
+        if !(r.elements..=100_000).contains(&a.max_elements) {
+            return Err(c.fail(
+                "accuracy",
+                "max_elements",
+                format!("{}", a.max_elements),
+                &format!(
+                    "an integer in [rod.elements, 100000] = [{}, 100000]",
+                    r.elements
+                ),
+            ));
+        }
+        if t.mode != Mode::Dynamic || p.ground.is_none() || p.gait.kind == Kind::None {
+            return Err(c.fail(
+                "accuracy",
+                "target",
+                format!("{}", a.target),
+                "given only for a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)",
+            ));
+        }
+    }
     if !(1..=10_000).contains(&t.load_steps) {
         return Err(c.fail(
             "time",

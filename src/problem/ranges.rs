@@ -48,6 +48,8 @@ const ALLOWED: &[(&str, &str)] = &[
     ("time.dt_max", "a number in [time.dt, time.duration] (s), with time.adaptive = true"),
     ("time.dt_min", "a number in (0, time.dt] (s), with time.adaptive = true"),
     ("output.interval", "a finite number > 0 (s)"),
+    ("accuracy.target", "a number in [1e-4, 0.5] (relative error of v_s/v_m)"),
+    ("accuracy.max_elements", "an integer in [rod.elements, 100000]"),
     ("solver.tolerance", "a number in (0, 0.001]"),
     ("solver.max_iterations", "an integer in [1, 10000]"),
     ("solver.max_halvings", "an integer in [0, 30]"),
