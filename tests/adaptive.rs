@@ -294,6 +294,12 @@ duration = 0.01
 
 /// Run `slither run` on `text`; returns (exit code, stderr).
 fn cli(name: &str, text: &str) -> (Option<i32>, String) {
+    cli_with(name, text, &[]).0
+}
+
+/// Run `slither run` on `text` with extra arguments; returns (exit code, stderr) and the
+/// `summary.json` text if one was written.
+fn cli_with(name: &str, text: &str, args: &[&str]) -> ((Option<i32>, String), Option<String>) {
     let dir = std::env::temp_dir().join(format!("slither-adaptive-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
@@ -305,15 +311,71 @@ fn cli(name: &str, text: &str) -> (Option<i32>, String) {
         .arg("--out")
         .arg(dir.join("out"))
         .arg("--quiet")
+        .args(args)
         .output()
         .unwrap();
-    let wrote = dir.join("out/summary.json").exists();
+    let summary = std::fs::read_to_string(dir.join("out/summary.json")).ok();
     let _ = std::fs::remove_dir_all(&dir);
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
     if out.status.code() == Some(2) {
-        assert!(!wrote, "{name}: no summary after a rejected file");
+        assert!(
+            summary.is_none(),
+            "{name}: no summary after a rejected file"
+        );
     }
-    (out.status.code(), err)
+    ((out.status.code(), err), summary)
+}
+
+#[test]
+fn accuracy_settings_are_checked_and_reported() {
+    // Out of range, on the command line and in the file; a scene without ground or gait.
+    let ((code, err), _) = cli_with("acc_flag", BASE, &["--accuracy", "2"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("--accuracy") && err.contains("[1e-4, 0.5]"),
+        "{err}"
+    );
+    let ((code, err), _) = cli_with("acc_scene", BASE, &["--accuracy", "0.01"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("[ground]"), "{err}");
+    let (code, err) = cli("acc_file", &format!("{BASE}[accuracy]\ntarget = 0.0\n"));
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("`accuracy.target`") && err.contains("[1e-4, 0.5]"),
+        "{err}"
+    );
+    // A small S-start with a target: summary.json reports the chosen model and the estimates.
+    let text = std::fs::read_to_string("problems/s_start.toml")
+        .unwrap()
+        .replace("elements = 50", "elements = 20")
+        .replace(
+            "duration = 3.572               # T: the pulse leaves the tail",
+            "duration = 0.3",
+        )
+        .replace(
+            "interval = 0.036               # 18 steps",
+            "interval = 0.03",
+        )
+        + "\n[accuracy]\ntarget = 0.2\nmax_elements = 40\n";
+    let ((code, err), summary) = cli_with("acc_run", &text, &[]);
+    assert_eq!(code, Some(0), "{err}");
+    let v: serde_json::Value = serde_json::from_str(&summary.unwrap()).unwrap();
+    let a = &v["accuracy"];
+    println!("{a}");
+    assert_eq!(a["target"], 0.2);
+    let chosen = a["elements"].as_u64().unwrap();
+    assert!(chosen == 20 || chosen == 40);
+    assert!(a["runs"].as_array().unwrap().len() >= 3);
+    let est = a["estimated_error"].as_f64().unwrap();
+    assert_eq!(a["met"].as_bool().unwrap(), est <= 0.2);
+    // The summary's own v_s/v_m is the chosen run's.
+    let vs = v["v_s_over_v_m"].as_f64().unwrap();
+    assert!(a["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|r| r["elements"].as_u64() == Some(chosen) && r["v_s_over_v_m"].as_f64() == Some(vs)));
+    assert_eq!(v["time_steps"]["adaptive"], true);
 }
 
 #[test]
@@ -414,4 +476,153 @@ fn bad_adaptive_settings_exit_2_naming_the_key() {
         &format!("{BASE}adaptive = true\nerror_tolerance = 1e-4\n"),
     );
     assert_eq!(code, Some(0), "{err}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The gait work-precision chart and the accuracy selection, on a small S-start.
+// ---------------------------------------------------------------------------------------------
+
+/// `problems/s_start.toml` cut to `elements` and `duration` (s).
+fn small_s_start(elements: usize, duration: f64) -> problem::Problem {
+    let text = std::fs::read_to_string("problems/s_start.toml").unwrap();
+    let mut p = problem::parse(&text, std::path::Path::new("s_start.toml")).unwrap();
+    p.rod.elements = elements;
+    p.time.duration = Some(duration);
+    p.output.interval = Some(duration / 10.0);
+    p
+}
+
+#[test]
+fn gait_chart_measures_errors_and_caches_its_reference() {
+    let p = small_s_start(20, 0.6);
+    let m = Model::new(&p);
+    let opts = slither::chart::GaitPrecisionOptions {
+        euler_dt: vec![8e-3, 2e-3],
+        bdf2_dt: vec![8e-3, 2e-3],
+        tolerances: vec![1e-3, 1e-5],
+        adaptive_first_dt: 2e-3,
+        reference_dt: 1e-3,
+        reference_change: 1e-3,
+        reference_halvings: 2,
+        reference_jitter: 0.04,
+    };
+    let dir = std::env::temp_dir().join(format!("slither-gait-chart-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let cache = dir.join("reference.json");
+    let mut lines = Vec::new();
+    let g = slither::chart::gait_precision("small", &p, &m, &opts, Some(&cache), &mut |l| {
+        lines.push(l.to_string())
+    })
+    .unwrap();
+    print!("{}", g.summary());
+    assert_eq!(g.points.len(), 6);
+    let r = &g.reference;
+    assert!(r.runs.len() >= 2 && r.scatter_runs.len() == 2);
+    assert!(r.v_ratio.is_finite() && r.v_ratio > 0.0);
+    assert!(r.scatter.is_finite());
+    for pt in &g.points {
+        assert_eq!(pt.run.status, "ok");
+        assert!(pt.v_error.is_finite() && pt.x_error.is_finite());
+        // The error is measured against the reference, not taken from it.
+        assert_eq!(
+            pt.v_error,
+            (pt.run.v_ratio / r.v_ratio - 1.0).abs(),
+            "{}",
+            pt.run.method
+        );
+    }
+    // The coarse fixed steps are further from the reference in the centreline than the fine.
+    for method in ["implicit", "bdf2"] {
+        let e: Vec<f64> = g
+            .points
+            .iter()
+            .filter(|pt| pt.run.method == method)
+            .map(|pt| pt.x_error)
+            .collect();
+        assert!(e[0] > e[1], "{method}: {e:?}");
+    }
+    slither::chart::write_gait_precision(&dir, &g).unwrap();
+    for f in [
+        "gait_precision.csv",
+        "gait_precision.json",
+        "gait_precision.png",
+        "gait_precision_centreline.png",
+        "reference.json",
+    ] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    // Second time: the reference comes from the cache, identical.
+    let mut lines2 = Vec::new();
+    let r2 = slither::chart::gait_reference(&p, &m, &opts, Some(&cache), &mut |l| {
+        lines2.push(l.to_string())
+    })
+    .unwrap();
+    assert!(
+        lines2.len() == 1 && lines2[0].contains("cached"),
+        "{lines2:?}"
+    );
+    assert_eq!(r2.v_ratio, r.v_ratio);
+    // Another setting is another key: recomputed.
+    let opts3 = slither::chart::GaitPrecisionOptions {
+        reference_halvings: 0,
+        ..opts.clone()
+    };
+    let mut lines3 = Vec::new();
+    slither::chart::gait_reference(&p, &m, &opts3, Some(&cache), &mut |l| {
+        lines3.push(l.to_string())
+    })
+    .unwrap();
+    assert!(!lines3[0].contains("cached"), "{lines3:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn accuracy_selection_reports_consistent_estimates() {
+    let p = small_s_start(20, 0.6);
+    let mut lines = Vec::new();
+    let sel = slither::chart::accuracy::select(&p, 0.05, 80, &mut |l| lines.push(l.to_string()));
+    let r = &sel.report;
+    println!("{}", lines.join("\n"));
+    println!("{}", serde_json::to_string_pretty(r).unwrap());
+    // At least the two tolerances and the two meshes were run.
+    assert!(r.runs.len() >= 3);
+    assert!(r.runs.iter().any(|x| x.elements == 40));
+    assert!((r.estimated_error - (r.time_error + r.mesh_error)).abs() < 1e-15);
+    assert_eq!(r.met, r.estimated_error <= r.target);
+    assert_eq!(sel.model.elements(), r.elements);
+    assert_eq!(sel.model.adaptive.unwrap().tolerance, r.error_tolerance);
+    // The chosen run is one of the runs and its value is the reported one.
+    let v = slither::chart::speed_ratio(&sel.model, &sel.outcome);
+    assert!(r.runs.iter().any(|x| x.elements == r.elements
+        && x.error_tolerance == r.error_tolerance
+        && x.v_s_over_v_m == v));
+    // The mesh estimate follows from the two mesh runs at the chosen tolerance.
+    let at = |n: usize| {
+        r.runs
+            .iter()
+            .find(|x| x.elements == n && x.error_tolerance == r.error_tolerance)
+            .map(|x| x.v_s_over_v_m)
+    };
+    let (n, other) = if let Some(b) = at(2 * r.elements) {
+        (r.elements, b)
+    } else {
+        (r.elements / 2, at(r.elements / 2).unwrap())
+    };
+    let (vn, v2n) = if n == r.elements {
+        (at(n).unwrap(), other)
+    } else {
+        (other, at(r.elements).unwrap())
+    };
+    let d = (vn - v2n).abs() / v2n.abs();
+    let expected = if n == r.elements {
+        4.0 * d / 3.0
+    } else {
+        d / 3.0
+    };
+    assert!(
+        (r.mesh_error - expected).abs() <= 1e-12 * expected.max(1e-300),
+        "{} vs {expected}",
+        r.mesh_error
+    );
 }

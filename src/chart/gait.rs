@@ -64,8 +64,8 @@ pub struct GaitRun {
     pub method: String,
     /// Fixed step (s), or the first step of an adaptive run.
     pub dt: f64,
-    /// Tolerance of an adaptive run (NaN for fixed steps).
-    pub tolerance: f64,
+    /// Tolerance of an adaptive run (`None`: fixed steps).
+    pub tolerance: Option<f64>,
     /// `v_s / v_m` (NaN when the run failed).
     pub v_ratio: f64,
     /// Wall time of the stepping (s).
@@ -117,7 +117,7 @@ pub fn gait_run(model: &Model, method: &str) -> GaitRun {
     GaitRun {
         method: method.into(),
         dt: model.dt,
-        tolerance: model.adaptive.map_or(f64::NAN, |a| a.tolerance),
+        tolerance: model.adaptive.map(|a| a.tolerance),
         v_ratio: if ok { speed_ratio(model, &o) } else { f64::NAN },
         wall_s: o.wall_time_s,
         steps: o.steps.accepted,
@@ -191,7 +191,14 @@ fn fnv1a(text: &str) -> String {
 fn log_run(log: &mut dyn FnMut(&str), what: &str, r: &GaitRun) {
     log(&format!(
         "{what}: {} dt {:.3e} s tol {:.0e}: v_s/v_m {:.5}, {} steps ({} rejected), {:.2} s ({})",
-        r.method, r.dt, r.tolerance, r.v_ratio, r.steps, r.rejected, r.wall_s, r.status
+        r.method,
+        r.dt,
+        r.tolerance.unwrap_or(f64::NAN),
+        r.v_ratio,
+        r.steps,
+        r.rejected,
+        r.wall_s,
+        r.status
     ));
 }
 
@@ -369,7 +376,7 @@ impl GaitPrecision {
                 "{:14} {:.3e} {:7.0e} {:6} {:4} {:8.2} {:8.5} {:9.2e} {:9.2e}{}",
                 q.method,
                 q.dt,
-                q.tolerance,
+                q.tolerance.unwrap_or(f64::NAN),
                 q.steps,
                 q.rejected,
                 q.wall_s,
@@ -400,7 +407,7 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
             "{},{:e},{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},\"{}\"",
             q.method,
             q.dt,
-            q.tolerance,
+            q.tolerance.unwrap_or(f64::NAN),
             q.steps,
             q.rejected,
             q.dt_range.0,

@@ -276,6 +276,11 @@ pub struct Integrator<'m> {
     q_prev: Vec<f64>,
     v_prev: Vec<f64>,
     pred: Vec<f64>,
+    /// Normal forces at the start and the end of an adaptive try, and the nodes whose contact
+    /// state changed (left out of the error estimate).
+    normal_start: Vec<f64>,
+    normal_end: Vec<f64>,
+    events: Vec<bool>,
 }
 
 impl<'m> Integrator<'m> {
@@ -306,6 +311,9 @@ impl<'m> Integrator<'m> {
             q_prev: vec![0.0; n],
             v_prev: vec![0.0; n],
             pred: vec![0.0; n],
+            normal_start: vec![0.0; model.real.len()],
+            normal_end: vec![0.0; model.real.len()],
+            events: vec![false; model.real.len()],
         }
     }
 
@@ -405,6 +413,9 @@ impl<'m> Integrator<'m> {
         let tol = control.settings.tolerance;
         let mut out = adaptive::Adapted::default();
         let mut h = h;
+        if let Some(c) = &self.contact {
+            c.normal_forces(m, &mut self.normal_start);
+        }
         loop {
             let reason = match self.attempt(s, h) {
                 Ok(it) => {
@@ -415,7 +426,14 @@ impl<'m> Integrator<'m> {
                         h,
                         &mut self.pred,
                     );
-                    let err = adaptive::error_norm(m, &s.q, &self.pred, c, tol);
+                    if let Some(ct) = &self.contact {
+                        ct.normal_forces(m, &mut self.normal_end);
+                        for r in 0..self.events.len() {
+                            self.events[r] = m.in_contact(self.normal_start[r])
+                                != m.in_contact(self.normal_end[r]);
+                        }
+                    }
+                    let err = adaptive::error_norm(m, &s.q, &self.pred, c, tol, &self.events);
                     if err <= 1.0 {
                         self.commit(s, h);
                         self.newton.stats.steps += 1;
