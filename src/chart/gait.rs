@@ -422,15 +422,13 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
     write(&dir.join("gait_precision.csv"), &csv)?;
     let json = serde_json::to_string_pretty(g).expect("serialisable");
     write(&dir.join("gait_precision.json"), &json)?;
+    // Each method's points joined in the order of refinement (coarse to fine), as run.
     let series = |method: &str, y: &dyn Fn(&GaitPoint) -> f64| -> Vec<(f64, f64)> {
-        let mut v: Vec<(f64, f64)> = g
-            .points
+        g.points
             .iter()
             .filter(|p| p.run.method == method)
             .map(|p| (p.run.wall_s, y(p)))
-            .collect();
-        v.sort_by(|a, b| a.0.total_cmp(&b.0));
-        v
+            .collect()
     };
     let walls: Vec<f64> = g.points.iter().map(|p| p.run.wall_s).collect();
     let wmin = walls.iter().copied().fold(f64::INFINITY, f64::min);
