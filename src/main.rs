@@ -38,6 +38,11 @@ enum Cmd {
         /// README's "Limits").
         #[arg(long)]
         force: bool,
+        /// Run the cheapest model (adaptive BDF2 tolerance and mesh) whose estimated relative
+        /// error of v_s/v_m is below this, e.g. 0.01 (overrides `[accuracy] target`; scenes
+        /// with ground and gait; in [1e-4, 0.5]).
+        #[arg(long)]
+        accuracy: Option<f64>,
     },
     /// Twist, writhe and link of a framed curve given as CSV (x,y,z,d1x,d1y,d1z).
     Topology {
@@ -143,7 +148,8 @@ fn main() -> ExitCode {
             quiet,
             no_plots,
             force,
-        } => run(&problem, &out, quiet, no_plots, force),
+            accuracy,
+        } => run(&problem, &out, quiet, no_plots, force, accuracy),
         Cmd::Topology { curve, closed } => topo(&curve, closed),
         Cmd::Chart { which } => chart_cmd(which),
         Cmd::Optimize { study, out, quiet } => optimize(&study, &out, quiet),
@@ -207,7 +213,14 @@ fn lock_out(out: &Path) -> Result<output::lock::OutLock, ExitCode> {
     })
 }
 
-fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool, force: bool) -> ExitCode {
+fn run(
+    path: &Path,
+    out: &Path,
+    quiet: bool,
+    no_plots: bool,
+    force: bool,
+    accuracy: Option<f64>,
+) -> ExitCode {
     let p = match problem::load_for_run(path, force) {
         Ok(p) => p,
         Err(e) => {
@@ -215,7 +228,26 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool, force: bool) -> Exi
             return ExitCode::from(2);
         }
     };
-    let model = Model::new(&p);
+    if let Some(a) = accuracy {
+        if !(a.is_finite() && (1e-4..=0.5).contains(&a)) {
+            eprintln!("error: --accuracy {a} is not allowed: must be in [1e-4, 0.5] (relative error of v_s/v_m)");
+            return ExitCode::from(2);
+        }
+        if p.time.mode != problem::Mode::Dynamic
+            || p.ground.is_none()
+            || p.gait.kind == problem::Kind::None
+        {
+            eprintln!(
+                "error: {}: --accuracy needs a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)",
+                path.display()
+            );
+            return ExitCode::from(2);
+        }
+    }
+    let target = accuracy
+        .map(|t| (t, p.accuracy.as_ref().map_or(400, |a| a.max_elements)))
+        .or(p.accuracy.as_ref().map(|a| (a.target, a.max_elements)));
+    let mut model = Model::new(&p);
     let _lock = match lock_out(out) {
         Ok(l) => l,
         Err(code) => return code,
@@ -248,17 +280,47 @@ fn run(path: &Path, out: &Path, quiet: bool, no_plots: bool, force: bool) -> Exi
             b.set_position((frac * 1000.0) as u64);
         }
     };
-    let o = match sim::run_gait(&model, p.solver.integrator, &mut progress, &mut |_| {}) {
-        Ok(o) => o,
-        Err(e) => {
-            eprintln!("error: {}: {e}", path.display());
-            return ExitCode::from(2);
+    let mut report = None;
+    let o = if let Some((target, max_elements)) = target {
+        let mut log = |line: &str| {
+            if !quiet {
+                eprintln!("{line}")
+            }
+        };
+        let sel = slither::chart::accuracy::select(&p, target, max_elements, &mut log);
+        model = sel.model;
+        report = Some(sel.report);
+        sel.outcome
+    } else {
+        match sim::run_gait(&model, p.solver.integrator, &mut progress, &mut |_| {}) {
+            Ok(o) => o,
+            Err(e) => {
+                eprintln!("error: {}: {e}", path.display());
+                return ExitCode::from(2);
+            }
         }
     };
     if let Some(b) = bar.take() {
         b.finish_and_clear();
     }
     let mut summary = output::Summary::new(path, &model, &o);
+    if let Some(r) = &report {
+        if !quiet {
+            eprintln!(
+                "accuracy {}: chose {} elements, tolerance {:.0e}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs in {:.1} s",
+                r.target,
+                r.elements,
+                r.error_tolerance,
+                r.estimated_error,
+                r.time_error,
+                r.mesh_error,
+                if r.met { "" } else { ", ABOVE the target (refinement limits reached)" },
+                r.runs.len(),
+                r.wall_time_total_s
+            );
+        }
+    }
+    summary.accuracy = report;
     // Post-processing (topology of every frame) shows its own bar when it takes over a second.
     let post_start = Instant::now();
     let mut post_bar: Option<ProgressBar> = None;
@@ -538,7 +600,9 @@ enum ChartCmd {
     /// Final-centreline error against wall time for both integrators at several steps, against
     /// a Richardson-checked velocity Verlet reference (a scene without [ground]).
     WorkPrecision {
-        /// Problem file without [ground], e.g. problems/cantilever_swing.toml.
+        /// Problem file: without [ground] (e.g. problems/cantilever_swing.toml) implicit Euler
+        /// against velocity Verlet; with [ground] and a gait (e.g. problems/s_start.toml)
+        /// implicit Euler, BDF2 and adaptive BDF2 against a cached BDF2 reference.
         problem: PathBuf,
         /// Output directory (created if absent).
         #[arg(long, default_value = "out/work_precision")]
@@ -578,17 +642,49 @@ fn chart_cmd(which: ChartCmd) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    if p.ground.is_some() || p.time.mode == problem::Mode::Static {
-        eprintln!(
-            "error: {}: the charts need a dynamic scene without [ground] (the explicit integrator has no contact)",
-            scene.display()
-        );
-        return ExitCode::from(2);
-    }
     let name = scene.file_name().map_or(scene.display().to_string(), |n| {
         n.to_string_lossy().into_owned()
     });
     let mut log = |line: &str| eprintln!("{line}");
+    let gait_scene = p.ground.is_some() && p.time.mode == problem::Mode::Dynamic;
+    if gait_scene && matches!(which, ChartCmd::WorkPrecision { .. }) {
+        // A scene with ground: implicit Euler, BDF2 and adaptive BDF2 against a BDF2 reference.
+        let model = Model::new(&p);
+        let cache = out.join("reference.json");
+        if let Err(e) = std::fs::create_dir_all(&out) {
+            eprintln!("error: {}: {e}", out.display());
+            return ExitCode::from(1);
+        }
+        let r = chart::gait_precision(
+            &name,
+            &p,
+            &model,
+            &Default::default(),
+            Some(&cache),
+            &mut log,
+        )
+        .and_then(|g| {
+            eprint!("{}", g.summary());
+            chart::write_gait_precision(&out, &g)
+        });
+        return match r {
+            Ok(()) => {
+                eprintln!("wrote {}", out.display());
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {}: {e}", scene.display());
+                ExitCode::from(1)
+            }
+        };
+    }
+    if p.ground.is_some() || p.time.mode == problem::Mode::Static {
+        eprintln!(
+            "error: {}: the stability chart (and the work-precision chart of a scene without ground) needs a dynamic scene without [ground] (the explicit integrator has no contact)",
+            scene.display()
+        );
+        return ExitCode::from(2);
+    }
     let r = match which {
         ChartCmd::WorkPrecision { .. } => {
             let model = Model::new(&p);

@@ -3,6 +3,7 @@
 //! everything computed so far when a step fails. Every time stepper ([`Stepper`]: implicit,
 //! explicit) runs through [`drive`]; the charts run it with their own [`Schedule`].
 
+use crate::integrator::adaptive::{Adapted, Controller, StepStats};
 use crate::integrator::explicit::{Explicit, Unsupported};
 use crate::integrator::statics::Static;
 use crate::integrator::{Actuation, Energies, Integrator, Stats, StepError, Stepper};
@@ -63,6 +64,8 @@ pub struct Outcome {
     pub max_penetration: f64,
     /// Largest slip speed of a node in contact over all accepted steps (m/s).
     pub slip_speed_max: f64,
+    /// Accepted and rejected steps and the range of step sizes.
+    pub steps: StepStats,
 }
 
 /// How a run ended.
@@ -91,6 +94,12 @@ pub type Progress<'a> = &'a mut dyn FnMut(f64);
 
 /// The steps of a dynamic run: `steps` steps of `dt`, the last one of `last` (so the run ends
 /// exactly at its duration), a frame recorded every `every` steps (and after the last).
+///
+/// With `adaptive` set, the steps are error controlled instead: the first is `dt`, the run
+/// ends at `duration`, and a frame is recorded at every multiple of `interval` (and at the
+/// end). Steps are sized to land on the frame times: a step that would pass the next frame
+/// time ends on it, and one that would leave less than a step before it is split into two
+/// equal steps, so no step is shorter than half the controller's proposal because of a frame.
 #[derive(Clone, Copy, Debug)]
 pub struct Schedule {
     /// Step (s).
@@ -101,6 +110,12 @@ pub struct Schedule {
     pub last: f64,
     /// Steps between recorded frames.
     pub every: usize,
+    /// Error-controlled steps (`[time] adaptive`), else `None`.
+    pub adaptive: Option<Controller>,
+    /// End time of an adaptive run (s).
+    pub duration: f64,
+    /// Frame interval of an adaptive run (s).
+    pub interval: f64,
 }
 
 impl Schedule {
@@ -121,6 +136,9 @@ impl Schedule {
             steps,
             last,
             every: ((model.output_interval / dt).round() as usize).max(1),
+            adaptive: model.adaptive.map(|settings| Controller { settings }),
+            duration,
+            interval: model.output_interval,
         }
     }
 
@@ -131,6 +149,22 @@ impl Schedule {
             steps,
             last: dt,
             every: steps.max(1),
+            adaptive: None,
+            duration: dt * steps as f64,
+            interval: dt * steps as f64,
+        }
+    }
+
+    /// Error-controlled steps with `control` from t = 0 to `duration`, frames every `interval`.
+    pub fn adaptive(control: Controller, duration: f64, interval: f64) -> Self {
+        Schedule {
+            dt: control.settings.dt_first,
+            steps: 0,
+            last: control.settings.dt_first,
+            every: 1,
+            adaptive: Some(control),
+            duration,
+            interval,
         }
     }
 }
@@ -196,6 +230,7 @@ fn run_static(
         error,
         max_penetration: 0.0,
         slip_speed_max: 0.0,
+        steps: StepStats::default(),
     }
 }
 
@@ -210,52 +245,132 @@ pub fn drive(
     on_step: &mut dyn FnMut(&State),
 ) -> Outcome {
     let mut s = State::initial(model);
-    let mut normal = vec![0.0; model.real.len()];
-    integ.normal_forces_into(&mut normal);
-    let mut frames = vec![Frame::of(model, &s, 0.0, normal.clone())];
-    let mut max_strain = s.max_strain(model);
+    let mut watch = Watch::new(model, integ, &s);
     let mut error = None;
-    let mut max_penetration: f64 = 0.0;
-    let mut slip_speed_max: f64 = 0.0;
-    let n_steps = schedule.steps;
-    for k in 1..=n_steps {
-        let h = if k == n_steps {
-            schedule.last
-        } else {
-            schedule.dt
-        };
-        if let Err(e) = integ.step(&mut s, h) {
-            error = Some(e);
-            break;
-        }
-        max_strain = max_strain.max(s.max_strain(model));
-        integ.normal_forces_into(&mut normal);
-        if integ.has_contact() {
-            for (r, i) in model.real.clone().enumerate() {
-                max_penetration = max_penetration.max(0.5 * model.diameter - s.node(i)[2]);
-                if model.in_contact(normal[r]) {
-                    let v = s.node_velocity(i);
-                    slip_speed_max = slip_speed_max.max((v[0] * v[0] + v[1] * v[1]).sqrt());
+    let mut steps = StepStats::default();
+    match schedule.adaptive {
+        None => {
+            let n_steps = schedule.steps;
+            for k in 1..=n_steps {
+                let h = if k == n_steps {
+                    schedule.last
+                } else {
+                    schedule.dt
+                };
+                let (t0, halvings) = (s.t, integ.stats().step_halvings);
+                if let Err(e) = integ.step(&mut s, h) {
+                    error = Some(e);
+                    break;
                 }
+                steps.add(&Adapted {
+                    h: s.t - t0,
+                    rejected_solve: integ.stats().step_halvings - halvings,
+                    ..Default::default()
+                });
+                let frame = k % schedule.every == 0 || k == n_steps;
+                watch.after_step(model, integ, &s, frame);
+                on_step(&s);
+                progress(k as f64 / n_steps as f64);
             }
         }
-        on_step(&s);
-        if k % schedule.every == 0 || k == n_steps {
-            frames.push(Frame::of(model, &s, s.t, normal.clone()));
+        Some(control) => {
+            steps.adaptive = true;
+            let t_end = schedule.duration;
+            let interval = schedule.interval.max(f64::MIN_POSITIVE);
+            // Relative slack for landing on a frame time (rounding of t).
+            let slack = 1e-9;
+            let mut next = control.settings.dt_first;
+            let mut frame_index = 1usize;
+            while s.t < t_end * (1.0 - 1e-12) {
+                let target = (frame_index as f64 * interval).min(t_end);
+                let left = target - s.t;
+                let proposal = next.min(control.settings.dt_max);
+                let h = if left <= proposal * (1.0 + slack) {
+                    left
+                } else if left < 2.0 * proposal {
+                    0.5 * left
+                } else {
+                    proposal
+                };
+                let r = match integ.adaptive_step(&mut s, h, &control) {
+                    Ok(r) => r,
+                    Err(e) => {
+                        error = Some(e);
+                        break;
+                    }
+                };
+                steps.add(&r);
+                next = r.next;
+                let landed = (s.t - target).abs() <= slack * target.max(h);
+                if landed {
+                    s.t = target;
+                    // Skip frame times already passed (an interval below the smallest step).
+                    while frame_index as f64 * interval <= s.t * (1.0 + slack) {
+                        frame_index += 1;
+                    }
+                }
+                watch.after_step(model, integ, &s, landed);
+                on_step(&s);
+                progress((s.t / t_end).min(1.0));
+            }
         }
-        progress(k as f64 / n_steps as f64);
     }
     let energies = integ.energies(&s);
     Outcome {
         state: s,
-        frames,
+        frames: watch.frames,
         stats: integ.stats().clone(),
         wall_time_s: start.elapsed().as_secs_f64(),
-        max_strain,
+        max_strain: watch.max_strain,
         energies,
         error,
-        max_penetration,
-        slip_speed_max,
+        max_penetration: watch.max_penetration,
+        slip_speed_max: watch.slip_speed_max,
+        steps,
+    }
+}
+
+/// What the run loop records after every accepted step: frames and the contact statistics.
+struct Watch {
+    normal: Vec<f64>,
+    frames: Vec<Frame>,
+    max_strain: f64,
+    max_penetration: f64,
+    slip_speed_max: f64,
+}
+
+impl Watch {
+    fn new(model: &Model, integ: &dyn Stepper, s: &State) -> Self {
+        let mut normal = vec![0.0; model.real.len()];
+        integ.normal_forces_into(&mut normal);
+        Watch {
+            frames: vec![Frame::of(model, s, 0.0, normal.clone())],
+            normal,
+            max_strain: s.max_strain(model),
+            max_penetration: 0.0,
+            slip_speed_max: 0.0,
+        }
+    }
+
+    fn after_step(&mut self, model: &Model, integ: &dyn Stepper, s: &State, frame: bool) {
+        self.max_strain = self.max_strain.max(s.max_strain(model));
+        integ.normal_forces_into(&mut self.normal);
+        if integ.has_contact() {
+            for (r, i) in model.real.clone().enumerate() {
+                self.max_penetration = self
+                    .max_penetration
+                    .max(0.5 * model.diameter - s.node(i)[2]);
+                if model.in_contact(self.normal[r]) {
+                    let v = s.node_velocity(i);
+                    self.slip_speed_max =
+                        self.slip_speed_max.max((v[0] * v[0] + v[1] * v[1]).sqrt());
+                }
+            }
+        }
+        if frame {
+            self.frames
+                .push(Frame::of(model, s, s.t, self.normal.clone()));
+        }
     }
 }
 

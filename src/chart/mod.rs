@@ -12,6 +12,9 @@
 //!   final time (m), against the wall time of the run (s). The mesh is the scene's: this
 //!   measures time-integration error of one discrete model, not spatial error.
 //!   No ground means no `v_s`; the centreline error stands for accuracy.
+//! * **Gait work-precision** ([`gait_precision`]): scenes with ground and muscles, where the
+//!   explicit reference cannot run: implicit Euler and BDF2 over fixed steps and adaptive BDF2
+//!   over tolerances against a BDF2 reference refined until `v_s/v_m` settles (`src/chart/gait.rs`).
 //! * **Stability map** ([`stability_map`]): over scaled weight `W = rho g a^2 L^3 / B` and
 //!   element count `N`, the largest step each method runs the scene with to its end by
 //!   geometric bisection (relative resolution `rtol`). Stable means: every step accepted with
@@ -34,9 +37,12 @@ use crate::rod::{dof, vec3::f};
 use crate::sim::{drive, Schedule};
 use crate::state::State;
 
+pub mod accuracy;
+mod gait;
 mod stability;
 mod work_precision;
 
+pub use gait::*;
 pub use stability::*;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

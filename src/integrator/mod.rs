@@ -16,8 +16,14 @@
 //! * [`explicit::Explicit`]: velocity Verlet on the same discrete model and the same energy
 //!   terms (no contact), the reference of the speed-against-accuracy charts.
 //!
+//! With `[time] adaptive = true` the implicit stepper sizes its steps by a local error
+//! estimate ([`adaptive`]): [`Stepper::adaptive_step`] solves a step, estimates its error
+//! against the scheme's explicit predictor, and accepts it or retries it smaller, leaving
+//! the state, the scheme's history and the contact model untouched by a rejected try.
+//!
 //! The rest strains at a time come from an [`Actuation`] ([`crate::gait`]).
 
+pub mod adaptive;
 pub mod bdf2;
 pub mod euler;
 pub mod explicit;
@@ -50,6 +56,16 @@ pub trait Stepper {
         self.normal_forces_into(&mut out);
         out
     }
+    /// Advance `s` by one error-controlled step, trying `h` first ([`adaptive`]). Steppers
+    /// without an error estimate refuse ([`StepError::NotAdaptive`]).
+    fn adaptive_step(
+        &mut self,
+        s: &mut State,
+        _h: f64,
+        _control: &adaptive::Controller,
+    ) -> Result<adaptive::Adapted, StepError> {
+        Err(StepError::NotAdaptive { t: s.t })
+    }
 }
 
 /// The part of an implicit time integrator that differs between integrators: the step problem
@@ -70,6 +86,35 @@ pub trait Scheme: Send {
     }
     /// Set `s.v` from the solved `s.q`, the step's start `q_prev`, `v_prev` and `h`.
     fn update(&mut self, m: &Model, q_prev: &[f64], v_prev: &[f64], h: f64, s: &mut State);
+    /// The explicit predictor `q^P` of the step just solved (called after the solve, before
+    /// [`Scheme::update`]), of the same order as the step, into `pred`; returns Milne's
+    /// factor `c` (local error `c (q_{n+1} - q^P)`) and the step's order ([`adaptive`]).
+    /// Default: implicit Euler's, `q_n + h v_n`, `c = 1/2`, order 1.
+    fn error_predictor(
+        &self,
+        m: &Model,
+        q_prev: &[f64],
+        v_prev: &[f64],
+        h: f64,
+        pred: &mut [f64],
+    ) -> (f64, usize) {
+        euler_predictor(m, q_prev, v_prev, h, pred)
+    }
+}
+
+/// Implicit Euler's error predictor `q^P = q_n + h v_n` with Milne's factor 1/2, order 1 (see
+/// [`adaptive`]).
+pub(crate) fn euler_predictor(
+    m: &Model,
+    q_prev: &[f64],
+    v_prev: &[f64],
+    h: f64,
+    pred: &mut [f64],
+) -> (f64, usize) {
+    for k in 0..m.ndof {
+        pred[k] = q_prev[k] + h * v_prev[k];
+    }
+    (0.5, 1)
 }
 
 /// The scheme of `[solver] integrator` (implicit integrators only).
@@ -95,6 +140,26 @@ pub enum StepError {
         halvings: usize,
         /// Why the last attempt failed.
         reason: Failure,
+    },
+    /// An error-controlled step would have to be smaller than `[time] dt_min`.
+    #[error("adaptive step at t = {t} s: the step would have to shrink to {dt:.3e} s, below time.dt_min = {dt_min:.3e} s (last try: {reason}; max |v| = {v_max:.3e} m/s at that time)")]
+    BelowMinimum {
+        /// Time at the start of the failed step (s).
+        t: f64,
+        /// The step that would be needed (s).
+        dt: f64,
+        /// The smallest allowed step (s).
+        dt_min: f64,
+        /// Why the last try was rejected (error estimate or solver failure).
+        reason: String,
+        /// Largest node speed of the state at `t` (m/s).
+        v_max: f64,
+    },
+    /// The stepper has no error estimate (the explicit reference).
+    #[error("at t = {t} s: this integrator cannot take error-controlled steps")]
+    NotAdaptive {
+        /// Time (s).
+        t: f64,
     },
     /// The explicit integrator became unstable ([`explicit`]): non-finite state or energy
     /// blow-up. The state is that of the start of the failed step.
@@ -210,6 +275,12 @@ pub struct Integrator<'m> {
     qhat: Vec<f64>,
     q_prev: Vec<f64>,
     v_prev: Vec<f64>,
+    pred: Vec<f64>,
+    /// Normal forces at the start and the end of an adaptive try, and the nodes whose contact
+    /// state changed (left out of the error estimate).
+    normal_start: Vec<f64>,
+    normal_end: Vec<f64>,
+    events: Vec<bool>,
 }
 
 impl<'m> Integrator<'m> {
@@ -239,6 +310,10 @@ impl<'m> Integrator<'m> {
             qhat: vec![0.0; n],
             q_prev: vec![0.0; n],
             v_prev: vec![0.0; n],
+            pred: vec![0.0; n],
+            normal_start: vec![0.0; model.real.len()],
+            normal_end: vec![0.0; model.real.len()],
+            events: vec![false; model.real.len()],
         }
     }
 
@@ -259,6 +334,22 @@ impl<'m> Integrator<'m> {
 
     /// One step of size `h`, without retries. Returns the Newton iteration count.
     pub fn try_step(&mut self, s: &mut State, h: f64) -> Result<usize, Failure> {
+        match self.attempt(s, h) {
+            Ok(it) => {
+                self.commit(s, h);
+                Ok(it)
+            }
+            Err(e) => {
+                self.rollback(s);
+                Err(e)
+            }
+        }
+    }
+
+    /// Solve a step of size `h` from `s`: on success `s.q` holds the solution and nothing else
+    /// has changed yet ([`Self::commit`] or [`Self::rollback`] must follow); on failure call
+    /// [`Self::rollback`].
+    fn attempt(&mut self, s: &mut State, h: f64) -> Result<usize, Failure> {
         let m = self.model;
         self.q_prev.copy_from_slice(&s.q);
         self.v_prev.copy_from_slice(&s.v);
@@ -282,29 +373,103 @@ impl<'m> Integrator<'m> {
             }),
         };
         let q = &mut s.q;
-        let r = match self.contact.as_mut() {
+        match self.contact.as_mut() {
             Some(c) => c.solve(&mut self.newton, &obj, q),
             None => self
                 .newton
                 .minimize(m, &mut obj, q, &m.fixed, m.max_iterations),
-        };
-        match r {
-            Ok(it) => {
-                if let Some(c) = self.contact.as_mut() {
-                    c.accept(m, &s.q);
+        }
+    }
+
+    /// Accept the solved step of [`Self::attempt`]: velocities, frames, time, contact state and
+    /// the scheme's history.
+    fn commit(&mut self, s: &mut State, h: f64) {
+        let m = self.model;
+        if let Some(c) = self.contact.as_mut() {
+            c.accept(m, &s.q);
+        }
+        self.scheme.update(m, &self.q_prev, &self.v_prev, h, s);
+        s.update_frames();
+        s.t += h;
+    }
+
+    /// Undo [`Self::attempt`]: the state and the contact model as before it.
+    fn rollback(&mut self, s: &mut State) {
+        s.q.copy_from_slice(&self.q_prev);
+        s.v.copy_from_slice(&self.v_prev);
+        if let Some(c) = self.contact.as_mut() {
+            c.reject();
+        }
+    }
+
+    /// One error-controlled step trying `h` first (see [`adaptive`]).
+    pub fn adaptive_step(
+        &mut self,
+        s: &mut State,
+        h: f64,
+        control: &adaptive::Controller,
+    ) -> Result<adaptive::Adapted, StepError> {
+        let m = self.model;
+        let tol = control.settings.tolerance;
+        let mut out = adaptive::Adapted::default();
+        let mut h = h;
+        if let Some(c) = &self.contact {
+            c.normal_forces(m, &mut self.normal_start);
+        }
+        loop {
+            let reason = match self.attempt(s, h) {
+                Ok(it) => {
+                    let (c, p) = self.scheme.error_predictor(
+                        m,
+                        &self.q_prev,
+                        &self.v_prev,
+                        h,
+                        &mut self.pred,
+                    );
+                    if let Some(ct) = &self.contact {
+                        ct.normal_forces(m, &mut self.normal_end);
+                        for r in 0..self.events.len() {
+                            self.events[r] = m.in_contact(self.normal_start[r])
+                                != m.in_contact(self.normal_end[r]);
+                        }
+                    }
+                    let err = adaptive::error_norm(m, &s.q, &self.pred, c, tol, &self.events);
+                    if err <= 1.0 {
+                        self.commit(s, h);
+                        self.newton.stats.steps += 1;
+                        self.newton.stats.newton_iterations += it;
+                        out.h = h;
+                        out.error = err;
+                        out.next = control.next_after_accept(h, err, p);
+                        return Ok(out);
+                    }
+                    self.rollback(s);
+                    out.rejected_error += 1;
+                    h = control.retry_after_reject(h, err, p);
+                    format!("local error estimate {err:.3e} x the tolerance")
                 }
-                self.scheme.update(m, &self.q_prev, &self.v_prev, h, s);
-                s.update_frames();
-                s.t += h;
-                Ok(it)
-            }
-            Err(e) => {
-                s.q.copy_from_slice(&self.q_prev);
-                s.v.copy_from_slice(&self.v_prev);
-                if let Some(c) = self.contact.as_mut() {
-                    c.reject();
+                Err(reason) => {
+                    self.rollback(s);
+                    log::debug!("adaptive step of {h} s at t = {} failed: {reason}", s.t);
+                    out.rejected_solve += 1;
+                    self.newton.stats.step_halvings += 1;
+                    h *= adaptive::FAILURE_SHRINK;
+                    reason.to_string()
                 }
-                Err(e)
+            };
+            if h < control.settings.dt_min {
+                let v_max = m
+                    .real
+                    .clone()
+                    .map(|i| crate::rod::vec3::f::norm(s.node_velocity(i)))
+                    .fold(0.0, f64::max);
+                return Err(StepError::BelowMinimum {
+                    t: s.t,
+                    dt: h,
+                    dt_min: control.settings.dt_min,
+                    reason,
+                    v_max,
+                });
             }
         }
     }
@@ -364,6 +529,14 @@ impl<'m> Integrator<'m> {
 impl Stepper for Integrator<'_> {
     fn step(&mut self, s: &mut State, h: f64) -> Result<(), StepError> {
         Integrator::step(self, s, h)
+    }
+    fn adaptive_step(
+        &mut self,
+        s: &mut State,
+        h: f64,
+        control: &adaptive::Controller,
+    ) -> Result<adaptive::Adapted, StepError> {
+        Integrator::adaptive_step(self, s, h, control)
     }
     fn normal_forces_into(&self, out: &mut [f64]) {
         out.fill(0.0);

@@ -69,6 +69,8 @@ pub struct Model {
     pub dt: f64,
     /// Duration (s); static mode: unused.
     pub duration: f64,
+    /// Error-controlled steps (`[time] adaptive = true`), else `None` (fixed steps of `dt`).
+    pub adaptive: Option<crate::problem::Adaptive>,
     /// Output interval (s).
     pub output_interval: f64,
     /// Static load increments.
@@ -242,6 +244,7 @@ impl Model {
             mode: p.time.mode,
             dt,
             duration,
+            adaptive: crate::problem::Adaptive::of(p),
             output_interval: p.output.interval.unwrap_or(duration / 100.0).max(0.0),
             load_steps: p.time.load_steps,
             tolerance: p.solver.tolerance,

@@ -47,6 +47,11 @@ pub struct Summary {
     pub newton_iterations_mean: f64,
     /// Step halvings.
     pub step_halvings: usize,
+    /// Time steps: `adaptive` (error-controlled or fixed), `accepted`, `rejected` (error test
+    /// and failed solves; fixed steps: halvings), `rejected_error`, `rejected_solve`,
+    /// `dt_min` and `dt_max` (s, smallest and largest accepted step), `error_max` (largest
+    /// scaled error estimate of an accepted step, adaptive only).
+    pub time_steps: crate::integrator::adaptive::StepStats,
     /// Dimensionless groups.
     pub dimensionless: crate::model::Dimensionless,
     /// Full solver statistics.
@@ -71,6 +76,54 @@ pub struct Summary {
     pub head_final: [f64; 3],
     /// Tail position at the end (m).
     pub tail_final: [f64; 3],
+    /// The model chosen for an accuracy target (`--accuracy`, `[accuracy] target`), with the
+    /// error estimates and every run of the selection; absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<AccuracyReport>,
+}
+
+/// How `slither run --accuracy` chose its model (see `crate::chart::accuracy`).
+#[derive(Clone, Debug, Serialize)]
+pub struct AccuracyReport {
+    /// Allowed relative error of `v_s/v_m`.
+    pub target: f64,
+    /// Chosen mesh (elements).
+    pub elements: usize,
+    /// Chosen error tolerance (adaptive BDF2, fraction of L per step).
+    pub error_tolerance: f64,
+    /// Estimated relative error of `v_s/v_m` from the time stepping at the chosen model.
+    pub time_error: f64,
+    /// Estimated relative error of `v_s/v_m` from the mesh at the chosen model.
+    pub mesh_error: f64,
+    /// `time_error + mesh_error`.
+    pub estimated_error: f64,
+    /// Whether the estimate is below the target (false: the refinement hit its limits and the
+    /// finest model was run).
+    pub met: bool,
+    /// Richardson extrapolation of `v_s/v_m` (the chosen value corrected by both estimates'
+    /// signed differences).
+    pub v_s_over_v_m_extrapolated: f64,
+    /// Every run of the selection, in order.
+    pub runs: Vec<AccuracyRun>,
+    /// Wall time of all runs (s).
+    pub wall_time_total_s: f64,
+}
+
+/// One run of the accuracy selection.
+#[derive(Clone, Debug, Serialize)]
+pub struct AccuracyRun {
+    /// Elements.
+    pub elements: usize,
+    /// Error tolerance.
+    pub error_tolerance: f64,
+    /// `v_s/v_m` (NaN when the run failed).
+    pub v_s_over_v_m: f64,
+    /// Accepted steps.
+    pub steps: usize,
+    /// Wall time (s).
+    pub wall_time_s: f64,
+    /// "ok" or the failure.
+    pub status: String,
 }
 
 impl Summary {
@@ -90,6 +143,7 @@ impl Summary {
             energies_final: o.energies,
             newton_iterations_mean: o.stats.newton_iterations as f64 / o.stats.steps.max(1) as f64,
             step_halvings: o.stats.step_halvings,
+            time_steps: o.steps,
             dimensionless: m.dimensionless(),
             stats: o.stats.clone(),
             max_penetration: o.max_penetration,
@@ -102,6 +156,7 @@ impl Summary {
             observables: None,
             head_final: s.node(m.real.start),
             tail_final: s.node(m.real.end - 1),
+            accuracy: None,
         }
     }
 }

@@ -8,9 +8,11 @@ mod gait;
 pub mod limits;
 pub mod ranges;
 mod solver;
+pub mod time;
 
 pub use gait::{GaitSpec, Kind};
 pub use solver::{set_overrides, ContactKind, IntegratorKind, Overrides, SolverSpec};
+pub use time::Adaptive;
 
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -40,6 +42,24 @@ pub struct Problem {
     /// Muscle activation (gait). Default: none.
     #[serde(default)]
     pub gait: GaitSpec,
+    /// Accuracy target: `slither run` picks the tolerance and the mesh
+    /// (`crate::chart::accuracy`). Absent: run the file as written.
+    pub accuracy: Option<AccuracySpec>,
+}
+
+/// `[accuracy]`: run the cheapest model whose estimated error of `v_s/v_m` is below a target.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AccuracySpec {
+    /// Relative error of `v_s/v_m` allowed (time and mesh together), e.g. 0.01. Required, in
+    /// [1e-4, 0.5]. `slither run --accuracy X` overrides it.
+    pub target: f64,
+    /// Most elements the mesh refinement may use. Default 400, in [rod.elements, 100000].
+    #[serde(default = "d_max_elements")]
+    pub max_elements: usize,
+}
+fn d_max_elements() -> usize {
+    400
 }
 
 /// `[ground]`: a plane `z = 0` with anisotropic kinetic Coulomb friction.
@@ -197,13 +217,29 @@ pub struct TimeSpec {
     /// "dynamic" (default) or "static".
     #[serde(default)]
     pub mode: Mode,
-    /// Time step `h` (s). Required in dynamic mode, > 0.
+    /// Time step `h` (s). Required in dynamic mode, > 0. With `adaptive = true`: the first
+    /// step.
     pub dt: Option<f64>,
     /// Simulated duration (s). Required in dynamic mode, > 0.
     pub duration: Option<f64>,
     /// Static mode: number of load increments (gravity and natural strains ramped). Default 1.
     #[serde(default = "d_one")]
     pub load_steps: usize,
+    /// Error-controlled steps ([`crate::integrator::adaptive`]): `dt` is the first step, each
+    /// step is sized so that its local error estimate stays below `error_tolerance`. Default
+    /// false (fixed steps of `dt`). Dynamic mode, `implicit` or `bdf2` integrator.
+    #[serde(default)]
+    pub adaptive: bool,
+    /// Adaptive only: allowed local error per step of any node position, as a fraction of
+    /// `rod.length` (twist angles count with the surface displacement `a/2 * angle`). Default
+    /// [`time::DEFAULT_TOLERANCE`], in [1e-12, 0.1].
+    pub error_tolerance: Option<f64>,
+    /// Adaptive only: largest step (s). Default the output interval (at least `dt`); in
+    /// [dt, duration].
+    pub dt_max: Option<f64>,
+    /// Adaptive only: smallest step (s); a step that would have to be smaller stops the run
+    /// (exit 3) naming the time, step and error. Default `dt * 1e-4`; in (0, dt].
+    pub dt_min: Option<f64>,
 }
 fn d_one() -> usize {
     1
@@ -585,6 +621,36 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             if let Some(d) = t.duration {
                 c.positive("time", "duration", d, "s")?;
             }
+        }
+    }
+    time::check(p, &c)?;
+    if let Some(a) = &p.accuracy {
+        if !(a.target.is_finite() && (1e-4..=0.5).contains(&a.target)) {
+            return Err(c.fail(
+                "accuracy",
+                "target",
+                format!("{}", a.target),
+                "in [1e-4, 0.5] (relative error of v_s/v_m)",
+            ));
+        }
+        if !(r.elements..=100_000).contains(&a.max_elements) {
+            return Err(c.fail(
+                "accuracy",
+                "max_elements",
+                format!("{}", a.max_elements),
+                &format!(
+                    "an integer in [rod.elements, 100000] = [{}, 100000]",
+                    r.elements
+                ),
+            ));
+        }
+        if t.mode != Mode::Dynamic || p.ground.is_none() || p.gait.kind == Kind::None {
+            return Err(c.fail(
+                "accuracy",
+                "target",
+                format!("{}", a.target),
+                "given only for a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)",
+            ));
         }
     }
     if !(1..=10_000).contains(&t.load_steps) {

@@ -1,0 +1,476 @@
+//! The work-precision chart of a gait scene (ground, contact, muscles): the error of `v_s/v_m`
+//! and of the final centreline against wall time, for implicit Euler over fixed steps, BDF2
+//! over fixed steps and BDF2 with error-controlled steps over tolerances
+//! ([`crate::integrator::adaptive`]), at the scene's mesh.
+//!
+//! **Reference.** BDF2 at fixed steps from `reference_dt`, halved until `v_s/v_m` changes by
+//! less than `reference_change` (0.1 %) between two successive runs (at most
+//! `reference_halvings` halvings); the finest run is the reference. Because gait scenes with
+//! stick-slip can respond to the step size by small jumps rather than smoothly (the S-start's
+//! `v_s/v_m` moves by up to 2 % between fixed steps of 2.4e-4, 2.5e-4 and 2.6e-4 s), the
+//! reference's step is also run `reference_jitter` (4 %) shorter and longer, and the spread of
+//! those three values is reported as the reference's scatter: errors below it are not resolved.
+//! The reference is cached in `DIR/reference.json` under a hash of the problem and the
+//! reference settings, so a second chart of the same scene reuses it.
+//!
+//! **Errors.** `|v_s/v_m - ref| / ref` (relative) and the largest distance of a real node from
+//! the reference's at the final time, over the rod length.
+
+use super::*;
+use crate::problem::{Adaptive, IntegratorKind};
+use crate::sim::Outcome;
+
+/// Settings of the gait work-precision chart (defaults in [`Default`]).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct GaitPrecisionOptions {
+    /// Fixed steps of implicit Euler (s). Default 8e-3, 4e-3, 2e-3, 1e-3, 5e-4.
+    pub euler_dt: Vec<f64>,
+    /// Fixed steps of BDF2 (s). Default 8e-3, 4e-3, 2e-3, 1e-3, 5e-4.
+    pub bdf2_dt: Vec<f64>,
+    /// Tolerances of adaptive BDF2 (fraction of L per step). Default 1e-3 ... 1e-5.
+    pub tolerances: Vec<f64>,
+    /// First step of adaptive runs (s). Default 2e-3.
+    pub adaptive_first_dt: f64,
+    /// Coarsest reference step (s). Default 5e-4.
+    pub reference_dt: f64,
+    /// Relative change of `v_s/v_m` between successive reference runs that ends the halving.
+    /// Default 1e-3.
+    pub reference_change: f64,
+    /// Most halvings of the reference step. Default 3.
+    pub reference_halvings: usize,
+    /// Relative change of the reference step for the scatter runs. Default 0.04.
+    pub reference_jitter: f64,
+}
+
+impl Default for GaitPrecisionOptions {
+    fn default() -> Self {
+        GaitPrecisionOptions {
+            euler_dt: vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4],
+            bdf2_dt: vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4],
+            tolerances: vec![1e-3, 3e-4, 1e-4, 3e-5, 1e-5],
+            adaptive_first_dt: 2e-3,
+            reference_dt: 5e-4,
+            reference_change: 1e-3,
+            reference_halvings: 3,
+            reference_jitter: 0.04,
+        }
+    }
+}
+
+/// One run of a gait scene: the measured speed ratio, the final centreline and the cost.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct GaitRun {
+    /// "implicit", "bdf2" or "bdf2-adaptive".
+    pub method: String,
+    /// Fixed step (s), or the first step of an adaptive run.
+    pub dt: f64,
+    /// Tolerance of an adaptive run (`None`: fixed steps).
+    pub tolerance: Option<f64>,
+    /// `v_s / v_m` (NaN when the run failed).
+    pub v_ratio: f64,
+    /// Wall time of the stepping (s).
+    pub wall_s: f64,
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected tries (adaptive) or halvings (fixed).
+    pub rejected: usize,
+    /// Smallest and largest accepted step (s).
+    pub dt_range: (f64, f64),
+    /// "ok" or the failure.
+    pub status: String,
+    /// Final real-node positions (m).
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub x: Vec<[f64; 3]>,
+}
+
+/// `v_s/v_m` of a run by the definition of [`crate::observe`] (first and last frame).
+pub fn speed_ratio(model: &Model, o: &Outcome) -> f64 {
+    let (Some(first), Some(last)) = (o.frames.first(), o.frames.last()) else {
+        return f64::NAN;
+    };
+    let frames = [first.clone(), last.clone()];
+    let fl = crate::observe::fields(model, &frames);
+    crate::observe::observe(model, &frames, &fl).v_s_over_v_m
+}
+
+/// `model` with the given integrator and step; adaptive with `tol` when given.
+pub fn variant(model: &Model, kind: IntegratorKind, dt: f64, tol: Option<f64>) -> Model {
+    let mut m = model.clone();
+    m.solver.integrator = kind;
+    m.dt = dt;
+    m.adaptive = tol.map(|tolerance| Adaptive {
+        tolerance,
+        dt_first: dt,
+        dt_min: dt * crate::problem::time::DEFAULT_DT_MIN_FRACTION,
+        dt_max: m.output_interval.max(dt),
+    });
+    m
+}
+
+/// Run `model` (its own integrator and schedule) and measure it.
+pub fn gait_run(model: &Model, method: &str) -> GaitRun {
+    let muscles = Box::new(Muscles {
+        gait: model.gait.clone(),
+    });
+    let o = crate::sim::run(model, muscles, &mut |_| {}, &mut |_| {});
+    let ok = o.error.is_none();
+    GaitRun {
+        method: method.into(),
+        dt: model.dt,
+        tolerance: model.adaptive.map(|a| a.tolerance),
+        v_ratio: if ok { speed_ratio(model, &o) } else { f64::NAN },
+        wall_s: o.wall_time_s,
+        steps: o.steps.accepted,
+        rejected: o.steps.rejected,
+        dt_range: (o.steps.dt_min, o.steps.dt_max),
+        status: o.error.as_ref().map_or("ok".into(), |e| e.to_string()),
+        x: model.real.clone().map(|i| o.state.node(i)).collect(),
+    }
+}
+
+/// The cached reference of a gait chart.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct GaitReference {
+    /// Hash of the problem and the reference settings (the cache key).
+    pub key: String,
+    /// The halving runs, coarsest first (the last is the reference).
+    pub runs: Vec<GaitRun>,
+    /// Relative change of `v_s/v_m` between the last two halving runs.
+    pub change: f64,
+    /// Whether the change fell below `reference_change`.
+    pub converged: bool,
+    /// The scatter runs at the reference step times `1 -+ reference_jitter`.
+    pub scatter_runs: Vec<GaitRun>,
+    /// `(max - min) / reference` of `v_s/v_m` over the reference and its scatter runs.
+    pub scatter: f64,
+    /// Reference `v_s/v_m`.
+    pub v_ratio: f64,
+    /// Wall time of all reference runs (s).
+    pub wall_s: f64,
+}
+
+/// One point of the gait chart.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct GaitPoint {
+    /// The run.
+    #[serde(flatten)]
+    pub run: GaitRun,
+    /// `|v_s/v_m - ref| / ref`.
+    pub v_error: f64,
+    /// Largest node distance from the reference's final centreline over L.
+    pub x_error: f64,
+}
+
+/// The gait work-precision data.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct GaitPrecision {
+    /// Scene file.
+    pub scene: String,
+    /// Real elements.
+    pub elements: usize,
+    /// Duration (s).
+    pub duration: f64,
+    /// Settings.
+    pub options: GaitPrecisionOptions,
+    /// The reference.
+    pub reference: GaitReference,
+    /// All runs.
+    pub points: Vec<GaitPoint>,
+}
+
+/// FNV-1a, 64 bit: the cache key of a reference (stable across builds, unlike `std`'s hasher).
+fn fnv1a(text: &str) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+fn log_run(log: &mut dyn FnMut(&str), what: &str, r: &GaitRun) {
+    log(&format!(
+        "{what}: {} dt {:.3e} s tol {:.0e}: v_s/v_m {:.5}, {} steps ({} rejected), {:.2} s ({})",
+        r.method,
+        r.dt,
+        r.tolerance.unwrap_or(f64::NAN),
+        r.v_ratio,
+        r.steps,
+        r.rejected,
+        r.wall_s,
+        r.status
+    ));
+}
+
+/// Compute the reference (or load it from `cache` when its key matches).
+pub fn gait_reference(
+    problem: &Problem,
+    model: &Model,
+    opts: &GaitPrecisionOptions,
+    cache: Option<&Path>,
+    log: &mut dyn FnMut(&str),
+) -> Result<GaitReference, ChartError> {
+    let key = fnv1a(&format!(
+        "{problem:?}|{}|{}|{}|{}",
+        opts.reference_dt, opts.reference_change, opts.reference_halvings, opts.reference_jitter
+    ));
+    if let Some(path) = cache {
+        if let Ok(text) = std::fs::read_to_string(path) {
+            if let Ok(r) = serde_json::from_str::<GaitReference>(&text) {
+                if r.key == key && r.runs.last().is_some_and(|x| !x.x.is_empty()) {
+                    log(&format!("reference from {} (cached)", path.display()));
+                    return Ok(r);
+                }
+            }
+        }
+    }
+    let mut runs: Vec<GaitRun> = Vec::new();
+    let mut dt = opts.reference_dt;
+    let mut change = f64::NAN;
+    for k in 0..=opts.reference_halvings {
+        let r = gait_run(&variant(model, IntegratorKind::Bdf2, dt, None), "bdf2");
+        log_run(log, "reference", &r);
+        if r.status != "ok" || !r.v_ratio.is_finite() {
+            return Err(ChartError::Reference(format!(
+                "BDF2 at dt = {dt:e} s: {}",
+                r.status
+            )));
+        }
+        if let Some(prev) = runs.last() {
+            change = (r.v_ratio / prev.v_ratio - 1.0).abs();
+        }
+        runs.push(r);
+        if change < opts.reference_change || k == opts.reference_halvings {
+            break;
+        }
+        dt *= 0.5;
+    }
+    let best = runs.last().expect("one run").clone();
+    let mut scatter_runs = Vec::new();
+    for f in [1.0 - opts.reference_jitter, 1.0 + opts.reference_jitter] {
+        let r = gait_run(
+            &variant(model, IntegratorKind::Bdf2, best.dt * f, None),
+            "bdf2",
+        );
+        log_run(log, "reference scatter", &r);
+        scatter_runs.push(r);
+    }
+    let values: Vec<f64> = std::iter::once(best.v_ratio)
+        .chain(scatter_runs.iter().map(|r| r.v_ratio))
+        .collect();
+    let (lo, hi) = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let wall_s = runs
+        .iter()
+        .chain(scatter_runs.iter())
+        .map(|r| r.wall_s)
+        .sum();
+    for r in scatter_runs.iter_mut() {
+        r.x.clear();
+    }
+    let n = runs.len();
+    for r in runs.iter_mut().take(n - 1) {
+        r.x.clear();
+    }
+    let reference = GaitReference {
+        key,
+        converged: change < opts.reference_change,
+        change,
+        scatter: (hi - lo) / best.v_ratio,
+        v_ratio: best.v_ratio,
+        runs,
+        scatter_runs,
+        wall_s,
+    };
+    if let Some(path) = cache {
+        let json = serde_json::to_string(&reference).expect("serialisable");
+        write(path, &json)?;
+    }
+    Ok(reference)
+}
+
+/// Compute the gait work-precision data of a scene with ground and gait; the reference is
+/// cached in `cache` (see the module doc).
+pub fn gait_precision(
+    scene: &str,
+    problem: &Problem,
+    model: &Model,
+    opts: &GaitPrecisionOptions,
+    cache: Option<&Path>,
+    log: &mut dyn FnMut(&str),
+) -> Result<GaitPrecision, ChartError> {
+    let reference = gait_reference(problem, model, opts, cache, log)?;
+    let xref = reference.runs.last().expect("reference run").x.clone();
+    let mut runs = Vec::new();
+    for &dt in &opts.euler_dt {
+        runs.push((
+            "implicit",
+            variant(model, IntegratorKind::Implicit, dt, None),
+        ));
+    }
+    for &dt in &opts.bdf2_dt {
+        runs.push(("bdf2", variant(model, IntegratorKind::Bdf2, dt, None)));
+    }
+    for &tol in &opts.tolerances {
+        runs.push((
+            "bdf2-adaptive",
+            variant(
+                model,
+                IntegratorKind::Bdf2,
+                opts.adaptive_first_dt,
+                Some(tol),
+            ),
+        ));
+    }
+    let mut points = Vec::new();
+    for (method, m) in runs {
+        let mut run = gait_run(&m, method);
+        log_run(log, "run", &run);
+        let v_error = (run.v_ratio / reference.v_ratio - 1.0).abs();
+        let x_error = if run.status == "ok" {
+            max_distance(&run.x, &xref) / model.length
+        } else {
+            f64::NAN
+        };
+        run.x.clear();
+        points.push(GaitPoint {
+            run,
+            v_error,
+            x_error,
+        });
+    }
+    Ok(GaitPrecision {
+        scene: scene.into(),
+        elements: model.elements(),
+        duration: model.duration,
+        options: opts.clone(),
+        reference,
+        points,
+    })
+}
+
+impl GaitPrecision {
+    /// A plain-text table of the reference and every run.
+    pub fn summary(&self) -> String {
+        let r = &self.reference;
+        let mut s = format!(
+            "{} ({} elements, T = {} s)\nreference: BDF2 dt = {:.3e} s, v_s/v_m = {:.5} (last change {:.2e}, {}); scatter over dt x (1 -+ {}): {:.2e}\n\
+             method         dt (s)     tol     steps  rej  wall (s)  v_s/v_m  v error   x error/L\n",
+            self.scene,
+            self.elements,
+            self.duration,
+            r.runs.last().map_or(f64::NAN, |x| x.dt),
+            r.v_ratio,
+            r.change,
+            if r.converged { "converged" } else { "NOT converged" },
+            self.options.reference_jitter,
+            r.scatter,
+        );
+        for p in &self.points {
+            let q = &p.run;
+            let _ = writeln!(
+                s,
+                "{:14} {:.3e} {:7.0e} {:6} {:4} {:8.2} {:8.5} {:9.2e} {:9.2e}{}",
+                q.method,
+                q.dt,
+                q.tolerance.unwrap_or(f64::NAN),
+                q.steps,
+                q.rejected,
+                q.wall_s,
+                q.v_ratio,
+                p.v_error,
+                p.x_error,
+                if q.status == "ok" { "" } else { "  failed" }
+            );
+        }
+        s
+    }
+}
+
+/// Write `gait_precision.csv`, `gait_precision.json`, `gait_precision.png` (error of
+/// `v_s/v_m` against wall time) and `gait_precision_centreline.png` into `dir`.
+pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartError> {
+    std::fs::create_dir_all(dir).map_err(|source| ChartError::Io {
+        path: dir.into(),
+        source,
+    })?;
+    let mut csv = String::from(
+        "method,dt_s,tolerance,steps,rejected,dt_min_s,dt_max_s,wall_s,v_s_over_v_m,v_error,x_error_over_L,status\n",
+    );
+    for p in &g.points {
+        let q = &p.run;
+        let _ = writeln!(
+            csv,
+            "{},{:e},{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},\"{}\"",
+            q.method,
+            q.dt,
+            q.tolerance.unwrap_or(f64::NAN),
+            q.steps,
+            q.rejected,
+            q.dt_range.0,
+            q.dt_range.1,
+            q.wall_s,
+            q.v_ratio,
+            p.v_error,
+            p.x_error,
+            q.status.replace('"', "'")
+        );
+    }
+    write(&dir.join("gait_precision.csv"), &csv)?;
+    let json = serde_json::to_string_pretty(g).expect("serialisable");
+    write(&dir.join("gait_precision.json"), &json)?;
+    // Each method's points joined in the order of refinement (coarse to fine), as run.
+    let series = |method: &str, y: &dyn Fn(&GaitPoint) -> f64| -> Vec<(f64, f64)> {
+        g.points
+            .iter()
+            .filter(|p| p.run.method == method)
+            .map(|p| (p.run.wall_s, y(p)))
+            .collect()
+    };
+    let walls: Vec<f64> = g.points.iter().map(|p| p.run.wall_s).collect();
+    let wmin = walls.iter().copied().fold(f64::INFINITY, f64::min);
+    let wmax = walls.iter().copied().fold(0.0, f64::max);
+    for (file, label, y) in [
+        (
+            "gait_precision.png",
+            "relative error of v_s/v_m",
+            &(|p: &GaitPoint| p.v_error) as &dyn Fn(&GaitPoint) -> f64,
+        ),
+        (
+            "gait_precision_centreline.png",
+            "final centreline error / L (max node distance)",
+            &(|p: &GaitPoint| p.x_error) as &dyn Fn(&GaitPoint) -> f64,
+        ),
+    ] {
+        let mut lines = vec![
+            ("implicit Euler, fixed dt", series("implicit", y)),
+            ("BDF2, fixed dt", series("bdf2", y)),
+            (
+                "BDF2, adaptive (over tolerance)",
+                series("bdf2-adaptive", y),
+            ),
+        ];
+        if file == "gait_precision.png" {
+            lines.push((
+                "reference scatter",
+                vec![(wmin, g.reference.scatter), (wmax, g.reference.scatter)],
+            ));
+        }
+        plot::xy(
+            &dir.join(file),
+            &format!(
+                "Work-precision: {} ({} elements, T = {} s)",
+                g.scene, g.elements, g.duration
+            ),
+            "wall time (s)",
+            label,
+            &lines,
+            true,
+            true,
+        )?;
+    }
+    Ok(())
+}
