@@ -312,6 +312,9 @@ impl ActiveSet {
             it += 1;
             let t0 = Instant::now();
             let mut f0 = obj.assemble(q, &mut nw.asm, project);
+            if project {
+                nw.stats.projected_iterations += 1;
+            }
             if !f0.is_finite() || nw.asm.grad.iter().any(|g| !g.is_finite()) {
                 return Err(Failure::NonFiniteObjective {
                     path,

@@ -4,8 +4,10 @@
 //! projected to positive semi-definite on request) into the fixed banded pattern of an
 //! [`Assembly`]; [`Newton`] owns that assembly, the sparse Cholesky factorisation
 //! ([`linsolve`], faer), the correction and trial vectors and the [`Stats`]. One iteration:
-//! assemble, hold the fixed coordinates, factorise (shifting the diagonal if the matrix is
-//! only semi-definite), solve `H dq = -g`, backtrack on the objective (Armijo), accept. The
+//! assemble (the exact Hessian; once one is found indefinite, every stencil projected for the
+//! rest of the solve), hold the fixed coordinates, factorise (shifting the diagonal if the
+//! matrix is only semi-definite), solve `H dq = -g`, backtrack on the objective (Armijo),
+//! accept. The
 //! iteration has converged when the full correction is below `tolerance * a` on every position
 //! and below `tolerance` rad on every twist angle.
 //!
@@ -62,6 +64,9 @@ pub struct Stats {
     /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
     /// from the step's start.
     pub warm_conic_restarts: usize,
+    /// Newton iterations (plain and active-set) assembled with every stencil's Hessian
+    /// projected to positive semi-definite, after the exact Hessian was found indefinite.
+    pub projected_iterations: usize,
     /// The last active-set solve's residual at each iterate (largest force on a free
     /// position coordinate, or torque on a free angle over `a`, relative to the mean weight
     /// per contact; NaN marks a change of contact statuses, -1 a step that was not a full
@@ -378,9 +383,17 @@ impl Newton {
     ) -> Result<usize, Failure> {
         let n = q.len();
         let path = Path::Newton;
-        for it in 1..=cap {
+        // Exact Hessians first (quadratic convergence); when one is not positive definite the
+        // iterate is redone, and the rest of the solve run, with every stencil projected.
+        let mut project = false;
+        let mut it = 0;
+        while it < cap {
+            it += 1;
             let t0 = Instant::now();
-            let f0 = obj.assemble(q, &mut self.asm, true);
+            let f0 = obj.assemble(q, &mut self.asm, project);
+            if project {
+                self.stats.projected_iterations += 1;
+            }
             for k in 0..n {
                 if fixed[k] {
                     self.asm.fix(k);
@@ -394,7 +407,14 @@ impl Newton {
             }
             let t1 = Instant::now();
             self.stats.assembly_s += (t1 - t0).as_secs_f64();
-            self.factor_shifted(m, it)?;
+            if project {
+                self.factor_shifted(m, it)?;
+            } else if self.lin.factor(&self.asm).is_err() {
+                project = true;
+                it -= 1;
+                self.stats.factor_s += t1.elapsed().as_secs_f64();
+                continue;
+            }
             let t2 = Instant::now();
             self.stats.factor_s += (t2 - t1).as_secs_f64();
             self.solve_direction();
