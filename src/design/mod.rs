@@ -64,11 +64,16 @@ use crate::model::Model;
 use crate::problem::{self, key_line, Problem, ProblemError};
 use crate::{gait, observe, plot, sim};
 use argmin::core::observers::{Observe, ObserverMode};
+use argmin::core::PopulationState;
 use argmin::core::{
-    CostFunction, Error as ArgminError, Executor, IterState, Problem as ArgminProblem, Solver,
-    State, TerminationReason, TerminationStatus, KV,
+    CostFunction, Error as ArgminError, Executor, Problem as ArgminProblem, Solver, State,
+    TerminationReason, TerminationStatus, KV,
 };
 use argmin::solver::neldermead::NelderMead;
+use argmin::solver::particleswarm::{Particle, ParticleSwarm};
+use rand_xoshiro::rand_core::{RngCore, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
