@@ -852,7 +852,7 @@ fn fig3(out: &Path, ext: &str, torque: &[f64], cells: &[Cell]) -> Result<(), Pha
     // (a)
     let mut names = Vec::new();
     let mut pts = Vec::new();
-    for &g in torque.iter().filter(|&&g| g > 0.0) {
+    for g in shown_torques(torque).into_iter().filter(|&g| g > 0.0) {
         let mut max: Vec<(f64, f64)> = Vec::new();
         let mut snap: Vec<(f64, f64)> = Vec::new();
         for c in ok.iter().filter(|c| c.torque == g) {
@@ -861,9 +861,9 @@ fn fig3(out: &Path, ext: &str, torque: &[f64], cells: &[Cell]) -> Result<(), Pha
         }
         max.sort_by(|a, b| a.0.total_cmp(&b.0));
         snap.sort_by(|a, b| a.0.total_cmp(&b.0));
-        names.push(format!("G = {g}: Wr max"));
+        names.push(format!("G = {}: Wr max", short(g)));
         pts.push(max);
-        names.push(format!("G = {g}: Wr at snapshot"));
+        names.push(format!("G = {}: Wr at snapshot", short(g)));
         pts.push(snap);
     }
     let series: Vec<(&str, Vec<(f64, f64)>)> = names.iter().map(String::as_str).zip(pts).collect();
@@ -1397,9 +1397,46 @@ fn map_legend<DB: DrawingBackend>(
     Ok(())
 }
 
-/// `v_s / v_m` against `W / G` (the paper's speed chart), one series per torque.
+/// Most torques drawn as separate series in the speed and writhe charts: a finer grid shows
+/// this many, evenly spread over the grid's indices (first and last included), so the legend
+/// stays readable; the regime map and `phase.csv` keep every cell.
+pub const MAX_TORQUE_SERIES: usize = 6;
+
+/// The torques drawn as series: all when at most [`MAX_TORQUE_SERIES`], else that many spread
+/// evenly over the indices.
+pub fn shown_torques(torque: &[f64]) -> Vec<f64> {
+    let n = torque.len();
+    if n <= MAX_TORQUE_SERIES {
+        return torque.to_vec();
+    }
+    let m = MAX_TORQUE_SERIES;
+    (0..m)
+        .map(|i| torque[(i * (n - 1) + (m - 1) / 2) / (m - 1)])
+        .collect()
+}
+
+/// A grid value for a legend: 3 significant digits (`G = 2.64`, `G = 100`).
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let dec = (2 - v.abs().log10().floor() as i32).clamp(0, 6) as usize;
+    let s = format!("{v:.dec$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// `v_s / v_m` against `W / G` (the paper's speed chart), one series per torque (at most
+/// [`MAX_TORQUE_SERIES`], see [`shown_torques`]).
 fn speed_chart(path: &Path, torque: &[f64], cells: &[Cell]) -> Result<(), plot::PlotError> {
-    let names: Vec<String> = torque.iter().map(|g| format!("G = {g}")).collect();
+    let torque = shown_torques(torque);
+    let names: Vec<String> = torque
+        .iter()
+        .map(|&g| format!("G = {}", short(g)))
+        .collect();
     let series: Vec<(&str, Vec<(f64, f64)>)> = torque
         .iter()
         .zip(&names)
@@ -1548,6 +1585,20 @@ mod tests {
         // A label that is not a regime is not a row.
         let bad = m.row(1).replacen(",M,", ",X,", 1);
         assert!(Cell::parse(&bad).is_none());
+    }
+
+    #[test]
+    fn a_fine_grid_shows_six_torques_spread_over_it() {
+        let g: Vec<f64> = (0..20).map(|i| i as f64).collect();
+        let shown = shown_torques(&g);
+        assert_eq!(shown.len(), MAX_TORQUE_SERIES);
+        assert_eq!(shown[0], 0.0);
+        assert_eq!(shown[5], 19.0);
+        assert!(shown.windows(2).all(|w| w[1] - w[0] >= 3.0), "{shown:?}");
+        assert_eq!(shown_torques(&g[..4]), g[..4].to_vec());
+        assert_eq!(short(2.636650898730358), "2.64");
+        assert_eq!(short(100.0), "100");
+        assert_eq!(short(14.38449888287663), "14.4");
     }
 
     #[test]
