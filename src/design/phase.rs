@@ -1102,13 +1102,18 @@ fn lin_edges(c: &[f64]) -> Vec<f64> {
 pub const FULL_LABEL_MAX_COLUMNS: usize = 8;
 
 /// Colours of the fitted boundary lines on the map, in `boundaries.json` order.
-const BOUNDARY_COLORS: [RGBColor; 6] = [
+/// (Ten: the five regimes have at most ten neighbouring pairs, so no two lines share one.)
+const BOUNDARY_COLORS: [RGBColor; 10] = [
     RGBColor(0, 0, 0),
     RGBColor(150, 30, 150),
     RGBColor(20, 70, 170),
     RGBColor(160, 60, 0),
     RGBColor(0, 120, 120),
     RGBColor(110, 110, 0),
+    RGBColor(230, 0, 120),
+    RGBColor(0, 170, 230),
+    RGBColor(120, 70, 30),
+    RGBColor(90, 90, 90),
 ];
 
 /// The part of the line `log10 G = slope log10 W + intercept` inside the box `[lw0, lw1] x
@@ -1380,8 +1385,11 @@ fn map_legend<DB: DrawingBackend>(
             ))
             .map_err(|e| err(&e))?;
         let ratio = b.ratio_at_g10.map_or("-".to_string(), |r| {
-            let dec = (2 - r.abs().log10().floor() as i32).clamp(0, 6) as usize;
-            format!("{r:.dec$}")
+            if (0.01..1e5).contains(&r.abs()) {
+                short(r)
+            } else {
+                format!("{r:.1e}")
+            }
         });
         let text = format!(
             "{}: s = {:.2}, W/G {} at G = 10 ({} pairs)",
