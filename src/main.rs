@@ -68,8 +68,8 @@ enum Cmd {
         quiet: bool,
     },
     /// Regime phase diagram over scaled weight W and scaled torque G (one simulation per
-    /// cell, in parallel); writes phase.csv, phase.png and speed.png. Rerunning with the same
-    /// --out reuses the finished cells.
+    /// cell, in parallel); writes phase.csv, boundaries.json and the regime map and Fig. 3
+    /// charts (PNG and SVG). Rerunning with the same --out reuses the finished cells.
     Phase {
         /// Phase file (TOML): the base problem and the W and G grids.
         file: PathBuf,

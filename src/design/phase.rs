@@ -613,7 +613,8 @@ fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
     std::fs::write(&file, text + "\n").map_err(|source| PhaseError::Io { file, source })
 }
 
-/// Run the diagram into `out` (`phase.csv`, `phase.png`, `speed.png`), reusing finished rows.
+/// Run the diagram into `out` (`phase.csv`, `phase.json`, `boundaries.json` and the figures,
+/// each as PNG and SVG), reusing finished rows.
 /// `report(done, total, cell)` is called after each newly simulated cell.
 pub fn sweep(
     ph: &Phase,
