@@ -59,7 +59,8 @@ enum Cmd {
         which: ChartCmd,
     },
     /// Gait design: maximise the forward speed v_s over muscle stress, width and speed
-    /// (argmin Nelder-Mead, one simulation per evaluation); writes history.csv, optimum.json
+    /// (argmin Nelder-Mead, one simulation per evaluation, or particle swarm, a generation
+    /// in parallel); writes history.csv, optimum.json
     /// and figures. Rerunning with the same --out reuses the evaluations in history.csv.
     Optimize {
         /// Study file (TOML): the base problem, the bounds and the budget.
@@ -72,8 +73,8 @@ enum Cmd {
         quiet: bool,
     },
     /// Regime phase diagram over scaled weight W and scaled torque G (one simulation per
-    /// cell, in parallel); writes phase.csv, phase.png and speed.png. Rerunning with the same
-    /// --out reuses the finished cells.
+    /// cell, in parallel); writes phase.csv, boundaries.json and the regime map and Fig. 3
+    /// charts (PNG and SVG). Rerunning with the same --out reuses the finished cells.
     Phase {
         /// Phase file (TOML): the base problem and the W and G grids.
         file: PathBuf,
@@ -505,8 +506,18 @@ fn optimize(path: &Path, out: &Path, quiet: bool) -> ExitCode {
             history.display()
         ));
     }
+    let method = match study.method {
+        design::Method::NelderMead if study.starts > 1 => {
+            format!("Nelder-Mead ({} starts)", study.starts)
+        }
+        design::Method::NelderMead => "Nelder-Mead".to_string(),
+        design::Method::ParticleSwarm => format!(
+            "particle swarm ({} particles per generation, in parallel)",
+            study.particles
+        ),
+    };
     progress.say(format!(
-        "{}: Nelder-Mead over {}; at most {} evaluations of {} ({} pulse times L/v_m each)",
+        "{}: {method} over {}; at most {} evaluations of {} ({} pulse times L/v_m each)",
         path.display(),
         names.join(", "),
         study.max_evaluations,
@@ -591,6 +602,12 @@ fn optimize(path: &Path, out: &Path, quiet: bool) -> ExitCode {
             best.regime,
             out.display()
         );
+        for (param, side) in design::on_bound(&study, &r) {
+            eprintln!(
+                "note: the optimum lies on the {side} bound of {param} (within {} of the range): widen optimize.{param} to follow it",
+                design::ON_BOUND_FRACTION
+            );
+        }
     }
     ExitCode::SUCCESS
 }

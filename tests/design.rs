@@ -531,3 +531,209 @@ fn a_heading_limit_excludes_runs_that_veer_and_penalises_their_cost() {
     .unwrap();
     assert!(json["best"]["displacement_angle_deg"].as_f64().unwrap() <= 1.0);
 }
+
+/// The particle swarm study: 4 particles, 3 generations.
+fn pso_study(max: usize) -> String {
+    STUDY.replace("max_evaluations = 8", &format!("max_evaluations = {max}"))
+        + "method = \"particle-swarm\"\nparticles = 4\nseed = 7\n"
+}
+
+#[test]
+fn particle_swarm_runs_generations_and_resumes_deterministically() {
+    let path = setup("pso", BASE, &pso_study(12));
+    let study = design::load_study(&path).unwrap();
+    assert_eq!(study.method, design::Method::ParticleSwarm);
+    assert_eq!(study.particles, 4);
+    let out = path.parent().unwrap().join("out");
+    let r = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    // The whole budget: the first generation (the start and 3 random particles) and two more.
+    assert_eq!(r.evaluations, 12);
+    assert_eq!(r.simulations + r.repeats, 12);
+    assert_eq!(r.initial.point.stress, 9000.0, "the start is particle 1");
+    assert_eq!(r.initial.point.speed, 0.4);
+    let gens: Vec<u64> = r.iterations.iter().map(|i| i.iteration).collect();
+    assert_eq!(gens, vec![0, 1, 2], "{:?}", r.iterations);
+    // The swarm moves: points differ from the start, all inside the bounds.
+    let distinct: std::collections::BTreeSet<(u64, u64)> = r
+        .visited
+        .iter()
+        .map(|v| (v.0.point.stress.to_bits(), v.0.point.speed.to_bits()))
+        .collect();
+    assert!(distinct.len() >= 8, "{distinct:?}");
+    for (e, _) in &r.visited {
+        assert!(
+            (6000.0..=24000.0).contains(&e.point.stress),
+            "{:?}",
+            e.point
+        );
+        assert!((0.3..=0.8).contains(&e.point.speed), "{:?}", e.point);
+    }
+    let best = r.best.clone().expect("a finished run");
+    assert!(best.v_s >= r.initial.v_s);
+    // The best cost of the swarm never gets worse from one generation to the next.
+    for w in r.iterations.windows(2) {
+        assert!(w[1].best_cost <= w[0].best_cost, "{:?}", r.iterations);
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("optimum.json")).unwrap()).unwrap();
+    assert_eq!(json["method"], "particle-swarm");
+    assert_eq!(json["particles"], 4);
+    assert_eq!(json["seed"], 7);
+    assert_eq!(json["iterations"], 2);
+    assert!(json["on_bound"].is_array());
+    assert_eq!(history_rows(&out).len(), r.simulations);
+
+    // A rerun replays every generation from history.csv without simulating...
+    let again = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    assert_eq!(again.simulations, 0);
+    assert_eq!(again.reused + again.repeats, 12);
+    assert_eq!(again.best.unwrap().v_s, best.v_s);
+    // ...and a larger budget continues the same swarm: only the new generation is simulated.
+    std::fs::write(&path, pso_study(16)).unwrap();
+    let more = design::optimize(
+        &design::load_study(&path).unwrap(),
+        &out,
+        &mut design::Silent,
+    )
+    .unwrap();
+    assert_eq!(more.evaluations, 16);
+    assert!(
+        more.simulations <= 4 && more.simulations >= 1,
+        "{}",
+        more.simulations
+    );
+    for ((a, _), (b, _)) in more.visited.iter().zip(&r.visited) {
+        assert_eq!(
+            a.point, b.point,
+            "the first 12 evaluations replay the same points"
+        );
+    }
+    // Another seed draws another swarm.
+    std::fs::write(&path, pso_study(12).replace("seed = 7", "seed = 8")).unwrap();
+    let other = design::optimize(
+        &design::load_study(&path).unwrap(),
+        &path.parent().unwrap().join("other"),
+        &mut design::Silent,
+    )
+    .unwrap();
+    assert_ne!(other.visited[1].0.point, r.visited[1].0.point);
+}
+
+#[test]
+fn multi_start_nelder_mead_splits_the_budget_between_starts() {
+    let study = STUDY.replace("max_evaluations = 8", "max_evaluations = 12") + "starts = 2\n";
+    let path = setup("multistart", BASE, &study);
+    let study = design::load_study(&path).unwrap();
+    assert_eq!(study.starts, 2);
+    let out = path.parent().unwrap().join("out");
+    let r = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    assert_eq!(r.evaluations, 12);
+    assert!(r.iterations.iter().any(|i| i.start == 1));
+    assert!(r.iterations.iter().any(|i| i.start == 2));
+    assert!(r.termination.contains("start 2"), "{}", r.termination);
+    // The second start begins at its own point (evaluation 7, after start 1's 6).
+    assert_ne!(r.visited[6].0.point, r.initial.point);
+    let best = r.best.unwrap();
+    let fastest = r
+        .visited
+        .iter()
+        .filter(|v| v.0.status == Status::Ok)
+        .map(|v| v.0.v_s)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(best.v_s, fastest, "the best over both starts");
+}
+
+#[test]
+fn an_optimum_on_a_bound_is_reported_in_optimum_json_and_on_the_chart() {
+    // One parameter and a simplex spanning the whole range: the two vertices are the bounds,
+    // so whichever is faster, the optimum sits on a bound.
+    let study = "[study]\nbase = \"base.toml\"\nmax_evaluations = 2\nduration_pulses = 0.5\n\
+                 initial_step = 1.0\n\n[optimize]\nspeed = [0.3, 0.8]\n\
+                 initial = { speed = 0.3 }\n";
+    let path = setup("onbound", BASE, study);
+    let out = path.parent().unwrap().join("out");
+    let r = design::optimize(
+        &design::load_study(&path).unwrap(),
+        &out,
+        &mut design::Silent,
+    )
+    .unwrap();
+    let best = r.best.unwrap();
+    let side = if best.point.speed == 0.8 {
+        "upper"
+    } else {
+        "lower"
+    };
+    assert!(best.point.speed == 0.8 || best.point.speed == 0.3);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("optimum.json")).unwrap()).unwrap();
+    assert_eq!(json["on_bound"], serde_json::json!(["speed"]));
+    assert_eq!(json["on_bound_side"], serde_json::json!([side]));
+    let svg = std::fs::read_to_string(out.join("speed_vs_writhe.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert!(
+        svg.contains(&format!("on the {side} speed bound")),
+        "no bound note"
+    );
+    assert!(out.join("history.svg").exists());
+
+    // An optimum inside the box is not flagged.
+    let inside = STUDY.replace("max_evaluations = 8", "max_evaluations = 3");
+    let path = setup("inside", BASE, &inside);
+    let out = path.parent().unwrap().join("out");
+    let r = design::optimize(
+        &design::load_study(&path).unwrap(),
+        &out,
+        &mut design::Silent,
+    )
+    .unwrap();
+    let b = r.best.unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("optimum.json")).unwrap()).unwrap();
+    let flagged = json["on_bound"].as_array().unwrap().len();
+    let near = |x: f64, lo: f64, hi: f64| {
+        let u = (x - lo) / (hi - lo);
+        u <= design::ON_BOUND_FRACTION || u >= 1.0 - design::ON_BOUND_FRACTION
+    };
+    let expected =
+        near(b.point.stress, 6000.0, 24000.0) as usize + near(b.point.speed, 0.3, 0.8) as usize;
+    assert_eq!(flagged, expected, "{json}");
+}
+
+#[test]
+fn bad_method_settings_exit_2_naming_the_key() {
+    for (name, extra, needles) in [
+        (
+            "method",
+            "method = \"simplex\"\n",
+            &["method", "nelder-mead"][..],
+        ),
+        (
+            "starts-pso",
+            "method = \"particle-swarm\"\nstarts = 2\n",
+            &["optimize.starts", "particle-swarm"][..],
+        ),
+        (
+            "particles-nm",
+            "particles = 4\n",
+            &["optimize.particles", "particle-swarm"][..],
+        ),
+        (
+            "particles-budget",
+            "method = \"particle-swarm\"\nparticles = 9\n",
+            &["optimize.particles", "max_evaluations = 8"][..],
+        ),
+        (
+            "starts-budget",
+            "starts = 3\n",
+            &["optimize.starts", "[1, 1000]"][..],
+        ),
+    ] {
+        let (code, err, path) = bad_study(name, &format!("{STUDY}{extra}"));
+        assert_eq!(code, Some(2), "{name}: {err}");
+        assert!(err.contains(&path.display().to_string()), "{name}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{name}: {n:?} not in {err}");
+        }
+    }
+}

@@ -237,6 +237,27 @@ fn shards_merged_equal_the_unsharded_run_cell_for_cell() {
             "speed_vs_ratio.png",
         ] {
             assert!(merged.join(fig).exists(), "{fig}");
+            // Every figure also as SVG: XML text with one <svg> root.
+            let svg = merged.join(fig).with_extension("svg");
+            let text = std::fs::read_to_string(&svg).unwrap_or_else(|e| panic!("{svg:?}: {e}"));
+            assert!(text.trim_start().starts_with("<svg"), "{svg:?}");
+            assert!(text.trim_end().ends_with("</svg>"), "{svg:?}");
+            assert_eq!(text.matches("<svg").count(), 1, "{svg:?}");
+            assert!(text.contains("<text"), "{svg:?} has no labels");
+        }
+        // The regime map: log axes (labelled as such) and a legend of the regimes.
+        let map = std::fs::read_to_string(merged.join("phase.svg")).unwrap();
+        assert!(map.contains("(log)"), "no log axis label");
+        assert!(map.contains("regime (cells)"), "no legend");
+        let bounds: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(merged.join("boundaries.json")).unwrap())
+                .unwrap();
+        // Every fitted boundary is named in the map's legend.
+        for b in bounds.as_array().unwrap() {
+            if b["slope"].is_f64() {
+                let pair = b["pair"].as_str().unwrap();
+                assert!(map.contains(&format!("{pair}: s = ")), "{pair} not drawn");
+            }
         }
         // A missing shard is reported, not papered over.
         let out = dir.join(format!("partial{n}"));

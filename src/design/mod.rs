@@ -4,7 +4,8 @@
 //! simulation of a base problem with those values substituted.
 //!
 //! The loop is argmin's: a [`CostFunction`] (the simulator, [`Evaluator`]), a solver
-//! (Nelder-Mead, wrapped to stop at the evaluation budget) and an [`Executor`] that owns
+//! (Nelder-Mead, optionally from several starts, or particle swarm; `[optimize] method`,
+//! wrapped to stop at the evaluation budget) and an [`Executor`] that owns
 //! termination; an argmin observer records the simplex's best vertex after every iteration.
 //! The history must survive an interrupted study, so it is written by the evaluator itself,
 //! one flushed CSV row per simulation, rather than by an argmin observer (which sees iterations,
@@ -37,14 +38,31 @@
 //! Every simulation is appended to `history.csv` (and flushed) as soon as it ends. A rerun with
 //! the same output directory reads the file and answers any evaluation whose exact parameter
 //! values (bit for bit, as written), duration and base file (an FNV-1a hash of its text) match a
-//! row from the row instead of simulating. Nelder-Mead is deterministic, so a rerun replays the
-//! interrupted study from the rows and continues where it stopped.
+//! row from the row instead of simulating. Nelder-Mead is deterministic, and the particle
+//! swarm and the extra starts draw their random numbers from a generator seeded by
+//! `[optimize] seed` (xoshiro256++), so a rerun replays the interrupted study from the rows and
+//! continues where it stopped.
+//!
+//! # Methods
+//!
+//! * `method = "nelder-mead"` (default): argmin's simplex, one simulation per evaluation;
+//!   `starts = K` runs it K times one after the other, each with an equal share of
+//!   `max_evaluations`, the first from the study's start, the others from uniform random
+//!   points in the bounds.
+//! * `method = "particle-swarm"`: argmin's `ParticleSwarm` on the unit cube (positions clamped
+//!   to it, so no penalty applies), `particles` per generation (default
+//!   [`DEFAULT_PARTICLES`]). The first generation is the start plus uniform random points;
+//!   each generation's costs come in one `bulk_cost` call, whose new points are simulated in
+//!   parallel (rayon, one simulation per core) and then recorded in generation order.
+//!
+//! An optimum within [`ON_BOUND_FRACTION`] of a bound (in normalised coordinates) is reported
+//! in `optimum.json` (`on_bound`) and on the chart.
 //!
 //! # Layout
 //!
 //! `study.rs` the study file (schema, validation, the search space); `history.rs` the
 //! evaluations and `history.csv`; `simulate.rs` one evaluation (a simulation); `search.rs` the
-//! argmin glue (cost function, budgeted Nelder-Mead, iteration observer) and [`optimize`];
+//! argmin glue (cost function, budgeted solvers, iteration observer) and [`optimize`];
 //! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram.
 
 mod history;
@@ -55,6 +73,7 @@ mod simulate;
 mod study;
 
 pub use history::*;
+pub use report::on_bound;
 use report::*;
 pub use search::*;
 pub use simulate::*;
@@ -64,11 +83,16 @@ use crate::model::Model;
 use crate::problem::{self, key_line, Problem, ProblemError};
 use crate::{gait, observe, plot, sim};
 use argmin::core::observers::{Observe, ObserverMode};
+use argmin::core::PopulationState;
 use argmin::core::{
-    CostFunction, Error as ArgminError, Executor, IterState, Problem as ArgminProblem, Solver,
-    State, TerminationReason, TerminationStatus, KV,
+    CostFunction, Error as ArgminError, Executor, Problem as ArgminProblem, Solver, State,
+    TerminationReason, TerminationStatus, KV,
 };
 use argmin::solver::neldermead::NelderMead;
+use argmin::solver::particleswarm::{Particle, ParticleSwarm};
+use rand_xoshiro::rand_core::{RngCore, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::cell::{Cell, RefCell};
 use std::collections::HashMap;

@@ -613,7 +613,8 @@ fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
     std::fs::write(&file, text + "\n").map_err(|source| PhaseError::Io { file, source })
 }
 
-/// Run the diagram into `out` (`phase.csv`, `phase.png`, `speed.png`), reusing finished rows.
+/// Run the diagram into `out` (`phase.csv`, `phase.json`, `boundaries.json` and the figures,
+/// each as PNG and SVG), reusing finished rows.
 /// `report(done, total, cell)` is called after each newly simulated cell.
 pub fn sweep(
     ph: &Phase,
@@ -718,19 +719,23 @@ pub fn sweep_shard(
     Ok(sw)
 }
 
-/// `phase.png` and `speed.png` of a complete grid.
+/// The figures of a complete grid, each as PNG and SVG (`phase`, `speed`, Fig. 3a-c), and
+/// `boundaries.json`.
 fn figures(out: &Path, weight: &[f64], torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
-    let png = out.join("phase.png");
-    regime_map(&png, weight, torque, cells)
-        .map_err(|source| PhaseError::Plot { file: png, source })?;
-    let png = out.join("speed.png");
-    speed_chart(&png, torque, cells).map_err(|source| PhaseError::Plot { file: png, source })?;
     let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
+    let bounds = boundaries(weight, torque, &labels);
     let file = out.join("boundaries.json");
-    let text =
-        serde_json::to_string_pretty(&boundaries(weight, torque, &labels)).expect("serialisable");
+    let text = serde_json::to_string_pretty(&bounds).expect("serialisable");
     std::fs::write(&file, text + "\n").map_err(|source| PhaseError::Io { file, source })?;
-    fig3(out, torque, cells)
+    for ext in ["png", "svg"] {
+        let f = out.join(format!("phase.{ext}"));
+        regime_map(&f, weight, torque, cells, &bounds)
+            .map_err(|source| PhaseError::Plot { file: f, source })?;
+        let f = out.join(format!("speed.{ext}"));
+        speed_chart(&f, torque, cells).map_err(|source| PhaseError::Plot { file: f, source })?;
+        fig3(out, ext, torque, cells)?;
+    }
+    Ok(())
 }
 
 /// A fitted boundary between two regimes: the line `log10 G = slope log10 W + intercept`
@@ -831,8 +836,8 @@ pub fn boundaries(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]) -> 
 /// writhe at the snapshot instant against `W/G`, one series per torque; (b)
 /// `speed_vs_writhe.png`, `v_s/v_m` against the largest writhe, one series per regime; (c)
 /// `speed_vs_ratio.png`, `v_s/v_m` against `W/G` (as `speed.png`). Failed cells are left out;
-/// a figure with no finite point is skipped.
-fn fig3(out: &Path, torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
+/// a figure with no finite point is skipped. `ext` is the file type, `png` or `svg`.
+fn fig3(out: &Path, ext: &str, torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
     let ok: Vec<&Cell> = cells
         .iter()
         .filter(|c| c.status == crate::design::Status::Ok && c.torque > 0.0)
@@ -848,7 +853,7 @@ fn fig3(out: &Path, torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
     // (a)
     let mut names = Vec::new();
     let mut pts = Vec::new();
-    for &g in torque.iter().filter(|&&g| g > 0.0) {
+    for g in shown_torques(torque).into_iter().filter(|&g| g > 0.0) {
         let mut max: Vec<(f64, f64)> = Vec::new();
         let mut snap: Vec<(f64, f64)> = Vec::new();
         for c in ok.iter().filter(|c| c.torque == g) {
@@ -857,13 +862,13 @@ fn fig3(out: &Path, torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
         }
         max.sort_by(|a, b| a.0.total_cmp(&b.0));
         snap.sort_by(|a, b| a.0.total_cmp(&b.0));
-        names.push(format!("G = {g}: Wr max"));
+        names.push(format!("G = {}: Wr max", short(g)));
         pts.push(max);
-        names.push(format!("G = {g}: Wr at snapshot"));
+        names.push(format!("G = {}: Wr at snapshot", short(g)));
         pts.push(snap);
     }
     let series: Vec<(&str, Vec<(f64, f64)>)> = names.iter().map(String::as_str).zip(pts).collect();
-    let png = out.join("writhe_vs_ratio.png");
+    let png = out.join(format!("writhe_vs_ratio.{ext}"));
     skip_empty(
         plot::xy(
             &png,
@@ -895,7 +900,7 @@ fn fig3(out: &Path, torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
         .iter()
         .map(|(n, p)| (n.as_str(), p.clone()))
         .collect();
-    let png = out.join("speed_vs_writhe.png");
+    let png = out.join(format!("speed_vs_writhe.{ext}"));
     skip_empty(
         plot::scatter(
             &png,
@@ -907,7 +912,7 @@ fn fig3(out: &Path, torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
         .map_err(plot_err(png.clone())),
     )?;
     // (c)
-    let png = out.join("speed_vs_ratio.png");
+    let png = out.join(format!("speed_vs_ratio.{ext}"));
     speed_chart(&png, torque, cells).map_err(plot_err(png.clone()))
 }
 
@@ -1093,24 +1098,109 @@ fn lin_edges(c: &[f64]) -> Vec<f64> {
     e
 }
 
-/// The regime map: one coloured rectangle per cell (log W across, G up), labelled with the
-/// regime and `v_s / v_m` (and, for `M`, the S criteria it missed), with a legend of the
-/// regimes and their cell counts on the right.
+/// Grids with more weight columns than this label each cell with its regime letter only (the
+/// `v_s/v_m` value and the M detail no longer fit in a cell of the 1000 px wide map).
+pub const FULL_LABEL_MAX_COLUMNS: usize = 8;
+
+/// Colours of the fitted boundary lines on the map, in `boundaries.json` order.
+/// (Ten: the five regimes have at most ten neighbouring pairs, so no two lines share one.)
+const BOUNDARY_COLORS: [RGBColor; 10] = [
+    RGBColor(0, 0, 0),
+    RGBColor(150, 30, 150),
+    RGBColor(20, 70, 170),
+    RGBColor(160, 60, 0),
+    RGBColor(0, 120, 120),
+    RGBColor(110, 110, 0),
+    RGBColor(230, 0, 120),
+    RGBColor(0, 170, 230),
+    RGBColor(120, 70, 30),
+    RGBColor(90, 90, 90),
+];
+
+/// The part of the line `log10 G = slope log10 W + intercept` inside the box `[lw0, lw1] x
+/// [lg0, lg1]` (log10 coordinates), as 64 points `(W, G)`; `None` if it misses the box.
+pub fn boundary_segment(
+    slope: f64,
+    intercept: f64,
+    (lw0, lw1): (f64, f64),
+    (lg0, lg1): (f64, f64),
+) -> Option<Vec<(f64, f64)>> {
+    let (mut a, mut b) = (lw0, lw1);
+    if slope.abs() > 1e-12 {
+        let (x0, x1) = ((lg0 - intercept) / slope, (lg1 - intercept) / slope);
+        a = a.max(x0.min(x1));
+        b = b.min(x0.max(x1));
+    } else if !(lg0..=lg1).contains(&intercept) {
+        return None;
+    }
+    (a < b && a.is_finite() && b.is_finite()).then(|| {
+        (0..64)
+            .map(|k| {
+                let x = a + (b - a) * k as f64 / 63.0;
+                (10f64.powf(x), 10f64.powf(slope * x + intercept))
+            })
+            .collect()
+    })
+}
+
+/// The regime map (`phase.png` / `phase.svg`, by the extension of `path`): one coloured
+/// rectangle per cell on log-log axes (log W across, log G up; a linear G axis when the grid
+/// has `G = 0`), each labelled with the regime and `v_s / v_m` (and, for `M`, the S criteria it
+/// missed; only the regime letter on grids wider than [`FULL_LABEL_MAX_COLUMNS`]), the fitted
+/// regime boundaries of `boundaries.json` drawn as lines, and on the right a legend of the
+/// regimes with their cell counts and of the boundary lines with slope and `W/G` at `G = 10`.
 fn regime_map(
     path: &Path,
     weight: &[f64],
     torque: &[f64],
     cells: &[Cell],
+    bounds: &[Boundary],
 ) -> Result<(), plot::PlotError> {
-    use plotters::style::text_anchor::{HPos, Pos, VPos};
     plot::register_fonts()?;
     let err = |e: &dyn std::fmt::Display| plot::PlotError::Draw(e.to_string());
+    let log_g = torque.iter().all(|&g| g > 0.0);
     let xe = log_edges(weight);
-    let ye = lin_edges(torque);
-    let root = BitMapBackend::new(path, (1300, 750)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
-    let (left, right) = root.split_horizontally(1000);
-    let mut chart = ChartBuilder::on(&left)
+    let ye = if log_g {
+        log_edges(torque)
+    } else {
+        lin_edges(torque)
+    };
+    crate::on_backend!(path, (1400, 800), |root| {
+        root.fill(&WHITE).map_err(|e| err(&e))?;
+        let (left, right) = root.split_horizontally(1000);
+        let (xr, yr) = (xe[0]..xe[xe.len() - 1], ye[0]..ye[ye.len() - 1]);
+        if log_g {
+            let yr = yr.log_scale();
+            map_body(&left, xr, yr, &xe, &ye, torque, cells, bounds, true)?;
+        } else {
+            map_body(&left, xr, yr, &xe, &ye, torque, cells, bounds, false)?;
+        }
+        map_legend(&right, cells, bounds)?;
+        root.present().map_err(|e| err(&e))
+    })
+}
+
+/// Cells, labels and boundary lines of [`regime_map`] on any backend and G axis.
+#[allow(clippy::too_many_arguments)]
+fn map_body<DB, Y>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    xr: std::ops::Range<f64>,
+    yr: Y,
+    xe: &[f64],
+    ye: &[f64],
+    torque: &[f64],
+    cells: &[Cell],
+    bounds: &[Boundary],
+    log_g: bool,
+) -> Result<(), plot::PlotError>
+where
+    DB: DrawingBackend,
+    Y: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
+    Y::CoordDescType: plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let err = |e: &dyn std::fmt::Display| plot::PlotError::Draw(e.to_string());
+    let mut chart = ChartBuilder::on(area)
         .caption(
             "Regime over scaled weight and scaled torque",
             ("sans-serif", 24),
@@ -1118,16 +1208,31 @@ fn regime_map(
         .margin(20)
         .x_label_area_size(60)
         .y_label_area_size(80)
-        .build_cartesian_2d(
-            (xe[0]..xe[xe.len() - 1]).log_scale(),
-            ye[0]..ye[ye.len() - 1],
-        )
+        .build_cartesian_2d(xr.log_scale(), yr)
         .map_err(|e| err(&e))?;
+    let tick = |v: &f64| {
+        if *v >= 1.0 && *v < 1e5 && v.fract() == 0.0 {
+            format!("{v}")
+        } else {
+            format!("{v:.3}")
+                .trim_end_matches('0')
+                .trim_end_matches('.')
+                .to_string()
+        }
+    };
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_desc("scaled weight W = rho g a^2 L^3 / B")
-        .y_desc("scaled torque G = Gamma a^3 L / B")
+        .x_desc("scaled weight W = rho g a^2 L^3 / B (log)")
+        .y_desc(if log_g {
+            "scaled torque G = Gamma a^3 L / B (log)"
+        } else {
+            "scaled torque G = Gamma a^3 L / B"
+        })
+        .x_labels(12)
+        .y_labels(12)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .label_style(("sans-serif", 18))
         .axis_desc_style(("sans-serif", 22))
         .draw()
@@ -1139,52 +1244,105 @@ fn regime_map(
             .pos(Pos::new(HPos::Center, VPos::Center))
     };
     let nt = torque.len();
+    let full = xe.len() - 1 <= FULL_LABEL_MAX_COLUMNS;
+    let mid = |a: f64, b: f64| if log_g { (a * b).sqrt() } else { 0.5 * (a + b) };
     for (k, c) in cells.iter().enumerate() {
         let (i, j) = (k / nt, k % nt);
+        let rect = [(xe[i], ye[j]), (xe[i + 1], ye[j + 1])];
         chart
-            .draw_series(std::iter::once(Rectangle::new(
-                [(xe[i], ye[j]), (xe[i + 1], ye[j + 1])],
-                regime_color(c.regime).filled(),
-            )))
+            .draw_series([
+                Rectangle::new(rect, regime_color(c.regime).filled()),
+                Rectangle::new(rect, WHITE.stroke_width(if full { 2 } else { 1 })),
+            ])
             .map_err(|e| err(&e))?;
-        chart
-            .draw_series(std::iter::once(Rectangle::new(
-                [(xe[i], ye[j]), (xe[i + 1], ye[j + 1])],
-                WHITE.stroke_width(2),
-            )))
-            .map_err(|e| err(&e))?;
+        let ok = c.status == crate::design::Status::Ok;
         let label = match c.regime {
-            Some(r) if c.status == crate::design::Status::Ok => {
-                format!("{r} {:.3}", c.v_s_over_v_m)
-            }
-            _ => "failed".into(),
+            Some(r) if ok && full => format!("{r} {:.3}", c.v_s_over_v_m),
+            Some(r) if ok => r.to_string(),
+            _ if full => "failed".into(),
+            _ => "x".into(),
         };
-        let (x, y, dy) = (
-            (xe[i] * xe[i + 1]).sqrt(),
-            0.5 * (ye[j] + ye[j + 1]),
-            0.15 * (ye[j + 1] - ye[j]),
-        );
-        let detail = (c.regime == Some(Regime::M))
+        let (x, y) = ((xe[i] * xe[i + 1]).sqrt(), mid(ye[j], ye[j + 1]));
+        let detail = (full && c.regime == Some(Regime::M))
             .then(|| c.regime_detail.replace('_', " ").replace(';', ", "));
-        let y_label = if detail.is_some() { y + dy } else { y };
+        // Two lines in an M cell: the label a sixth of the cell above the centre, the detail
+        // a sixth below (in the axis's own scale).
+        let (above, below) = if log_g {
+            let f = (ye[j + 1] / ye[j]).powf(0.15);
+            (y * f, y / f)
+        } else {
+            let d = 0.15 * (ye[j + 1] - ye[j]);
+            (y + d, y - d)
+        };
+        let px = if full { 17 } else { 13 };
+        let y_label = if detail.is_some() { above } else { y };
         chart
-            .draw_series(std::iter::once(Text::new(label, (x, y_label), centred(17))))
+            .draw_series(std::iter::once(Text::new(label, (x, y_label), centred(px))))
             .map_err(|e| err(&e))?;
         if let Some(d) = detail {
             chart
-                .draw_series(std::iter::once(Text::new(d, (x, y - dy), centred(14))))
+                .draw_series(std::iter::once(Text::new(d, (x, below), centred(14))))
                 .map_err(|e| err(&e))?;
         }
     }
-    // Legend: a swatch, the regime and its count per line.
+    let (lw, lg) = (
+        (xe[0].log10(), xe[xe.len() - 1].log10()),
+        if log_g {
+            (ye[0].log10(), ye[ye.len() - 1].log10())
+        } else {
+            (
+                ye[0].max(1e-3 * ye[ye.len() - 1]).log10(),
+                ye[ye.len() - 1].log10(),
+            )
+        },
+    );
+    for (k, b) in bounds.iter().enumerate() {
+        let (Some(s), Some(c)) = (b.slope, b.intercept) else {
+            continue;
+        };
+        if let Some(seg) = boundary_segment(s, c, lw, lg) {
+            let col = BOUNDARY_COLORS[k % BOUNDARY_COLORS.len()];
+            chart
+                .draw_series(LineSeries::new(seg, col.stroke_width(4)))
+                .map_err(|e| err(&e))?;
+        }
+    }
+    Ok(())
+}
+
+/// The legend of [`regime_map`]: regimes with cell counts, then the boundary lines.
+fn map_legend<DB: DrawingBackend>(
+    right: &DrawingArea<DB, plotters::coord::Shift>,
+    cells: &[Cell],
+    bounds: &[Boundary],
+) -> Result<(), plot::PlotError> {
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let err = |e: &dyn std::fmt::Display| plot::PlotError::Draw(e.to_string());
     let (counts, failed) = regime_counts(cells);
-    let left_style = ("sans-serif", 18)
-        .into_font()
-        .color(&BLACK)
-        .pos(Pos::new(HPos::Left, VPos::Center));
-    let mut y = 80;
+    let left_style = |px: u32| {
+        ("sans-serif", px)
+            .into_font()
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Left, VPos::Center))
+    };
+    let mut y = 60;
+    let nw = cells.len()
+        / cells
+            .iter()
+            .filter(|c| c.weight == cells[0].weight)
+            .count()
+            .max(1);
+    let what = if nw <= FULL_LABEL_MAX_COLUMNS {
+        "cell label: regime and v_s/v_m"
+    } else {
+        "cell label: regime"
+    };
     right
-        .draw(&Text::new("regime (cells)", (10, y), left_style.clone()))
+        .draw(&Text::new(what, (10, y), left_style(16)))
+        .map_err(|e| err(&e))?;
+    y += 30;
+    right
+        .draw(&Text::new("regime (cells)", (10, y), left_style(18)))
         .map_err(|e| err(&e))?;
     let rows = counts
         .iter()
@@ -1199,15 +1357,95 @@ fn regime_map(
             ))
             .map_err(|e| err(&e))?;
         right
-            .draw(&Text::new(text, (44, y), left_style.clone()))
+            .draw(&Text::new(text, (44, y), left_style(18)))
             .map_err(|e| err(&e))?;
     }
-    root.present().map_err(|e| err(&e))
+    let fitted: Vec<(usize, &Boundary)> = bounds
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| b.slope.is_some())
+        .collect();
+    if fitted.is_empty() {
+        return Ok(());
+    }
+    y += 60;
+    right
+        .draw(&Text::new(
+            "fitted boundaries (log G = s log W + c)",
+            (10, y),
+            left_style(16),
+        ))
+        .map_err(|e| err(&e))?;
+    for (k, b) in fitted {
+        y += 30;
+        let col = BOUNDARY_COLORS[k % BOUNDARY_COLORS.len()];
+        right
+            .draw(&PathElement::new(
+                vec![(10, y), (34, y)],
+                col.stroke_width(4),
+            ))
+            .map_err(|e| err(&e))?;
+        let ratio = b.ratio_at_g10.map_or("-".to_string(), |r| {
+            if (0.01..1e5).contains(&r.abs()) {
+                short(r)
+            } else {
+                format!("{r:.1e}")
+            }
+        });
+        let text = format!(
+            "{}: s = {:.2}, W/G {} at G = 10 ({} pairs)",
+            b.pair,
+            b.slope.unwrap_or(f64::NAN),
+            ratio,
+            b.cells.len()
+        );
+        right
+            .draw(&Text::new(text, (44, y), left_style(15)))
+            .map_err(|e| err(&e))?;
+    }
+    Ok(())
 }
 
-/// `v_s / v_m` against `W / G` (the paper's speed chart), one series per torque.
+/// Most torques drawn as separate series in the speed and writhe charts: a finer grid shows
+/// this many, evenly spread over the grid's indices (first and last included), so the legend
+/// stays readable; the regime map and `phase.csv` keep every cell.
+pub const MAX_TORQUE_SERIES: usize = 6;
+
+/// The torques drawn as series: all when at most [`MAX_TORQUE_SERIES`], else that many spread
+/// evenly over the indices.
+pub fn shown_torques(torque: &[f64]) -> Vec<f64> {
+    let n = torque.len();
+    if n <= MAX_TORQUE_SERIES {
+        return torque.to_vec();
+    }
+    let m = MAX_TORQUE_SERIES;
+    (0..m)
+        .map(|i| torque[(i * (n - 1) + (m - 1) / 2) / (m - 1)])
+        .collect()
+}
+
+/// A grid value for a legend: 3 significant digits (`G = 2.64`, `G = 100`).
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let dec = (2 - v.abs().log10().floor() as i32).clamp(0, 6) as usize;
+    let s = format!("{v:.dec$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// `v_s / v_m` against `W / G` (the paper's speed chart), one series per torque (at most
+/// [`MAX_TORQUE_SERIES`], see [`shown_torques`]).
 fn speed_chart(path: &Path, torque: &[f64], cells: &[Cell]) -> Result<(), plot::PlotError> {
-    let names: Vec<String> = torque.iter().map(|g| format!("G = {g}")).collect();
+    let torque = shown_torques(torque);
+    let names: Vec<String> = torque
+        .iter()
+        .map(|&g| format!("G = {}", short(g)))
+        .collect();
     let series: Vec<(&str, Vec<(f64, f64)>)> = torque
         .iter()
         .zip(&names)
@@ -1356,6 +1594,40 @@ mod tests {
         // A label that is not a regime is not a row.
         let bad = m.row(1).replacen(",M,", ",X,", 1);
         assert!(Cell::parse(&bad).is_none());
+    }
+
+    #[test]
+    fn a_fine_grid_shows_six_torques_spread_over_it() {
+        let g: Vec<f64> = (0..20).map(|i| i as f64).collect();
+        let shown = shown_torques(&g);
+        assert_eq!(shown.len(), MAX_TORQUE_SERIES);
+        assert_eq!(shown[0], 0.0);
+        assert_eq!(shown[5], 19.0);
+        assert!(shown.windows(2).all(|w| w[1] - w[0] >= 3.0), "{shown:?}");
+        assert_eq!(shown_torques(&g[..4]), g[..4].to_vec());
+        assert_eq!(short(2.636650898730358), "2.64");
+        assert_eq!(short(100.0), "100");
+        assert_eq!(short(14.38449888287663), "14.4");
+    }
+
+    #[test]
+    fn boundary_segments_stay_in_the_box_and_on_the_line() {
+        let (lw, lg) = ((1.0, 4.0), (0.0, 2.0));
+        // Slope 1 through W/G = 30: enters at G = 1 (W = 30), leaves at G = 100 (W = 3000).
+        let c = -(30f64.log10());
+        let seg = boundary_segment(1.0, c, lw, lg).unwrap();
+        for &(w, g) in &seg {
+            assert!((w.log10() + c - g.log10()).abs() < 1e-12);
+            assert!(w.log10() >= lw.0 - 1e-12 && w.log10() <= lw.1 + 1e-12);
+            assert!(g.log10() >= lg.0 - 1e-12 && g.log10() <= lg.1 + 1e-12);
+        }
+        assert!((seg[0].0 - 30.0).abs() < 1e-9 && (seg[63].0 - 3000.0).abs() < 1e-6);
+        // A line above the box, and a flat line outside it, are not drawn.
+        assert!(boundary_segment(1.0, 5.0, lw, lg).is_none());
+        assert!(boundary_segment(0.0, 3.0, lw, lg).is_none());
+        // A flat line inside spans the whole weight axis.
+        let flat = boundary_segment(0.0, 1.0, lw, lg).unwrap();
+        assert!((flat[0].0 - 10.0).abs() < 1e-9 && (flat[63].0 - 1e4).abs() < 1e-6);
     }
 
     #[test]

@@ -22,8 +22,22 @@ pub(super) struct Optimum<'a> {
     repeats: usize,
     failed: usize,
     max_evaluations: usize,
+    /// "nelder-mead" or "particle-swarm".
+    method: &'static str,
+    /// Nelder-Mead starts.
+    starts: usize,
+    /// Particle swarm population (null for Nelder-Mead).
+    particles: Option<usize>,
+    /// Seed of the random draws.
+    seed: u64,
+    /// Iterations over all starts (Nelder-Mead steps or swarm generations after the first).
     iterations: usize,
     termination: &'a str,
+    /// Optimised parameters whose optimum lies within `ON_BOUND_FRACTION` of the bounds'
+    /// width of a bound (e.g. `["speed"]`): the box stopped the search.
+    on_bound: Vec<&'static str>,
+    /// For each entry of `on_bound`, which bound: "lower" or "upper".
+    on_bound_side: Vec<&'static str>,
     duration_pulses: f64,
     wall_time_s: f64,
 }
@@ -84,6 +98,27 @@ pub(super) fn summary(e: &Evaluation) -> Summary<'_> {
     }
 }
 
+/// The optimised parameters at which the optimum lies on (within [`ON_BOUND_FRACTION`] of the
+/// width of) a bound, with the side ("lower" or "upper"); empty without an optimum.
+pub fn on_bound(study: &Study, r: &Report) -> Vec<(&'static str, &'static str)> {
+    let Some(b) = &r.best else { return Vec::new() };
+    study
+        .space
+        .dims
+        .iter()
+        .filter_map(|d| {
+            let u = (d.param.get(&b.point) - d.lo) / (d.hi - d.lo);
+            if u <= ON_BOUND_FRACTION {
+                Some((d.param.key(), "lower"))
+            } else if u >= 1.0 - ON_BOUND_FRACTION {
+                Some((d.param.key(), "upper"))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
 /// JSON numbers cannot be NaN or infinite: serde_json writes them as null.
 pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(), DesignError> {
     let o = Optimum {
@@ -100,7 +135,13 @@ pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(),
         repeats: r.repeats,
         failed: r.failed,
         max_evaluations: study.max_evaluations,
-        iterations: r.iterations.len().saturating_sub(1),
+        method: study.method.as_str(),
+        starts: study.starts,
+        particles: (study.method == Method::ParticleSwarm).then_some(study.particles),
+        seed: study.seed,
+        iterations: r.iterations.iter().filter(|i| i.iteration > 0).count(),
+        on_bound: on_bound(study, r).iter().map(|b| b.0).collect(),
+        on_bound_side: on_bound(study, r).iter().map(|b| b.1).collect(),
         termination: &r.termination,
         duration_pulses: study.duration_pulses,
         wall_time_s: r.wall_time_s,
@@ -151,8 +192,21 @@ pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(),
         ));
     }
     if let Some(b) = &r.best {
+        let bounds = on_bound(study, r);
+        let note = if bounds.is_empty() {
+            String::new()
+        } else {
+            format!(
+                ", on the {} bound",
+                bounds
+                    .iter()
+                    .map(|(p, side)| format!("{side} {p}"))
+                    .collect::<Vec<_>>()
+                    .join(" and ")
+            )
+        };
         series.push((
-            format!("optimum (eval {}, v_s = {:.4} m/s)", b.eval, b.v_s),
+            format!("optimum (eval {}, v_s = {:.4} m/s{note})", b.eval, b.v_s),
             vec![(b.writhe_max, b.v_s_over_v_m)],
         ));
     }
@@ -161,17 +215,16 @@ pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(),
             .iter()
             .map(|(n, p)| (n.as_str(), p.clone()))
             .collect();
-        plot::scatter(
-            &path,
-            "Gait design: speed against writhe",
-            "largest |writhe| Wr_max (turns)",
-            "v_s / v_m (dimensionless)",
-            &s,
-        )
-        .map_err(|source| DesignError::Plot {
-            path: path.clone(),
-            source,
-        })?;
+        for path in [path.clone(), plot::svg_twin(&path)] {
+            plot::scatter(
+                &path,
+                "Gait design: speed against writhe",
+                "largest |writhe| Wr_max (turns)",
+                "v_s / v_m (dimensionless)",
+                &s,
+            )
+            .map_err(|source| DesignError::Plot { path, source })?;
+        }
     }
     let path = out.join("history.png");
     let mut best = f64::NEG_INFINITY;
@@ -188,16 +241,19 @@ pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(),
         running.push((x, if best.is_finite() { best } else { f64::NAN }));
     }
     if each.iter().any(|p| p.1.is_finite()) {
-        plot::xy(
-            &path,
-            "Gait design: objective per evaluation",
-            "evaluation (this run)",
-            "forward speed v_s (m/s)",
-            &[("v_s of the evaluation", each), ("best so far", running)],
-            false,
-            false,
-        )
-        .map_err(|source| DesignError::Plot { path, source })?;
+        let series = [("v_s of the evaluation", each), ("best so far", running)];
+        for path in [path.clone(), plot::svg_twin(&path)] {
+            plot::xy(
+                &path,
+                "Gait design: objective per evaluation",
+                "evaluation (this run)",
+                "forward speed v_s (m/s)",
+                &series,
+                false,
+                false,
+            )
+            .map_err(|source| DesignError::Plot { path, source })?;
+        }
     }
     Ok(())
 }

@@ -41,46 +41,78 @@ pub(super) struct Shared<'a> {
 }
 
 /// The simulator as an argmin cost function over normalised coordinates. Cost calls beyond
-/// the budget, or after a fatal error, are answered with `+inf` without simulating and the
-/// solver wrapper stops at the end of that iteration (argmin's Nelder-Mead unwraps cost errors
-/// during its initialisation, so this function never returns an error).
+/// the current limit (the evaluation budget, or one start's share of it), or after a fatal
+/// error, are answered with `+inf` without simulating and the solver wrapper stops at the end
+/// of that iteration (argmin's Nelder-Mead unwraps cost errors during its initialisation, so
+/// this function never returns an error).
+///
+/// [`CostFunction::bulk_cost`] (the particle swarm's generation) simulates the new points of a
+/// batch in parallel with rayon, one simulation per core; rows are then written, and
+/// evaluation numbers given, in the batch's order, so a run is deterministic whatever the
+/// threads' timing and resumes like a sequential one.
+#[derive(Clone)]
 pub struct Evaluator<'a> {
     shared: Rc<RefCell<Shared<'a>>>,
     calls: Rc<Cell<usize>>,
-    max: usize,
+    limit: Rc<Cell<usize>>,
     fatal: Rc<Cell<bool>>,
 }
 
-impl CostFunction for Evaluator<'_> {
-    type Param = Vec<f64>;
-    type Output = f64;
+/// How one point of a batch is answered.
+enum Slot {
+    /// Beyond the budget (or after a fatal error): `+inf`, not simulated.
+    Skip,
+    /// From the cache, with the evaluation number `count`.
+    Known(usize, Evaluation, Source, f64),
+    /// The `i`-th new simulation of the batch (a second request of the same point in one batch
+    /// is a repeat).
+    Run(usize, usize, Source, f64),
+}
 
-    fn cost(&self, u: &Self::Param) -> Result<f64, ArgminError> {
+impl Evaluator<'_> {
+    /// Answer a batch of normalised points, simulating the new ones in parallel.
+    fn batch(&self, us: &[&[f64]]) -> Vec<f64> {
         let mut sh = self.shared.borrow_mut();
-        if self.calls.get() >= self.max || sh.fatal.is_some() {
-            return Ok(f64::INFINITY);
-        }
-        self.calls.set(self.calls.get() + 1);
-        let count = self.calls.get();
         let study = sh.study;
-        let (p, dist) = study.space.point(u);
-        let duration = study.duration(p.speed);
-        let k = key(&p, duration);
-        let (e, source) = if let Some((e, from_file)) = sh.cache.get(&k) {
-            let e = e.clone();
-            let source = if *from_file {
-                Source::Reused
+        let mut slots = Vec::with_capacity(us.len());
+        let mut runs: Vec<(Point, Key)> = Vec::new();
+        for u in us {
+            if self.calls.get() >= self.limit.get() || sh.fatal.is_some() {
+                slots.push(Slot::Skip);
+                continue;
+            }
+            self.calls.set(self.calls.get() + 1);
+            let count = self.calls.get();
+            let (p, dist) = study.space.point(u);
+            let k = key(&p, study.duration(p.speed));
+            if let Some((e, from_file)) = sh.cache.get(&k) {
+                let e = e.clone();
+                let source = if *from_file {
+                    Source::Reused
+                } else {
+                    Source::Repeat
+                };
+                sh.observer.started(count, &p, true);
+                slots.push(Slot::Known(count, e, source, dist));
+            } else if let Some(i) = runs.iter().position(|r| r.1 == k) {
+                sh.observer.started(count, &p, true);
+                slots.push(Slot::Run(count, i, Source::Repeat, dist));
             } else {
-                Source::Repeat
-            };
-            sh.observer.started(count, &p, true);
-            (e, source)
+                sh.observer.started(count, &p, false);
+                runs.push((p, k));
+                slots.push(Slot::Run(count, runs.len() - 1, Source::Simulated, dist));
+            }
+        }
+        let results: Vec<Evaluation> = if runs.len() == 1 {
+            let obs = &mut *sh.observer;
+            vec![simulate(study, &runs[0].0, &mut |f| obs.progress(f))]
         } else {
-            sh.observer.started(count, &p, false);
-            let mut e = {
-                let obs = &mut *sh.observer;
-                simulate(study, &p, &mut |f| obs.progress(f))
-            };
+            runs.par_iter()
+                .map(|(p, _)| simulate(study, p, &mut |_| {}))
+                .collect()
+        };
+        let mut new = Vec::with_capacity(results.len());
+        for (mut e, (_, k)) in results.into_iter().zip(runs) {
             e.eval = sh.next_eval;
             sh.next_eval += 1;
             let row = e.csv_row(&study.base_hash) + "\n";
@@ -91,88 +123,124 @@ impl CostFunction for Evaluator<'_> {
                 .and_then(|_| sh.history.sync_data());
             if let Err(source) = written {
                 self.fatal.set(true);
-                sh.fatal = Some(DesignError::Io {
-                    path: sh.history_path.clone(),
-                    source,
-                });
+                if sh.fatal.is_none() {
+                    sh.fatal = Some(DesignError::Io {
+                        path: sh.history_path.clone(),
+                        source,
+                    });
+                }
             }
             sh.cache.insert(k, (e.clone(), false));
-            (e, Source::Simulated)
-        };
-        sh.observer.finished(count, &e, source == Source::Reused);
-        let cost = e.objective() + study.penalty * dist + study.heading_penalty(&e);
-        sh.visited.push((e, source, cost));
-        Ok(cost)
+            new.push(e);
+        }
+        slots
+            .into_iter()
+            .map(|slot| {
+                let (count, e, source, dist) = match slot {
+                    Slot::Skip => return f64::INFINITY,
+                    Slot::Known(c, e, s, d) => (c, e, s, d),
+                    Slot::Run(c, i, s, d) => (c, new[i].clone(), s, d),
+                };
+                sh.observer.finished(count, &e, source == Source::Reused);
+                let cost = e.objective() + study.penalty * dist + study.heading_penalty(&e);
+                sh.visited.push((e, source, cost));
+                cost
+            })
+            .collect()
     }
 }
 
-pub(super) type NmState = IterState<Vec<f64>, (), (), (), (), f64>;
+impl CostFunction for Evaluator<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
 
-/// Nelder-Mead that also stops when the evaluation budget is spent (or a fatal error occurred).
-pub(super) struct Budgeted {
-    inner: NelderMead<Vec<f64>, f64>,
+    fn cost(&self, u: &Self::Param) -> Result<f64, ArgminError> {
+        Ok(self.batch(&[u.as_slice()])[0])
+    }
+
+    fn bulk_cost<P>(&self, params: &[P]) -> Result<Vec<f64>, ArgminError>
+    where
+        P: std::borrow::Borrow<Self::Param> + argmin::core::SyncAlias,
+        f64: argmin::core::SendAlias,
+        Self: argmin::core::SyncAlias,
+    {
+        let us: Vec<&[f64]> = params.iter().map(|p| p.borrow().as_slice()).collect();
+        Ok(self.batch(&us))
+    }
+}
+
+pub(super) type PsoState = PopulationState<Particle<Vec<f64>, f64>, f64>;
+
+/// A solver that also stops when the evaluation limit is reached (or a fatal error occurred).
+pub(super) struct Budgeted<S> {
+    inner: S,
     calls: Rc<Cell<usize>>,
-    max: usize,
+    limit: Rc<Cell<usize>>,
     fatal: Rc<Cell<bool>>,
 }
 
-impl<O> Solver<O, NmState> for Budgeted
+impl<O, S, I> Solver<O, I> for Budgeted<S>
 where
-    O: CostFunction<Param = Vec<f64>, Output = f64>,
+    S: Solver<O, I>,
+    I: State,
 {
     fn name(&self) -> &str {
-        "Nelder-Mead"
+        self.inner.name()
     }
 
     fn init(
         &mut self,
         problem: &mut ArgminProblem<O>,
-        state: NmState,
-    ) -> Result<(NmState, Option<KV>), ArgminError> {
-        Solver::<O, NmState>::init(&mut self.inner, problem, state)
+        state: I,
+    ) -> Result<(I, Option<KV>), ArgminError> {
+        self.inner.init(problem, state)
     }
 
     fn next_iter(
         &mut self,
         problem: &mut ArgminProblem<O>,
-        state: NmState,
-    ) -> Result<(NmState, Option<KV>), ArgminError> {
-        Solver::<O, NmState>::next_iter(&mut self.inner, problem, state)
+        state: I,
+    ) -> Result<(I, Option<KV>), ArgminError> {
+        self.inner.next_iter(problem, state)
     }
 
-    fn terminate(&mut self, state: &NmState) -> TerminationStatus {
+    fn terminate(&mut self, state: &I) -> TerminationStatus {
         if self.fatal.get() {
             return TerminationStatus::Terminated(TerminationReason::SolverExit(
                 "aborted: the history could not be written".into(),
             ));
         }
-        if self.calls.get() >= self.max {
+        if self.calls.get() >= self.limit.get() {
             return TerminationStatus::Terminated(TerminationReason::SolverExit(
                 "max_evaluations reached".into(),
             ));
         }
-        Solver::<O, NmState>::terminate(&mut self.inner, state)
+        self.inner.terminate(state)
     }
 }
 
-/// One Nelder-Mead iteration as seen by the iteration observer.
+/// One iteration (Nelder-Mead step or swarm generation) as seen by the iteration observer.
 #[derive(Clone, Debug, Serialize)]
 pub struct Iteration {
-    /// Iteration number (0: after the initial simplex).
+    /// The start it belongs to (1-based; always 1 but for multi-start Nelder-Mead).
+    pub start: usize,
+    /// Iteration number (0: after the initial simplex or population).
     pub iteration: u64,
-    /// Best cost of the simplex (m/s, penalty included).
+    /// Best cost of the simplex or swarm (m/s, penalty included).
     pub best_cost: f64,
-    /// Nelder-Mead action ("Reflection", "Expansion", ...), empty after initialisation.
+    /// Nelder-Mead action ("Reflection", "Expansion", ...), empty after initialisation and
+    /// for the swarm.
     pub action: String,
 }
 
-/// argmin observer recording the simplex's best cost after every iteration.
-pub(super) struct IterationLog(Arc<Mutex<Vec<Iteration>>>);
+/// argmin observer recording the best cost after every iteration of start `.1`.
+pub(super) struct IterationLog(Arc<Mutex<Vec<Iteration>>>, usize);
 
-impl Observe<NmState> for IterationLog {
-    fn observe_init(&mut self, _name: &str, state: &NmState, _kv: &KV) -> Result<(), ArgminError> {
+impl<S: State<Float = f64>> Observe<S> for IterationLog {
+    fn observe_init(&mut self, _name: &str, state: &S, _kv: &KV) -> Result<(), ArgminError> {
         if let Ok(mut v) = self.0.lock() {
             v.push(Iteration {
+                start: self.1,
                 iteration: 0,
                 best_cost: state.get_best_cost(),
                 action: String::new(),
@@ -181,13 +249,14 @@ impl Observe<NmState> for IterationLog {
         Ok(())
     }
 
-    fn observe_iter(&mut self, state: &NmState, kv: &KV) -> Result<(), ArgminError> {
+    fn observe_iter(&mut self, state: &S, kv: &KV) -> Result<(), ArgminError> {
         let action = kv
             .get("action")
             .and_then(|a| a.get_string())
             .unwrap_or_default();
         if let Ok(mut v) = self.0.lock() {
             v.push(Iteration {
+                start: self.1,
                 iteration: state.get_iter() + 1,
                 best_cost: state.get_best_cost(),
                 action,
@@ -197,8 +266,9 @@ impl Observe<NmState> for IterationLog {
     }
 }
 
-/// Run a study: Nelder-Mead over the normalised bounds, every evaluation a simulation (or a
-/// row of an existing `out/history.csv`), then write `optimum.json`, `speed_vs_writhe.png`
+/// Run a study: Nelder-Mead (one or several starts) or the particle swarm over the normalised
+/// bounds, every evaluation a simulation (or a row of an existing `out/history.csv`), then
+/// write `optimum.json`, `speed_vs_writhe.png`
 /// and `history.png` into `out` (created if absent).
 pub fn optimize(
     study: &Study,
@@ -244,6 +314,7 @@ pub fn optimize(
         }
     }
     let calls = Rc::new(Cell::new(0usize));
+    let limit = Rc::new(Cell::new(study.max_evaluations));
     let fatal = Rc::new(Cell::new(false));
     let shared = Rc::new(RefCell::new(Shared {
         study,
@@ -258,29 +329,115 @@ pub fn optimize(
     let evaluator = Evaluator {
         shared: shared.clone(),
         calls: calls.clone(),
-        max: study.max_evaluations,
+        limit: limit.clone(),
         fatal: fatal.clone(),
     };
-    let nm = NelderMead::new(study.space.initial_simplex(study.initial_step))
-        .with_sd_tolerance(study.tolerance)
-        .map_err(|e| DesignError::Solver(e.to_string()))?;
-    let solver = Budgeted {
-        inner: nm,
+    let budgeted = |inner| Budgeted {
+        inner,
         calls: calls.clone(),
-        max: study.max_evaluations,
+        limit: limit.clone(),
+        fatal: fatal.clone(),
+    };
+    let budgeted_pso = |inner| Budgeted {
+        inner,
+        calls: calls.clone(),
+        limit: limit.clone(),
         fatal: fatal.clone(),
     };
     let iterations = Arc::new(Mutex::new(Vec::new()));
-    let run = Executor::new(evaluator, solver)
-        .configure(|s| s.max_iters(study.max_evaluations as u64))
-        .add_observer(IterationLog(iterations.clone()), ObserverMode::Always)
-        .run();
-    let termination = match run {
-        Ok(res) => res
-            .state()
-            .get_termination_reason()
-            .map_or("stopped".to_string(), |r| r.text().to_string()),
-        Err(e) => return Err(DesignError::Solver(e.to_string())),
+    let reason =
+        |run: Result<String, ArgminError>| run.map_err(|e| DesignError::Solver(e.to_string()));
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(study.seed);
+    let n = study.space.dims.len();
+    let mut terminations = Vec::new();
+    match study.method {
+        Method::NelderMead => {
+            for start in 1..=study.starts {
+                // Equal shares of the budget; the last start takes the remainder.
+                let share = study.max_evaluations / study.starts;
+                limit.set(if start == study.starts {
+                    study.max_evaluations
+                } else {
+                    calls.get() + share
+                });
+                let u0 = if start == 1 {
+                    study.space.to_unit(&study.space.initial())
+                } else {
+                    (0..n).map(|_| unit_draw(&mut rng)).collect()
+                };
+                let nm = NelderMead::new(study.space.simplex_at(u0, study.initial_step))
+                    .with_sd_tolerance(study.tolerance)
+                    .map_err(|e| DesignError::Solver(e.to_string()))?;
+                let run = Executor::new(evaluator.clone(), budgeted(nm))
+                    .configure(|s| s.max_iters(study.max_evaluations as u64))
+                    .add_observer(
+                        IterationLog(iterations.clone(), start),
+                        ObserverMode::Always,
+                    )
+                    .run()
+                    .map(|res| {
+                        res.state()
+                            .get_termination_reason()
+                            .map_or("stopped".to_string(), |r| r.text().to_string())
+                    });
+                terminations.push(reason(run)?);
+                if fatal.get() {
+                    break;
+                }
+            }
+        }
+        Method::ParticleSwarm => {
+            // The first generation: the starting point and particles - 1 points drawn
+            // uniformly in the unit cube, velocities uniform in [-1, 1]^n (argmin's own
+            // initialisation, with the start included so `initial` is the study's start).
+            let mut positions = vec![study.space.to_unit(&study.space.initial())];
+            for _ in 1..study.particles {
+                positions.push((0..n).map(|_| unit_draw(&mut rng)).collect());
+            }
+            let velocities: Vec<Vec<f64>> = (0..study.particles)
+                .map(|_| (0..n).map(|_| 2.0 * unit_draw(&mut rng) - 1.0).collect())
+                .collect();
+            let us: Vec<&[f64]> = positions.iter().map(Vec::as_slice).collect();
+            let costs = evaluator.batch(&us);
+            let population: Vec<Particle<Vec<f64>, f64>> = positions
+                .into_iter()
+                .zip(velocities)
+                .zip(costs)
+                .map(|((p, v), c)| Particle::new(p, c, v))
+                .collect();
+            if calls.get() < study.max_evaluations && !fatal.get() {
+                let pso = ParticleSwarm::new((vec![0.0; n], vec![1.0; n]), study.particles)
+                    .with_rng_generator(Xoshiro256PlusPlus::seed_from_u64(
+                        study.seed.wrapping_add(1),
+                    ));
+                let run = Executor::new(evaluator.clone(), budgeted_pso(pso))
+                    .configure(|s: PsoState| {
+                        s.population(population)
+                            .max_iters(study.max_evaluations as u64)
+                    })
+                    .add_observer(IterationLog(iterations.clone(), 1), ObserverMode::Always)
+                    .run()
+                    .map(|res| {
+                        res.state()
+                            .get_termination_reason()
+                            .map_or("stopped".to_string(), |r| r.text().to_string())
+                    });
+                terminations.push(reason(run)?);
+            } else {
+                terminations.push("max_evaluations reached".into());
+            }
+        }
+    }
+    drop(evaluator);
+    let termination = if terminations.len() == 1 {
+        terminations.remove(0)
+    } else {
+        terminations
+            .iter()
+            .enumerate()
+            .map(|(i, t)| format!("start {}: {t}", i + 1))
+            .collect::<Vec<_>>()
+            .join("; ")
     };
     let mut sh = shared.borrow_mut();
     if let Some(e) = sh.fatal.take() {
@@ -323,4 +480,9 @@ pub fn optimize(
     write_optimum(study, out, &report)?;
     write_figures(study, out, &report)?;
     Ok(report)
+}
+
+/// A draw uniform in [0, 1) from the top 53 bits of the generator (the study's seeded draws).
+fn unit_draw(rng: &mut Xoshiro256PlusPlus) -> f64 {
+    (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
 }

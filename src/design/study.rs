@@ -73,7 +73,52 @@ pub struct OptimizeTable {
     /// Starting point; each value must lie in its bounds. Default: the base problem's values.
     #[serde(default)]
     pub initial: InitialTable,
+    /// Search method: "nelder-mead" (default) or "particle-swarm".
+    #[serde(default)]
+    pub method: Method,
+    /// Nelder-Mead only: independent starts sharing `max_evaluations` equally, the first from
+    /// `initial`, the others from points drawn uniformly in the bounds (seeded by `seed`).
+    /// Default 1, an integer in [1, 1000] with `max_evaluations >= starts * (n + 1)`.
+    pub starts: Option<usize>,
+    /// Particle swarm only: particles per generation (one simulation each, run in parallel,
+    /// one per core). Default [`DEFAULT_PARTICLES`], an integer in [2, 1000], at most
+    /// `max_evaluations`.
+    pub particles: Option<usize>,
+    /// Seed of the random draws (particle swarm positions and velocities, multi-start
+    /// points), so a study is reproducible and resumable. Default 1, an integer >= 0.
+    pub seed: Option<u64>,
 }
+
+/// The search method of a study (`[optimize] method`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// argmin's Nelder-Mead simplex, one simulation at a time (optionally multi-start).
+    #[default]
+    NelderMead,
+    /// argmin's particle swarm: a generation of `particles` simulations evaluated in parallel.
+    ParticleSwarm,
+}
+
+impl Method {
+    /// The name as written in the study file.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Method::NelderMead => "nelder-mead",
+            Method::ParticleSwarm => "particle-swarm",
+        }
+    }
+}
+
+/// Particles per generation of the particle swarm when `[optimize] particles` is not given:
+/// four simulations per core of a 2-core machine, and five generations in the default budget
+/// of 40 evaluations of the bundled study.
+pub const DEFAULT_PARTICLES: usize = 8;
+
+/// An optimum closer to a bound than this fraction of the bound's width (in normalised
+/// coordinates `u <= 0.01` or `u >= 0.99`) is reported as on that bound (`on_bound` in
+/// `optimum.json`): the search was stopped by the box, and widening it may give more.
+pub const ON_BOUND_FRACTION: f64 = 0.01;
 
 /// `[optimize] initial = { ... }`: the starting point (only optimised parameters).
 #[derive(Clone, Debug, Default, Deserialize)]
@@ -220,7 +265,11 @@ impl Space {
     /// dimension, the starting point moved by `step` along it (backward where forward would
     /// leave the unit cube).
     pub fn initial_simplex(&self, step: f64) -> Vec<Vec<f64>> {
-        let u0 = self.to_unit(&self.initial());
+        self.simplex_at(self.to_unit(&self.initial()), step)
+    }
+
+    /// The simplex of [`Space::initial_simplex`] around the normalised point `u0`.
+    pub fn simplex_at(&self, u0: Vec<f64>, step: f64) -> Vec<Vec<f64>> {
         let mut simplex = vec![u0.clone()];
         for i in 0..u0.len() {
             let mut v = u0.clone();
@@ -261,6 +310,14 @@ pub struct Study {
     pub max_heading_deg: Option<f64>,
     /// The search space.
     pub space: Space,
+    /// The search method.
+    pub method: Method,
+    /// Nelder-Mead starts (1 for the particle swarm).
+    pub starts: usize,
+    /// Particle swarm population (0 for Nelder-Mead).
+    pub particles: usize,
+    /// Seed of the random draws.
+    pub seed: u64,
 }
 
 impl Study {
@@ -528,6 +585,57 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
             ));
         }
     }
+    let method = opt.method;
+    let starts = opt.starts.unwrap_or(1);
+    if let Some(k) = opt.starts {
+        if method != Method::NelderMead {
+            return Err(fail(
+                "optimize",
+                "starts",
+                format!("{k}"),
+                "absent with method = \"particle-swarm\" (multi-start is for Nelder-Mead; the swarm sets its size with optimize.particles)".into(),
+            ));
+        }
+        if !(1..=1000).contains(&k) || s.max_evaluations < k * (n + 1) {
+            return Err(fail(
+                "optimize",
+                "starts",
+                format!("{k}"),
+                format!(
+                    "an integer in [1, 1000] with study.max_evaluations = {} >= starts * {} (each start's simplex needs n + 1 = {} evaluations)",
+                    s.max_evaluations,
+                    n + 1,
+                    n + 1
+                ),
+            ));
+        }
+    }
+    let particles = match (method, opt.particles) {
+        (Method::NelderMead, Some(p)) => {
+            return Err(fail(
+                "optimize",
+                "particles",
+                format!("{p}"),
+                "absent unless method = \"particle-swarm\"".into(),
+            ))
+        }
+        (Method::NelderMead, None) => 0,
+        (Method::ParticleSwarm, p) => {
+            let p = p.unwrap_or(DEFAULT_PARTICLES);
+            if !(2..=1000).contains(&p) || p > s.max_evaluations {
+                return Err(fail(
+                    "optimize",
+                    "particles",
+                    format!("{p}"),
+                    format!(
+                        "an integer in [2, 1000], at most study.max_evaluations = {} (one generation)",
+                        s.max_evaluations
+                    ),
+                ));
+            }
+            p
+        }
+    };
     let space = Space { dims, fixed };
     let study = Study {
         path: path.into(),
@@ -541,6 +649,10 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         penalty: s.penalty,
         max_heading_deg: s.max_heading_deg,
         space,
+        method,
+        starts,
+        particles,
+        seed: opt.seed.unwrap_or(1),
     };
     // The shortest run (at the fastest speed) must hold at least one time step.
     let v_max = study

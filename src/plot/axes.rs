@@ -175,16 +175,25 @@ pub(super) fn finite_runs(pts: impl Iterator<Item = (f64, f64)>) -> Vec<Vec<(f64
 }
 
 pub(super) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+/// A drawing area of any backend (PNG or SVG).
+pub(super) type AnyArea<DB> = DrawingArea<DB, Shift>;
 
 /// White canvas with the title (if non-empty) drawn at the top; returns the root (to present)
-/// and the area below the title.
+/// and the area below the title. A PNG bitmap; [`canvas_on`] for any backend.
 pub(super) fn canvas<'a>(
     path: &'a Path,
     size: (u32, u32),
     title: &str,
 ) -> Result<(Area<'a>, Area<'a>), PlotError> {
+    canvas_on(BitMapBackend::new(path, size).into_drawing_area(), title)
+}
+
+/// [`canvas`] on the drawing area of any backend (PNG or SVG, see `on_backend!`).
+pub(super) fn canvas_on<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    title: &str,
+) -> Result<(AnyArea<DB>, AnyArea<DB>), PlotError> {
     register_fonts()?;
-    let root = BitMapBackend::new(path, size).into_drawing_area();
     root.fill(&WHITE).map_err(draw_err)?;
     let body = if title.is_empty() {
         root.clone().margin(TITLE_PX / 2, 0, 0, 0)
@@ -196,12 +205,13 @@ pub(super) fn canvas<'a>(
 }
 
 /// The series legend, in the house style, at `corner`.
-pub(super) fn legend<'a, 'b: 'a, X, Y>(
-    chart: &mut ChartContext<'a, BitMapBackend<'b>, Cartesian2d<X, Y>>,
+pub(super) fn legend<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
     corner: SeriesLabelPosition,
     margin: u32,
 ) -> Result<(), PlotError>
 where
+    DB: DrawingBackend + 'a,
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {
@@ -216,10 +226,11 @@ where
         .map_err(draw_err)
 }
 
-pub(super) fn frame_plot<X, Y>(
-    chart: &mut ChartContext<'_, BitMapBackend<'_>, Cartesian2d<X, Y>>,
+pub(super) fn frame_plot<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
 ) -> Result<(), PlotError>
 where
+    DB: DrawingBackend,
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {

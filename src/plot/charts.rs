@@ -2,12 +2,13 @@
 //! ([`xy`]), both drawn by one shared body.
 
 use super::axes::{
-    best_corner, canvas, finite_range, finite_runs, fmt_num, frame_plot, legend, pad, pad_log,
-    tick_label, Area,
+    best_corner, canvas, canvas_on, finite_range, finite_runs, fmt_num, frame_plot, legend, pad,
+    pad_log, tick_label,
 };
 use super::{colormap, draw_err, PlotError, DESC_PX, FONT, SIZE, TICK_PX};
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -74,7 +75,8 @@ pub fn series(
 /// line in the given order (sort the points if the line should be monotone in x), with a legend,
 /// axis labels `x_label` and `y_label` (include units) and title `title` (may be empty).
 /// `log_x` / `log_y` select base-10 logarithmic axes; points with a non-positive coordinate on a
-/// log axis, and non-finite points, are skipped. Writes a 1000x700 px PNG.
+/// log axis, and non-finite points, are skipped. Writes a 1000x700 px PNG, or SVG when `path`
+/// ends in `.svg`.
 ///
 /// Errors: [`PlotError::Invalid`] if no plottable point remains.
 pub fn xy(
@@ -120,67 +122,85 @@ pub fn xy(
     } else {
         pad(finite_range(pts().map(|p| p.1)), 0.05)
     };
-    let (root, body) = canvas(path, SIZE, title)?;
+    crate::on_backend!(path, SIZE, |area| {
+        let (root, body) = canvas_on(area, title)?;
+        xy_body(&body, xr, yr, x_label, y_label, &data, log_x, log_y)?;
+        root.present().map_err(draw_err)
+    })
+}
+
+/// The axes and curves of [`xy`] on any backend.
+#[allow(clippy::too_many_arguments)]
+fn xy_body<DB: DrawingBackend>(
+    body: &DrawingArea<DB, Shift>,
+    xr: (f64, f64),
+    yr: (f64, f64),
+    x_label: &str,
+    y_label: &str,
+    data: &[(&str, Vec<(f64, f64)>)],
+    log_x: bool,
+    log_y: bool,
+) -> Result<(), PlotError> {
     let lin = |r: (f64, f64)| -> RangedCoordf64 { (r.0..r.1).into() };
     let log = |r: (f64, f64)| -> LogCoord<f64> { (r.0..r.1).log_scale().into() };
     let logs = (log_x, log_y);
     match logs {
         (false, false) => line_chart(
-            &body,
+            body,
             lin(xr),
             lin(yr),
             xr,
             yr,
             x_label,
             y_label,
-            &data,
+            data,
             true,
             logs,
         )?,
         (true, false) => line_chart(
-            &body,
+            body,
             log(xr),
             lin(yr),
             xr,
             yr,
             x_label,
             y_label,
-            &data,
+            data,
             true,
             logs,
         )?,
         (false, true) => line_chart(
-            &body,
+            body,
             lin(xr),
             log(yr),
             xr,
             yr,
             x_label,
             y_label,
-            &data,
+            data,
             true,
             logs,
         )?,
         (true, true) => line_chart(
-            &body,
+            body,
             log(xr),
             log(yr),
             xr,
             yr,
             x_label,
             y_label,
-            &data,
+            data,
             true,
             logs,
         )?,
     }
-    root.present().map_err(draw_err)
+    Ok(())
 }
 
 /// Shared body of [`series`] and [`xy`]: axes, grid, curves (optionally with markers), legend.
 #[allow(clippy::too_many_arguments)]
-fn line_chart<X, Y>(
-    area: &Area<'_>,
+fn line_chart<DB, X, Y>(
+    area: &DrawingArea<DB, Shift>,
     x: X,
     y: Y,
     xr: (f64, f64),
@@ -192,6 +212,7 @@ fn line_chart<X, Y>(
     logs: (bool, bool),
 ) -> Result<(), PlotError>
 where
+    DB: DrawingBackend,
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {

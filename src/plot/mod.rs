@@ -1,7 +1,10 @@
 //! Paper-style PNG figures: kymographs, body snapshots, time series and x-y charts.
 //!
-//! Every function takes plain data and writes one PNG file (the path should end in `.png`; the
-//! encoder is chosen from the extension). Text is drawn with the DejaVu Sans font embedded in the
+//! Every function takes plain data and writes one image file. The study charts ([`xy`],
+//! [`scatter`]) write SVG when the path ends in `.svg` (any case) and a bitmap otherwise (the
+//! encoder chosen from the extension, e.g. `.png`); their bodies are written once, generic over
+//! the plotters backend, and instantiated for both by `on_backend!`. Kymographs and snapshots
+//! are PNG only. Text is drawn with the DejaVu Sans font embedded in the
 //! binary (registered with plotters on first use), so figures render on a machine without any
 //! system fonts, fontconfig or freetype.
 //!
@@ -28,7 +31,42 @@ pub use scatter::scatter;
 pub use snapshots::snapshots;
 
 use plotters::prelude::*;
+use std::path::Path;
 use std::sync::OnceLock;
+
+/// Whether `path` names an SVG file (extension `svg`, any case): the study figures are then
+/// drawn with plotters' SVG backend instead of the bitmap one.
+pub fn is_svg(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+}
+
+/// `on_backend!(path, size, |root| { ... })`: run the block with `root` the drawing area of an
+/// SVG backend (path ending in `.svg`) or of a bitmap backend (otherwise). The block is
+/// compiled once per backend, so code in it (and the generic helpers it calls) serves both.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! on_backend {
+    ($path:expr, $size:expr, |$root:ident| $body:block) => {{
+        let path: &::std::path::Path = $path;
+        if $crate::plot::is_svg(path) {
+            let $root = ::plotters::prelude::IntoDrawingArea::into_drawing_area(
+                ::plotters::prelude::SVGBackend::new(path, $size),
+            );
+            $body
+        } else {
+            let $root = ::plotters::prelude::IntoDrawingArea::into_drawing_area(
+                ::plotters::prelude::BitMapBackend::new(path, $size),
+            );
+            $body
+        }
+    }};
+}
+
+/// The `.svg` twin of a `.png` path (the same name with extension `svg`).
+pub fn svg_twin(path: &Path) -> std::path::PathBuf {
+    path.with_extension("svg")
+}
 
 /// Errors of the plotting functions.
 #[derive(Debug, thiserror::Error)]

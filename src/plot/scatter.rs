@@ -1,7 +1,8 @@
 //! Scatter charts: markers only, a single-point series drawn larger and outlined.
 
-use super::axes::{best_corner, canvas, finite_range, frame_plot, legend, pad, tick_label};
+use super::axes::{best_corner, canvas_on, finite_range, frame_plot, legend, pad, tick_label};
 use super::{colormap, draw_err, PlotError, DESC_PX, FONT, SIZE, TICK_PX};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -9,7 +10,7 @@ use std::path::Path;
 /// joining line), with a legend, axis labels `x_label` and `y_label` (include units) and title
 /// `title` (may be empty). A series of a single point is drawn as a larger, outlined marker, to
 /// mark one point (e.g. an optimum) on top of the others. Non-finite points are skipped.
-/// Writes a 1000x700 px PNG.
+/// Writes a 1000x700 px PNG, or SVG when `path` ends in `.svg`.
 ///
 /// Errors: [`PlotError::Invalid`] if no finite point remains.
 pub fn scatter(
@@ -30,8 +31,29 @@ pub fn scatter(
     }
     let xr = pad(finite_range(pts().map(|p| p.0)), 0.08);
     let yr = pad(finite_range(pts().map(|p| p.1)), 0.08);
-    let (root, body) = canvas(path, SIZE, title)?;
-    let mut chart = ChartBuilder::on(&body)
+    crate::on_backend!(path, SIZE, |area| {
+        let (root, body) = canvas_on(area, title)?;
+        scatter_body(&body, xr, yr, x_label, y_label, series)?;
+        root.present().map_err(draw_err)
+    })
+}
+
+/// The axes and markers of [`scatter`] on any backend.
+fn scatter_body<DB: DrawingBackend>(
+    body: &DrawingArea<DB, Shift>,
+    xr: (f64, f64),
+    yr: (f64, f64),
+    x_label: &str,
+    y_label: &str,
+    series: &[(&str, Vec<(f64, f64)>)],
+) -> Result<(), PlotError> {
+    let pts = || {
+        series
+            .iter()
+            .flat_map(|(_, p)| p.iter().copied())
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+    };
+    let mut chart = ChartBuilder::on(body)
         .margin_left(20)
         .margin_right(35)
         .margin_top(15)
@@ -110,6 +132,5 @@ pub fn scatter(
         let corner = best_corner(pts(), xr, yr, false, false);
         legend(&mut chart, corner, 12)?;
     }
-    frame_plot(&mut chart)?;
-    root.present().map_err(draw_err)
+    frame_plot(&mut chart)
 }
