@@ -126,7 +126,8 @@ fn s_start_until(t: f64) -> sim::Outcome {
 /// and 23 fallbacks in 1786 steps, no halving, v_s/v_m 0.30309 (0.30309 also with both
 /// thresholds 100 times tighter); with the sliding contacts' normal forces inside the Newton
 /// system and the closed-form stencils, 4.72 iterations per step, 28 conic solves and 20
-/// fallbacks. A slowdown of more than 5 % in iterations, or a storm of fallbacks, fails here.
+/// fallbacks; with a slide started at 1e-8 a instead of 1e-6 a, 4.22, 14 and 7. A slowdown of
+/// more than 5 % in iterations, or a storm of fallbacks, fails here.
 #[test]
 fn s_start_newton_and_contact_statistics_are_pinned() {
     let p = problem::load(Path::new("problems/s_start.toml")).unwrap();
@@ -140,10 +141,10 @@ fn s_start_newton_and_contact_statistics_are_pinned() {
         st.steps, st.conic_solves, st.active_set_fallbacks, st.step_halvings
     );
     assert_eq!(st.steps, 1786);
-    assert!(per_step <= 4.95, "{per_step} Newton iterations per step");
-    assert!(st.conic_solves <= 35, "{} conic solves", st.conic_solves);
+    assert!(per_step <= 4.43, "{per_step} Newton iterations per step");
+    assert!(st.conic_solves <= 20, "{} conic solves", st.conic_solves);
     assert!(
-        st.active_set_fallbacks as f64 <= 0.012 * st.steps as f64,
+        st.active_set_fallbacks as f64 <= 0.006 * st.steps as f64,
         "{} fallbacks",
         st.active_set_fallbacks
     );
@@ -151,4 +152,36 @@ fn s_start_newton_and_contact_statistics_are_pinned() {
     let fields = slither::observe::fields(&m, &o.frames);
     let v = slither::observe::observe(&m, &o.frames, &fields).v_s_over_v_m;
     assert!((v / 0.30309 - 1.0).abs() < 1e-4, "v_s/v_m {v}");
+}
+
+/// Pinned: the S-start at 100 elements and dt 1e-3 (the mesh where v_s/v_m is within 0.3 %
+/// of 200 elements) stays on the active-set path: with a slide started at 1e-6 a, 397 of its
+/// 3572 steps fell back to the conic program (contacts on the cone's edge cycling between
+/// sticking and sliding) and it took 11 times the 50-element wall time; with 1e-8 a, 3
+/// fallbacks and 4.77 Newton iterations per step.
+#[test]
+fn s_start_at_100_elements_has_no_fallback_storm() {
+    let mut p = problem::load(Path::new("problems/s_start.toml")).unwrap();
+    p.rod.elements = 100;
+    p.time.dt = Some(1e-3);
+    let m = Model::new(&p);
+    let o = sim::run_gait(&m, p.solver.integrator, &mut |_| {}, &mut |_| {}).unwrap();
+    assert!(o.error.is_none(), "{:?}", o.error);
+    let st = &o.stats;
+    let per_step = st.newton_iterations as f64 / st.steps as f64;
+    println!(
+        "{} steps, {per_step:.3} Newton it/step, {} conic solves, {} fallbacks, {} halvings",
+        st.steps, st.conic_solves, st.active_set_fallbacks, st.step_halvings
+    );
+    assert!(per_step <= 5.0, "{per_step} Newton iterations per step");
+    assert!(
+        st.active_set_fallbacks as f64 <= 0.005 * st.steps as f64,
+        "{} fallbacks",
+        st.active_set_fallbacks
+    );
+    assert_eq!(st.step_halvings, 0);
+    let fields = slither::observe::fields(&m, &o.frames);
+    let v = slither::observe::observe(&m, &o.frames, &fields).v_s_over_v_m;
+    // Within 1 % of the value the fast-Newton issue recorded (0.3149).
+    assert!((v / 0.3149 - 1.0).abs() < 0.01, "v_s/v_m {v}");
 }
