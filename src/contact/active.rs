@@ -10,7 +10,8 @@
 //!   slip); the reaction there is its friction force;
 //! * a sliding contact carries the dissipation `N sqrt((mu(v_f) v_f)^2 + (mu_s v_s)^2)`,
 //!   smooth away from zero slip (gradient and positive semi-definite Hessian below), with `N`
-//!   lagged and updated each Newton iterate (the same fixed point as the conic path);
+//!   the reaction at the current iterate and its change along the step inside the Newton
+//!   system ([`super::reactions`]; `[solver] contact_coupling = false` lags it one iterate);
 //! * a free contact has no force and must keep a positive gap.
 //!
 //! The converged point is the exact solution of the conic step problem (the same KKT system)

@@ -6,7 +6,7 @@
 //! That gives two things:
 //!
 //! * **Contact forces inside the Newton system.** A sliding contact's friction force is
-//!   `N_c u_c(q)` (`u_c` the dissipation gradient per unit normal force, [`Contacts::slide_derivatives`]).
+//!   `N_c u_c(q)` (`u_c` the dissipation gradient per unit normal force, from `Contacts::slide_derivatives`).
 //!   Newton's linearisation of the residual `g(q) + sum_c N_c(q) u_c(q)` is
 //!   `(A + sum_c u_c H[z_c, :]) dq = -g`, with `A` the symmetric Hessian the line search
 //!   uses. The non-symmetric rank-`n_s` term is taken by a few sweeps

@@ -5,7 +5,7 @@
 //! the deserializer, which knows only the Rust type; [`allowed`] adds the key's range so every
 //! error says what would be accepted. [`FIXED_LENGTHS`] lists the arrays whose length is
 //! fixed: the deserializer reads the first `n` elements of a longer array and ignores the
-//! rest, so [`check_lengths`] rejects any other length.
+//! rest, so `check_lengths` rejects any other length.
 
 use super::{key_line, ProblemError};
 use std::path::Path;

@@ -4,7 +4,7 @@
 use super::*;
 
 /// Relative tolerance below which a segment pair counts as coplanar in
-/// [`pair_solid_angle`]: `|r_13 . (r_12 x r_34)| <= 1e-12 |r_12| |r_34| max|r_ij|`, i.e. the
+/// `pair_solid_angle`: `|r_13 . (r_12 x r_34)| <= 1e-12 |r_12| |r_34| max|r_ij|`, i.e. the
 /// two segments lie in one plane to about 1e-12 of their size (round-off of coordinates that
 /// are coplanar by construction, such as a planar curve rotated in space).
 pub const COPLANAR_TOL: f64 = 1e-12;
