@@ -328,9 +328,8 @@ impl ActiveSet {
                     iteration: it,
                 });
             }
-            // Reactions at the held coordinates: normal forces (updating the lagged values
-            // of the sliding dissipation) and sticking friction forces.
-            let mut dn: f64 = 0.0;
+            // Reactions at the held coordinates: normal forces (those of the sliding
+            // dissipation below) and sticking friction forces.
             let mut n_min = f64::INFINITY;
             let mut worst_ratio: f64 = 0.0;
             for c in 0..nc {
@@ -341,9 +340,6 @@ impl ActiveSet {
                 }
                 let k = dof::node(ct.nodes[c]);
                 let nn = nw.asm.grad[k + 2];
-                // Against the clamped value: a pulling contact (nn < 0) keeps N = 0 and must
-                // count as settled, so that the Coulomb check below can free it.
-                dn = dn.max((nn.max(0.0) - ct.normal[c]).abs());
                 n_min = n_min.min(nn);
                 ct.react[c] = nn;
                 ct.normal[c] = nn.max(0.0);
@@ -359,6 +355,7 @@ impl ActiveSet {
             }
             // Sliding dissipation; a contact whose slip vanished sticks.
             let mut switched = 0;
+            reactions.begin(nc);
             for c in 0..nc {
                 if ct.mode[c] != Mode::Slide {
                     continue;
@@ -375,6 +372,7 @@ impl ActiveSet {
                 nw.asm.add_h(k, k, h3[0]);
                 nw.asm.add_h(k, k + 1, h3[1]);
                 nw.asm.add_h(k + 1, k + 1, h3[2]);
+                reactions.set_slide(c, g2, ct.normal[c]);
             }
             if switched > 0 {
                 switches += switched;
@@ -386,15 +384,7 @@ impl ActiveSet {
                 continue;
             }
             f0 += ct.dissipation(ground, q);
-            reactions.capture(ct, &nw.asm, |c| {
-                let n = ct.normal[c];
-                if n > 0.0 {
-                    let (g2, _, _) = ct.slide_derivatives(ground, c, q);
-                    [g2[0] / n, g2[1] / n]
-                } else {
-                    [0.0; 2]
-                }
-            });
+            reactions.capture(ct, &nw.asm);
             let mut residual: f64 = 0.0;
             for k in 0..n {
                 if held[k] {
@@ -443,7 +433,7 @@ impl ActiveSet {
             let (dx, dth) = nw.correction_norms();
             let small = dx <= m.tolerance * a && dth <= m.tolerance;
             let settled = dn_step <= force_step;
-            log::debug!("  active it {it}: dx {dx:.3e} dth {dth:.3e} dN {dn:.3e} dN(step) {dn_step:.3e} sweeps {sweeps} N_min {n_min:.3e} stick ratio {worst_ratio:.6} switches {switches}");
+            log::debug!("  active it {it}: dx {dx:.3e} dth {dth:.3e} dN(step) {dn_step:.3e} sweeps {sweeps} N_min {n_min:.3e} stick ratio {worst_ratio:.6} switches {switches}");
             if small && settled {
                 // Exact Coulomb conditions at the converged point; a contact that violates
                 // them changes status (pulling: lifts off; friction outside the cone: slides

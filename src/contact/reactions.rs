@@ -72,17 +72,27 @@ fn row_dot(row: &Row, k: usize, dq: &[f64]) -> f64 {
 }
 
 impl Reactions {
-    /// Capture the rows of the assembled Hessian `asm` (before the held coordinates are
-    /// fixed) for the statuses of `ct`; `unit[c]`: sliding contact `c`'s dissipation gradient
-    /// per unit normal force.
-    pub fn capture(&mut self, ct: &Contacts, asm: &Assembly, unit: impl Fn(usize) -> [f64; 2]) {
-        let nc = ct.nodes.len();
+    /// Start an iterate with `nc` contacts: no sliding contact couples yet.
+    pub fn begin(&mut self, nc: usize) {
         self.rows.resize(nc, [[0.0; 2 * W + 1]; 3]);
+        self.unit.clear();
         self.unit.resize(nc, [0.0; 2]);
         self.change.resize(nc, [0.0; 3]);
-        for c in 0..nc {
+    }
+
+    /// Sliding contact `c`'s dissipation gradient `grad` in `(x, y)` with normal force `n`
+    /// (kept per unit force; a clamped force, `n = 0`, does not couple).
+    pub fn set_slide(&mut self, c: usize, grad: [f64; 2], n: f64) {
+        if n > 0.0 {
+            self.unit[c] = [grad[0] / n, grad[1] / n];
+        }
+    }
+
+    /// Capture the rows of the assembled Hessian `asm` (before the held coordinates are
+    /// fixed) at the held coordinates of the statuses of `ct`.
+    pub fn capture(&mut self, ct: &Contacts, asm: &Assembly) {
+        for c in 0..ct.nodes.len() {
             let k = dof::node(ct.nodes[c]);
-            self.unit[c] = [0.0; 2];
             match ct.mode[c] {
                 Mode::Free => {}
                 Mode::Stick => {
@@ -90,10 +100,7 @@ impl Reactions {
                         self.rows[c][r] = row_of(asm, k + r);
                     }
                 }
-                Mode::Slide => {
-                    self.rows[c][2] = row_of(asm, k + 2);
-                    self.unit[c] = unit(c);
-                }
+                Mode::Slide => self.rows[c][2] = row_of(asm, k + 2),
             }
         }
     }
