@@ -20,6 +20,7 @@
 //! identity; tests compare both with the jets and finite differences on random, strongly bent
 //! stencils.
 
+use super::autodiff::jet::Jet;
 use super::stencil::{EdgeJets, Jets, Local, StencilDerivatives};
 use super::{bend::BendStencil, twist::TwistStencil};
 use crate::rod::vec3::f;
@@ -30,38 +31,6 @@ use nalgebra::{SMatrix, SVector};
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Closed;
 
-/// Gradient and Hessian of `atan2(n, d)` from those of `n` and `d` (over `K` variables).
-#[inline(always)]
-#[allow(clippy::too_many_arguments)] // value, gradient and Hessian of each argument
-fn atan2_derivatives<const K: usize>(
-    n: f64,
-    gn: &[f64; K],
-    hn: &[[f64; K]; K],
-    d: f64,
-    gd: &[f64; K],
-    hd: &[[f64; K]; K],
-    g: &mut [f64; K],
-    h: &mut [[f64; K]; K],
-    scale: f64,
-) {
-    let rho = 1.0 / (n * n + d * d);
-    let (fn_, fd) = (d * rho, -n * rho);
-    let fnn = -2.0 * n * d * rho * rho;
-    let fdd = -fnn;
-    let fnd = (n * n - d * d) * rho * rho;
-    for i in 0..K {
-        g[i] += scale * (fn_ * gn[i] + fd * gd[i]);
-        for j in 0..K {
-            h[i][j] += scale
-                * (fn_ * hn[i][j]
-                    + fd * hd[i][j]
-                    + fnn * gn[i] * gn[j]
-                    + fdd * gd[i] * gd[j]
-                    + fnd * (gn[i] * gd[j] + gd[i] * gn[j]));
-        }
-    }
-}
-
 /// The reference twist's gradient and Hessian in the tangents `(t0, t1)` (6 variables), with
 /// the frozen tangents `tb0`, `tb1`.
 pub fn ref_twist_tangent_derivatives(
@@ -70,52 +39,45 @@ pub fn ref_twist_tangent_derivatives(
     tb0: [f64; 3],
     tb1: [f64; 3],
 ) -> ([f64; 6], [[f64; 6]; 6]) {
-    let mut g = [0.0; 6];
-    let mut h = [[0.0; 6]; 6];
-    // -Omega(tb0, t0, t1): n = tb0 . (t0 x t1), d = 1 + tb0.t0 + t0.t1 + t1.tb0.
-    let n1 = f::dot(tb0, f::cross(t0, t1));
-    let d1 = 1.0 + f::dot(tb0, t0) + f::dot(t0, t1) + f::dot(t1, tb0);
+    // -Omega(tb0, t0, t1): n = tb0 . (t0 x t1), d = 1 + tb0.t0 + t0.t1 + t1.tb0, as jets
+    // over (t0, t1) (the atan2's chain rule is the jets').
     let dn0 = f::cross(t1, tb0);
     let dn1 = f::cross(tb0, t0);
-    let gn1 = [dn0[0], dn0[1], dn0[2], dn1[0], dn1[1], dn1[2]];
-    let gd1 = [
-        tb0[0] + t1[0],
-        tb0[1] + t1[1],
-        tb0[2] + t1[2],
-        tb0[0] + t0[0],
-        tb0[1] + t0[1],
-        tb0[2] + t0[2],
-    ];
-    // d2 n / dt0 dt1 = -[tb0]x (so that dn/dt0 = t1 x tb0 = -tb0 x t1), and its transpose.
-    let mut hn1 = [[0.0; 6]; 6];
-    let mut hd1 = [[0.0; 6]; 6];
+    let mut n1 = Jet::<6>::cst(f::dot(tb0, f::cross(t0, t1)));
+    let mut d1 = Jet::<6>::cst(1.0 + f::dot(tb0, t0) + f::dot(t0, t1) + f::dot(t1, tb0));
+    // d2 n / dt0 dt1 = -[tb0]x (so that dn/dt0 = t1 x tb0 = -tb0 x t1), and its transpose;
+    // d2 d / dt0 dt1 = I.
     let skew = [
         [0.0, -tb0[2], tb0[1]],
         [tb0[2], 0.0, -tb0[0]],
         [-tb0[1], tb0[0], 0.0],
     ];
     for i in 0..3 {
+        n1.g[i] = dn0[i];
+        n1.g[3 + i] = dn1[i];
+        d1.g[i] = tb0[i] + t1[i];
+        d1.g[3 + i] = tb0[i] + t0[i];
         for j in 0..3 {
-            hn1[i][3 + j] = -skew[i][j];
-            hn1[3 + j][i] = -skew[i][j];
+            n1.h[i][3 + j] = -skew[i][j];
+            n1.h[3 + j][i] = -skew[i][j];
         }
-        hd1[i][3 + i] = 1.0;
-        hd1[3 + i][i] = 1.0;
+        d1.h[i][3 + i] = 1.0;
+        d1.h[3 + i][i] = 1.0;
     }
-    atan2_derivatives(n1, &gn1, &hn1, d1, &gd1, &hd1, &mut g, &mut h, -2.0);
-    // +Omega(tb0, tb1, t1): n = (tb0 x tb1) . t1, d = 1 + tb0.tb1 + tb1.t1 + t1.tb0.
+    let w1 = n1.atan2(&d1);
+    // +Omega(tb0, tb1, t1): n = (tb0 x tb1) . t1, d = 1 + tb0.tb1 + tb1.t1 + t1.tb0, over t1.
     let c = f::cross(tb0, tb1);
-    let n2 = f::dot(c, t1);
-    let d2 = 1.0 + f::dot(tb0, tb1) + f::dot(tb1, t1) + f::dot(t1, tb0);
-    let gd2 = f::add(tb1, tb0);
-    let zero = [[0.0; 3]; 3];
-    let mut g2 = [0.0; 3];
-    let mut h2 = [[0.0; 3]; 3];
-    atan2_derivatives(n2, &c, &zero, d2, &gd2, &zero, &mut g2, &mut h2, 2.0);
+    let mut n2 = Jet::<3>::cst(f::dot(c, t1));
+    let mut d2 = Jet::<3>::cst(1.0 + f::dot(tb0, tb1) + f::dot(tb1, t1) + f::dot(t1, tb0));
+    n2.g = c;
+    d2.g = f::add(tb1, tb0);
+    let w2 = n2.atan2(&d2);
+    let mut g = w1.g.map(|x| -2.0 * x);
+    let mut h = w1.h.map(|row| row.map(|x| -2.0 * x));
     for i in 0..3 {
-        g[3 + i] += g2[i];
+        g[3 + i] += 2.0 * w2.g[i];
         for j in 0..3 {
-            h[3 + i][3 + j] += h2[i][j];
+            h[3 + i][3 + j] += 2.0 * w2.h[i][j];
         }
     }
     (g, h)
@@ -182,7 +144,7 @@ pub fn tangents_to_edges(
 /// Value, gradient and Hessian of the twist stencil in closed form.
 pub fn twist_local(st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
     let fr = st.frame;
-    let val = |v: &[super::autodiff::jet::Jet<3>; 3]| [v[0].v, v[1].v, v[2].v];
+    let val = |v: &[Jet<3>; 3]| [v[0].v, v[1].v, v[2].v];
     let t = [val(&edges[0].t), val(&edges[1].t)];
     let a = [val(&edges[0].a1), val(&edges[1].a1)];
     let len = [edges[0].len.v, edges[1].len.v];
@@ -208,24 +170,6 @@ pub fn twist_local(st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Lo
     (st.coef * d * d, grad, hess)
 }
 
-/// Value, gradient and Hessian over the 8 stencil coordinates, in plain arrays.
-#[derive(Clone, Copy)]
-struct J8 {
-    v: f64,
-    g: [f64; 8],
-    h: [[f64; 8]; 8],
-}
-
-impl J8 {
-    fn cst(v: f64) -> Self {
-        J8 {
-            v,
-            g: [0.0; 8],
-            h: [[0.0; 8]; 8],
-        }
-    }
-}
-
 /// A function of a few of the 8 coordinates (`idx`): value, gradient and Hessian over them.
 struct Block<const N: usize> {
     idx: [usize; N],
@@ -237,7 +181,7 @@ struct Block<const N: usize> {
 /// `out += s A B` for functions `A`, `B` of disjoint sets of coordinates.
 #[inline(always)]
 fn add_product<const NA: usize, const NB: usize>(
-    out: &mut J8,
+    out: &mut Jet<8>,
     s: f64,
     a: &Block<NA>,
     b: &Block<NB>,
@@ -322,8 +266,8 @@ fn directors(e: &EdgeJets, j: usize, k: usize, theta: f64) -> [Block<4>; 2] {
 /// mean material frame), each a sum of products of functions of one edge; the edges' tangents
 /// and transported directors come with their derivatives in [`EdgeJets`].
 pub fn bend_local(st: &BendStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
-    let mut psi = [J8::cst(0.0), J8::cst(0.0)];
-    let mut chi = J8::cst(1.0);
+    let mut psi = [Jet::<8>::cst(0.0), Jet::<8>::cst(0.0)];
+    let mut chi = Jet::<8>::cst(1.0);
     let d0: [[Block<4>; 2]; 3] = std::array::from_fn(|k| directors(edges[0], 0, k, y[6]));
     let d1: [[Block<4>; 2]; 3] = std::array::from_fn(|k| directors(edges[1], 1, k, y[7]));
     for k in 0..3 {
@@ -380,6 +324,21 @@ mod tests {
     use super::*;
     use crate::energy::autodiff::testing::{rel_diff, stencil};
 
+    /// The closed form `got` equals the staged jets' `want` for stencil `seed`.
+    fn assert_matches(got: Local, want: Local, seed: u64) {
+        let ((v, g, h), (v_ref, g_ref, h_ref)) = (got, want);
+        assert!(
+            (v - v_ref).abs() <= 1e-12 * v_ref.abs().max(1e-12),
+            "value {v} vs {v_ref} (seed {seed})"
+        );
+        let eg = rel_diff(g.as_slice(), g_ref.as_slice());
+        let eh = rel_diff(h.as_slice(), h_ref.as_slice());
+        assert!(
+            eg < 1e-9 && eh < 1e-9,
+            "gradient {eg:e}, Hessian {eh:e} (seed {seed})"
+        );
+    }
+
     /// The closed form equals the staged jets (themselves checked against hyper-dual numbers
     /// and finite differences) on random, strongly bent stencils with frozen frames away from
     /// the current tangents.
@@ -393,17 +352,10 @@ mod tests {
                 coef: 1.0 + r.sym(),
             };
             let edges = EdgeJets::of_stencil(&frame, &y);
-            let (v, g, h) = twist_local(&st, [&edges[0], &edges[1]], &y);
-            let (v_ref, g_ref, h_ref) = st.derivatives(y);
-            assert!(
-                (v - v_ref).abs() <= 1e-12 * v_ref.abs().max(1e-12),
-                "value {v} vs {v_ref} (seed {seed})"
-            );
-            let eg = rel_diff(g.as_slice(), g_ref.as_slice());
-            let eh = rel_diff(h.as_slice(), h_ref.as_slice());
-            assert!(
-                eg < 1e-9 && eh < 1e-9,
-                "gradient {eg:e}, Hessian {eh:e} (seed {seed})"
+            assert_matches(
+                twist_local(&st, [&edges[0], &edges[1]], &y),
+                st.derivatives(y),
+                seed,
             );
         }
     }
@@ -420,17 +372,10 @@ mod tests {
                 coef: 1.0 + r.sym(),
             };
             let edges = EdgeJets::of_stencil(&frame, &y);
-            let (v, g, h) = bend_local(&st, [&edges[0], &edges[1]], &y);
-            let (v_ref, g_ref, h_ref) = st.derivatives(y);
-            assert!(
-                (v - v_ref).abs() <= 1e-12 * v_ref.abs().max(1e-12),
-                "value {v} vs {v_ref} (seed {seed})"
-            );
-            let eg = rel_diff(g.as_slice(), g_ref.as_slice());
-            let eh = rel_diff(h.as_slice(), h_ref.as_slice());
-            assert!(
-                eg < 1e-9 && eh < 1e-9,
-                "gradient {eg:e}, Hessian {eh:e} (seed {seed})"
+            assert_matches(
+                bend_local(&st, [&edges[0], &edges[1]], &y),
+                st.derivatives(y),
+                seed,
             );
         }
     }
