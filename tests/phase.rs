@@ -3,37 +3,12 @@
 //! naming the file, line, key and allowed range. The base problem is a tiny S-start (20
 //! elements, a tenth of a second), so the whole file runs in seconds.
 
+mod common;
+use common::TINY_S_START as BASE;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const BIN: &str = env!("CARGO_BIN_EXE_slither");
-
-const BASE: &str = "\
-[rod]
-length = 1.0
-diameter = 0.02
-elements = 20
-density = 1000.0
-bending_stiffness = 0.01308
-
-[ground]
-mu_forward = 0.55
-mu_backward = 0.70
-mu_sideways = 1.00
-
-[gait]
-kind = \"s-start\"
-stress = 24525.0
-sigma = 0.0525
-speed = 0.28
-
-[time]
-dt = 1e-2
-duration = 0.1
-
-[output]
-interval = 0.02
-";
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("slither-phase-{}-{name}", std::process::id()));

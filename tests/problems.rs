@@ -121,6 +121,23 @@ fn s_start_until(t: f64) -> sim::Outcome {
     o
 }
 
+/// Run a gait problem to its end: the outcome (with its statistics printed), Newton
+/// iterations per step and v_s/v_m.
+fn whole_run(p: &problem::Problem) -> (sim::Outcome, f64, f64) {
+    let m = Model::new(p);
+    let o = sim::run_gait(&m, p.solver.integrator, &mut |_| {}, &mut |_| {}).unwrap();
+    assert!(o.error.is_none(), "{:?}", o.error);
+    let st = &o.stats;
+    let per_step = st.newton_iterations as f64 / st.steps as f64;
+    println!(
+        "{} steps, {per_step:.3} Newton it/step, {} conic solves, {} fallbacks, {} halvings",
+        st.steps, st.conic_solves, st.active_set_fallbacks, st.step_halvings
+    );
+    let fields = slither::observe::fields(&m, &o.frames);
+    let v = slither::observe::observe(&m, &o.frames, &fields).v_s_over_v_m;
+    (o, per_step, v)
+}
+
 /// Pinned: the whole S-start with the default stopping thresholds (`[solver] tolerance` 1e-5,
 /// `normal_force_tolerance` 1e-3) measured 6.87 Newton iterations per step, 36 conic solves
 /// and 23 fallbacks in 1786 steps, no halving, v_s/v_m 0.30309 (0.30309 also with both
@@ -131,15 +148,8 @@ fn s_start_until(t: f64) -> sim::Outcome {
 #[test]
 fn s_start_newton_and_contact_statistics_are_pinned() {
     let p = problem::load(Path::new("problems/s_start.toml")).unwrap();
-    let m = Model::new(&p);
-    let o = sim::run_gait(&m, p.solver.integrator, &mut |_| {}, &mut |_| {}).unwrap();
-    assert!(o.error.is_none(), "{:?}", o.error);
+    let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
-    let per_step = st.newton_iterations as f64 / st.steps as f64;
-    println!(
-        "{} steps, {per_step:.3} Newton it/step, {} conic solves, {} fallbacks, {} halvings",
-        st.steps, st.conic_solves, st.active_set_fallbacks, st.step_halvings
-    );
     assert_eq!(st.steps, 1786);
     assert!(per_step <= 4.43, "{per_step} Newton iterations per step");
     assert!(st.conic_solves <= 20, "{} conic solves", st.conic_solves);
@@ -149,8 +159,6 @@ fn s_start_newton_and_contact_statistics_are_pinned() {
         st.active_set_fallbacks
     );
     assert_eq!(st.step_halvings, 0);
-    let fields = slither::observe::fields(&m, &o.frames);
-    let v = slither::observe::observe(&m, &o.frames, &fields).v_s_over_v_m;
     assert!((v / 0.30309 - 1.0).abs() < 1e-4, "v_s/v_m {v}");
 }
 
@@ -164,15 +172,8 @@ fn s_start_at_100_elements_has_no_fallback_storm() {
     let mut p = problem::load(Path::new("problems/s_start.toml")).unwrap();
     p.rod.elements = 100;
     p.time.dt = Some(1e-3);
-    let m = Model::new(&p);
-    let o = sim::run_gait(&m, p.solver.integrator, &mut |_| {}, &mut |_| {}).unwrap();
-    assert!(o.error.is_none(), "{:?}", o.error);
+    let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
-    let per_step = st.newton_iterations as f64 / st.steps as f64;
-    println!(
-        "{} steps, {per_step:.3} Newton it/step, {} conic solves, {} fallbacks, {} halvings",
-        st.steps, st.conic_solves, st.active_set_fallbacks, st.step_halvings
-    );
     assert!(per_step <= 5.0, "{per_step} Newton iterations per step");
     assert!(
         st.active_set_fallbacks as f64 <= 0.005 * st.steps as f64,
@@ -180,8 +181,6 @@ fn s_start_at_100_elements_has_no_fallback_storm() {
         st.active_set_fallbacks
     );
     assert_eq!(st.step_halvings, 0);
-    let fields = slither::observe::fields(&m, &o.frames);
-    let v = slither::observe::observe(&m, &o.frames, &fields).v_s_over_v_m;
     // Within 1 % of the value the fast-Newton issue recorded (0.3149).
     assert!((v / 0.3149 - 1.0).abs() < 0.01, "v_s/v_m {v}");
 }

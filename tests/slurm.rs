@@ -15,6 +15,10 @@
 //! installed): [`NODE_TIMEOUT`] for the node to come up idle, [`JOBS_TIMEOUT`] for the array
 //! and the merge job to leave the queue.
 
+mod common;
+/// The tiny S-start of `tests/phase.rs`: cells take milliseconds, so the test measures the
+/// scheduler plumbing, not the physics.
+use common::TINY_S_START as BASE;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -26,35 +30,6 @@ const SCRIPT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/slurm/phase_a
 const NODE_TIMEOUT: Duration = Duration::from_secs(60);
 /// Longest wait for the array tasks and the merge job to leave the queue.
 const JOBS_TIMEOUT: Duration = Duration::from_secs(240);
-
-/// The same tiny S-start as `tests/phase.rs` (20 elements, a tenth of a second): cells take
-/// milliseconds, so the test measures the scheduler plumbing, not the physics.
-const BASE: &str = "\
-[rod]
-length = 1.0
-diameter = 0.02
-elements = 20
-density = 1000.0
-bending_stiffness = 0.01308
-
-[ground]
-mu_forward = 0.55
-mu_backward = 0.70
-mu_sideways = 1.00
-
-[gait]
-kind = \"s-start\"
-stress = 24525.0
-sigma = 0.0525
-speed = 0.28
-
-[time]
-dt = 1e-2
-duration = 0.1
-
-[output]
-interval = 0.02
-";
 
 /// The Slurm and munge programs the test needs (searched on PATH, /usr/sbin and /usr/bin).
 const PROGRAMS: [&str; 8] = [

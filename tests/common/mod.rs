@@ -21,3 +21,32 @@ impl Rng {
         (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
     }
 }
+
+/// A tiny S-start (20 elements, a tenth of a second): the base problem of the phase-study
+/// tests (`tests/phase.rs`, `tests/slurm.rs`), whose cells take milliseconds.
+pub const TINY_S_START: &str = "\
+[rod]
+length = 1.0
+diameter = 0.02
+elements = 20
+density = 1000.0
+bending_stiffness = 0.01308
+
+[ground]
+mu_forward = 0.55
+mu_backward = 0.70
+mu_sideways = 1.00
+
+[gait]
+kind = \"s-start\"
+stress = 24525.0
+sigma = 0.0525
+speed = 0.28
+
+[time]
+dt = 1e-2
+duration = 0.1
+
+[output]
+interval = 0.02
+";
