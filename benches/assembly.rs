@@ -84,6 +84,26 @@ fn bench_assembly(c: &mut Criterion) {
                 })
             });
         }
+        // The separate closed-form bending and twist terms (the default before the fused
+        // stencil), for the ratio in one run.
+        let separate: Vec<Box<dyn energy::Term>> = vec![
+            Box::new(energy::stretch::Stretch),
+            Box::new(energy::bend::Bend(energy::closed::Closed)),
+            Box::new(energy::twist::Twist(energy::closed::Closed)),
+            Box::new(energy::gravity::Gravity),
+        ];
+        g.bench_function(format!("{n}_elements_project_false_separate"), |b| {
+            b.iter(|| {
+                asm.clear();
+                black_box(energy::total(
+                    &separate,
+                    &ctx,
+                    black_box(&q),
+                    Some(&mut asm),
+                    false,
+                ))
+            })
+        });
         g.bench_function(format!("{n}_elements_energy_only"), |b| {
             b.iter(|| black_box(energy::total(&terms, &ctx, black_box(&q), None, false)))
         });
@@ -136,6 +156,29 @@ fn bench_stencil(c: &mut Criterion) {
             nodes
                 .iter()
                 .map(|&i| per_node(&Jets, &m, &s, black_box(&q), &kappa0, &m0, i))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function("fused", |b| {
+        use slither::energy::node::{node_local, EdgeFrame, NodeStencil};
+        b.iter(|| {
+            nodes
+                .iter()
+                .map(|&i| {
+                    let frame = &s.frames[i - 1];
+                    let y = intrinsic(black_box(&q), i);
+                    let e0 = EdgeFrame::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0]);
+                    let e1 = EdgeFrame::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1]);
+                    let st = NodeStencil {
+                        frame,
+                        kappa0: kappa0[i],
+                        bend: m.bend / (2.0 * m.voronoi[i]),
+                        m0: m0[i],
+                        twist: m.twist / (2.0 * m.voronoi[i]),
+                    };
+                    let l = node_local(&st, [&e0, &e1], [y[6], y[7]]);
+                    l.0 + l.2[(3, 4)] + l.2[(1, 2)]
+                })
                 .sum::<f64>()
         })
     });

@@ -7,17 +7,21 @@
 //! * [`twist`]: `C/(2 l_i) (m_i - m0_i)^2` per interior node;
 //! * [`gravity`]: `-sum_i m_i g . x_i`.
 //!
-//! Bending and twist are written once, generically over the scalar. Their exact gradient and
-//! Hessian in the 8 intrinsic coordinates `(e^{i-1}, e^i, theta^{i-1}, theta^i)` of the
-//! stencil come from staged second-order jets ([`autodiff::jet`]: each sub-expression is
-//! differentiated only over the coordinates it depends on), tested against `num-dual`
-//! hyper-dual numbers and against finite differences; the chain rule to the 11 node
-//! coordinates is linear. Stretching has a closed-form Hessian.
+//! Bending and twist are written once, generically over the scalar (the energy alone, and the
+//! reference for every derivative). Their exact gradient and Hessian in the 8 intrinsic
+//! coordinates `(e^{i-1}, e^i, theta^{i-1}, theta^i)` of the stencil come, in the implicit
+//! integrator, from [`node`]: one closed form for a node's bending and twist together in
+//! plain `f64` ([`node::BendTwist`], the term of [`rod_terms`]). It is tested against the
+//! staged second-order jets ([`autodiff::jet`], [`stencil::Jets`]) and the per-term closed
+//! forms ([`closed`]), which are tested against `num-dual` hyper-dual numbers and finite
+//! differences; the chain rule to the 11 node coordinates is linear. Stretching has a
+//! closed-form Hessian.
 
 pub mod autodiff;
 pub mod bend;
 pub mod closed;
 pub mod gravity;
+pub mod node;
 pub mod stencil;
 pub mod stretch;
 pub mod twist;
@@ -63,8 +67,7 @@ pub trait Term: Send + Sync {
 pub fn rod_terms() -> Vec<Box<dyn Term>> {
     vec![
         Box::new(stretch::Stretch),
-        Box::new(bend::Bend(closed::Closed)),
-        Box::new(twist::Twist(closed::Closed)),
+        Box::new(node::BendTwist),
         Box::new(gravity::Gravity),
     ]
 }
@@ -88,6 +91,8 @@ pub struct Assembly {
     edges: Vec<stencil::EdgeJets>,
     edges_key: Option<(u64, usize, Vec<f64>)>,
     generation: u64,
+    /// Scratch for the edge frames of [`node::BendTwist`].
+    node_edges: Vec<node::EdgeFrame>,
 }
 
 impl Assembly {
@@ -113,6 +118,7 @@ impl Assembly {
             edges: Vec::new(),
             edges_key: None,
             generation: 0,
+            node_edges: Vec::new(),
         }
     }
     /// Dimension.
@@ -187,6 +193,32 @@ impl Assembly {
     /// Add a local gradient and a full local Hessian (row-major `m x m`) at `idx`.
     pub fn add_local(&mut self, idx: &[usize], g: &[f64], h: &[f64]) {
         let m = idx.len();
+        let first = idx.iter().copied().min().unwrap_or(0);
+        let last = idx.iter().copied().max().unwrap_or(0);
+        let mask = idx.iter().fold(0u32, |k, &i| {
+            k | 1u32.checked_shl((i - first) as u32).unwrap_or(0)
+        });
+        if m <= 11 && last - first <= self.w && mask == (1u32 << m) - 1 {
+            // The coordinates are a permutation of `first..=last` (a node stencil): reorder
+            // into a dense column-major block and add each column's upper part, contiguous in
+            // the banded storage, as one slice.
+            let mut blk = [0.0; 121];
+            for a in 0..m {
+                let ra = idx[a] - first;
+                self.grad[idx[a]] += g[a];
+                for b in 0..m {
+                    blk[(idx[b] - first) * m + ra] = h[a * m + b];
+                }
+            }
+            for c in 0..m {
+                let j = first + c;
+                let start = self.col_ptr[j] + first - j.saturating_sub(self.w);
+                for (v, x) in self.values[start..=start + c].iter_mut().zip(&blk[c * m..]) {
+                    *v += x;
+                }
+            }
+            return;
+        }
         for a in 0..m {
             self.grad[idx[a]] += g[a];
             for b in 0..m {
@@ -234,4 +266,38 @@ pub fn total(
         e += t.eval(ctx, q, out.as_deref_mut(), project);
     }
     e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A node stencil's block added through the contiguous-column path equals the entries
+    /// added one by one.
+    #[test]
+    fn add_local_block_equals_entrywise() {
+        let n = dof::count(6);
+        let (mut fast, mut slow) = (Assembly::new(n), Assembly::new(n));
+        for i in 1..5 {
+            let idx = dof::stencil(i);
+            let g: Vec<f64> = (0..11).map(|k| (k + i) as f64 * 0.1).collect();
+            let h: Vec<f64> = (0..121)
+                .map(|k| {
+                    let (a, b) = (k / 11, k % 11);
+                    ((a * b + a + b + i) as f64).sin()
+                })
+                .collect();
+            fast.add_local(&idx, &g, &h);
+            for a in 0..11 {
+                slow.grad[idx[a]] += g[a];
+                for b in 0..11 {
+                    if idx[a] <= idx[b] {
+                        slow.add_h(idx[a], idx[b], h[a * 11 + b]);
+                    }
+                }
+            }
+        }
+        assert_eq!(fast.grad, slow.grad);
+        assert_eq!(fast.values, slow.values);
+    }
 }

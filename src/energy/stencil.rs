@@ -11,8 +11,9 @@
 //! node's bending and twist, and the gradient alone (explicit integration). [`Jets`] is the
 //! implementation: staged second-order jets for the Hessians; for the gradient, the closed
 //! form of Bergou et al. 2010 when the frames are current, first-order dual numbers otherwise.
-//! A closed-form Hessian slots in as another implementation, chosen in
-//! [`crate::energy::rod_terms`].
+//! [`super::closed::Closed`] is the per-term closed form; the implicit integrator's default
+//! is the fused bending-and-twist stencil of [`super::node`] (chosen in
+//! [`crate::energy::rod_terms`]), tested against both.
 
 use super::autodiff::jet::{edge_frame, Jet, JV};
 use super::autodiff::StencilEnergy;
