@@ -260,6 +260,9 @@ pub struct ActiveSet {
     /// Contacts that already changed status before convergence in this step (once each, so
     /// that a contact at the edge of the friction cone cannot cycle).
     early: Vec<bool>,
+    /// Iterations of the last [`ActiveSet::iterate`] (counted in the step's total also when
+    /// it fails and the conic path finishes the step).
+    spent: usize,
 }
 
 impl ActiveSet {
@@ -273,6 +276,7 @@ impl ActiveSet {
             reactions: Reactions::default(),
             tangential: Vec::new(),
             early: Vec::new(),
+            spent: 0,
         }
     }
 
@@ -315,8 +319,25 @@ impl ActiveSet {
         let mut project = false;
         tangential.resize(nc, [0.0; 2]);
         let mut it = 0;
+        // Fingerprints of the iterates (coordinates and statuses) after status changes: an
+        // exact repeat is a cycle the iteration cannot leave (stick -> slide -> stick of one
+        // contact whose force sits on the cone's edge), for the conic program at once.
+        let mut seen: Vec<(u64, usize)> = Vec::new();
+        let mut after_switch = false;
         while it < cap {
             it += 1;
+            self.spent = it;
+            if after_switch {
+                let key = fingerprint(q, &ct.mode);
+                if let Some(&(_, first)) = seen.iter().find(|(k, _)| *k == key) {
+                    return Err(Failure::ContactCycle {
+                        iteration: it,
+                        first,
+                    });
+                }
+                seen.push((key, it));
+                after_switch = false;
+            }
             let t0 = Instant::now();
             let mut f0 = obj.assemble(q, &mut nw.asm, project);
             if project {
@@ -377,6 +398,7 @@ impl ActiveSet {
             if switched > 0 {
                 switches += switched;
                 nw.stats.residuals.push(f64::NAN);
+                after_switch = true;
                 nw.stats.assembly_s += t0.elapsed().as_secs_f64();
                 if switches > switch_cap {
                     return Err(Failure::ContactSwitches { iteration: it });
@@ -457,6 +479,7 @@ impl ActiveSet {
                 }
                 switches += switched;
                 nw.stats.residuals.push(f64::NAN);
+                after_switch = true;
                 if switches > switch_cap {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
@@ -489,6 +512,10 @@ impl ActiveSet {
                     }
                 }
             }
+            // Those early changes release coordinates the direction held fixed (a lift-off its
+            // height, a new slide its ground position), so the direction is still one of
+            // descent with the new statuses: it is taken below rather than thrown away.
+            let released = switched;
             for c in 0..nc {
                 let k = dof::node(ct.nodes[c]);
                 match ct.mode[c] {
@@ -521,11 +548,16 @@ impl ActiveSet {
             if switched > 0 {
                 switches += switched;
                 nw.stats.residuals.push(f64::NAN);
-                nw.stats.line_search_s += t3.elapsed().as_secs_f64();
+                after_switch = true;
                 if switches > switch_cap {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
-                continue;
+                if switched > released {
+                    nw.stats.line_search_s += t3.elapsed().as_secs_f64();
+                    continue;
+                }
+                // The merit with the new statuses at the (slightly moved) start point.
+                f0 = obj.value(q) + ct.dissipation(ground, q);
             }
             let slope: f64 = nw.asm.grad.iter().zip(&nw.dq).map(|(g, d)| g * d).sum();
             let alpha = {
@@ -592,6 +624,7 @@ impl ContactModel for ActiveSet {
                 Err(why) => {
                     log::debug!("  active set rejected: {why}");
                     nw.stats.active_set_fallbacks += 1;
+                    let spent = self.spent;
                     if q.iter().all(|x| x.is_finite()) {
                         // Start the conic path from where the active set stopped (lifted onto
                         // the ground), with its normal forces: usually a few conic solves from
@@ -602,7 +635,7 @@ impl ContactModel for ActiveSet {
                         match self.conic.iterate(nw, obj, q, cap) {
                             Ok(it) => {
                                 self.last_conic = true;
-                                return Ok(it);
+                                return Ok(spent + it);
                             }
                             Err(why) => {
                                 log::debug!("  warm conic start failed: {why}");
@@ -612,6 +645,9 @@ impl ContactModel for ActiveSet {
                     }
                     q.copy_from_slice(&self.q_init);
                     self.conic.restore_normals();
+                    let it = self.conic.iterate(nw, obj, q, m.max_iterations)?;
+                    self.last_conic = true;
+                    return Ok(spent + it);
                 }
             }
         }
@@ -633,4 +669,17 @@ impl ContactModel for ActiveSet {
     fn normal_forces(&self, m: &Model, out: &mut [f64]) {
         self.conic.ct.normal_forces(m, out);
     }
+}
+
+/// A hash of the coordinates' bits and the contacts' statuses.
+fn fingerprint(q: &[f64], mode: &[Mode]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for x in q {
+        x.to_bits().hash(&mut h);
+    }
+    for m in mode {
+        (*m as u8).hash(&mut h);
+    }
+    h.finish()
 }

@@ -149,6 +149,14 @@ pub enum Failure {
         /// 1-based iteration.
         iteration: usize,
     },
+    /// The active set returned to an earlier iterate with the same statuses: it would cycle.
+    #[error("contact statuses cycle (active-set iteration {iteration} repeats iteration {first})")]
+    ContactCycle {
+        /// 1-based iteration.
+        iteration: usize,
+        /// The earlier iteration it repeats.
+        first: usize,
+    },
     /// The conic program could not be set up.
     #[error("{message} (Newton iteration {iteration})")]
     ConicSetup {
