@@ -372,3 +372,154 @@ pub fn midpoint_points(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]
         .map(midpoint)
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::phase::{boundaries, fit_boundaries};
+    use std::sync::atomic::AtomicUsize;
+
+    /// A labeller set by `W/G` alone: S below 20, F up to 60, N beyond (the paper's kind of
+    /// boundaries: lines of slope 1 at `W/G` 20 and 60).
+    fn by_ratio(w: f64, g: f64) -> Regime {
+        match w / g {
+            r if r < 20.0 => Regime::S,
+            r if r < 60.0 => Regime::F,
+            _ => Regime::N,
+        }
+    }
+
+    /// One point per decade of `W` and three per two decades of `G`: a coarse grid whose cell
+    /// midpoints miss the lines by up to a quarter decade.
+    fn coarse() -> (Vec<f64>, Vec<f64>, Vec<Option<Regime>>) {
+        let weight: Vec<f64> = (1..=4).map(|k| 10f64.powi(k)).collect();
+        let torque: Vec<f64> = (0..4).map(|k| 10f64.powf(2.0 * k as f64 / 3.0)).collect();
+        let labels = weight
+            .iter()
+            .flat_map(|&w| torque.iter().map(move |&g| Some(by_ratio(w, g))))
+            .collect();
+        (weight, torque, labels)
+    }
+
+    /// The distance, in decades along the point's axis, from the true line `W/G = ratio`.
+    fn miss(p: &Point, ratio: f64) -> f64 {
+        match p.along {
+            Axis::W => (p.w / (ratio * p.g)).log10().abs(),
+            Axis::G => (p.g / (p.w / ratio)).log10().abs(),
+        }
+    }
+
+    #[test]
+    fn bisection_recovers_lines_of_constant_ratio_better_than_midpoints() {
+        let (weight, torque, labels) = coarse();
+        let pairs = neighbour_pairs(&weight, &torque, &labels);
+        assert!(pairs.len() >= 6, "{} pairs", pairs.len());
+        let steps = 6;
+        let calls = AtomicUsize::new(0);
+        let label = |w: f64, g: f64| {
+            calls.fetch_add(1, Ordering::Relaxed);
+            Ok(by_ratio(w, g))
+        };
+        let points = bisect_all(&pairs, steps, &label);
+        // Every pair is bisected: at least `steps` simulations each, and no point is dropped.
+        assert!(calls.into_inner() >= steps * pairs.len());
+        assert!(points.len() >= pairs.len());
+        let truth = |pair: &str| if pair == "F/S" { 20.0 } else { 60.0 };
+        for p in &points {
+            assert_eq!(p.method, Method::Bisection);
+            assert_eq!(p.steps, steps);
+            assert!(p.failed.is_none());
+            // The interval is 2^steps times narrower than the grid spacing it started from.
+            let spacing = match p.along {
+                Axis::W => 1.0,
+                Axis::G => 2.0 / 3.0,
+            };
+            assert!((p.half_width - 0.5 * spacing / 64.0).abs() < 1e-12, "{p:?}");
+            // The true boundary lies inside the bracket.
+            assert!(miss(p, truth(&p.pair)) <= p.half_width + 1e-12, "{p:?}");
+        }
+        let bisected = fit_boundaries(&points);
+        let mids = boundaries(&weight, &torque, &labels);
+        let names: Vec<&str> = bisected.iter().map(|b| b.pair.as_str()).collect();
+        assert_eq!(names, ["F/N", "F/S"]);
+        // The coarse grid has S cells next to N cells (the F band between them falls inside
+        // one spacing): the midpoint fit reports an N/S boundary that does not exist, which the
+        // bisection splits into its F/S and F/N points.
+        assert_eq!(
+            mids.iter().map(|b| b.pair.as_str()).collect::<Vec<_>>(),
+            ["F/N", "F/S", "N/S"]
+        );
+        for (b, m) in bisected.iter().zip(&mids) {
+            assert_eq!((b.method, m.method), ("bisection", "midpoints"));
+            let ratio = truth(&b.pair);
+            let h = b.points.iter().map(|p| p.half_width).fold(0.0, f64::max);
+            let (s, r) = (b.slope.unwrap(), b.ratio_at_g10.unwrap());
+            let (sm, rm) = (m.slope.unwrap(), m.ratio_at_g10.unwrap());
+            // Slope 1 and the true W/G at G = 10 within the final half-width ...
+            assert!((s - 1.0).abs() < 0.01, "{}: slope {s}", b.pair);
+            assert!((r / ratio).log10().abs() <= h, "{}: W/G {r}", b.pair);
+            // ... and closer to both than the fit through the cell midpoints.
+            assert!(
+                (s - 1.0).abs() < (sm - 1.0).abs(),
+                "{}: {s} vs {sm}",
+                b.pair
+            );
+            assert!(
+                (r / ratio).log10().abs() < (rm / ratio).log10().abs(),
+                "{}: {r} vs {rm}",
+                b.pair
+            );
+            // (The midpoints of this grid lie on straight lines of slope 2/3 through W/G 10 and
+            // 100, so their residual says nothing about how far off the line is.)
+        }
+    }
+
+    #[test]
+    fn a_third_regime_inside_a_pair_splits_it() {
+        // S at W = 1, N at W = 1e4 (G = 1): F between W/G 20 and 60 is found inside, and the
+        // pair yields an F/S and an F/N point, in order along W.
+        let n = Neighbours {
+            axis: Axis::W,
+            lo: ((1.0, 1.0), Regime::S),
+            hi: ((1e4, 1.0), Regime::N),
+        };
+        let pts = bisect(&n, 8, &|w, g| Ok(by_ratio(w, g)));
+        let names: Vec<&str> = pts.iter().map(|p| p.pair.as_str()).collect();
+        assert_eq!(names, ["F/S", "F/N"]);
+        assert!(miss(&pts[0], 20.0) <= pts[0].half_width);
+        assert!(miss(&pts[1], 60.0) <= pts[1].half_width);
+        assert!(pts.iter().all(|p| p.cells == [[1.0, 1.0], [1e4, 1.0]]));
+    }
+
+    #[test]
+    fn a_failed_simulation_stops_its_interval_and_keeps_the_point() {
+        let (weight, torque, labels) = coarse();
+        let pairs = neighbour_pairs(&weight, &torque, &labels);
+        // Every simulation fails: each pair keeps its grid midpoint, marked.
+        let pts = bisect_all(&pairs, 3, &|_, _| Err("step rejected".into()));
+        assert_eq!(pts.len(), pairs.len());
+        for (p, n) in pts.iter().zip(&pairs) {
+            let m = midpoint(n);
+            assert_eq!((p.method, p.steps), (Method::Midpoint, 0));
+            assert_eq!(p.failed.as_deref(), Some("step rejected"));
+            assert_eq!((p.w, p.g, p.half_width), (m.w, m.g, m.half_width));
+        }
+        assert!(fit_boundaries(&pts).iter().all(|b| b.method == "midpoints"));
+        // Failing beyond W = 300 only: pairs there stop after the steps that succeeded, with
+        // the bracket they reached (which still holds the true boundary).
+        let pts = bisect_all(&pairs, 4, &|w, g| {
+            if w > 300.0 {
+                Err("failed".into())
+            } else {
+                Ok(by_ratio(w, g))
+            }
+        });
+        let early: Vec<&Point> = pts.iter().filter(|p| p.failed.is_some()).collect();
+        assert!(!early.is_empty() && early.len() < pts.len());
+        for p in &pts {
+            let ratio = if p.pair == "F/S" { 20.0 } else { 60.0 };
+            assert!(miss(p, ratio) <= p.half_width + 1e-12, "{p:?}");
+            assert_eq!(p.failed.is_some(), p.steps < 4, "{p:?}");
+        }
+    }
+}
