@@ -1575,7 +1575,7 @@ fn map_legend<DB: DrawingBackend>(
             ratio,
             b.points.len(),
             if b.method == "bisection" {
-                "points, bisected"
+                "bisected"
             } else {
                 "pairs"
             }
