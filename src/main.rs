@@ -74,7 +74,8 @@ enum Cmd {
     },
     /// Regime phase diagram over scaled weight W and scaled torque G (one simulation per
     /// cell, in parallel); writes phase.csv, boundaries.json and the regime map and Fig. 3
-    /// charts (PNG and SVG). Rerunning with the same --out reuses the finished cells.
+    /// charts (PNG and SVG), and with `refine = true` the boundary bisection's refine.csv.
+    /// Rerunning with the same --out reuses the finished cells and refinement simulations.
     Phase {
         /// Phase file (TOML): the base problem and the W and G grids.
         file: PathBuf,
@@ -90,7 +91,8 @@ enum Cmd {
         shard: Option<design::phase::Shard>,
     },
     /// Combine the output directories of `slither phase --shard I/N` runs (one phase file and
-    /// base problem) into one: the same phase.csv, phase.json and figures as an unsharded run.
+    /// base problem) into one: the same phase.csv, phase.json and figures as an unsharded run,
+    /// bisecting the boundaries into refine.csv when the phase file has `refine = true`.
     /// Refuses directories of another grid or base file and reports missing cells.
     Merge {
         /// Shard output directories.

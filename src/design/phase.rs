@@ -16,8 +16,8 @@
 //! `refine` (default `false`): after the grid, bisect every pair of neighbouring cells of
 //! different regimes along the line joining them (a ray of constant `G` for neighbours in `W`,
 //! of constant `W` for neighbours in `G`), `refine_steps` times (default
-//! [`super::refine::DEFAULT_STEPS`], at most [`super::refine::MAX_STEPS`]; read only with
-//! `refine = true`), simulating the base scene at each log-midpoint, and fit the boundary lines
+//! [`super::refine::DEFAULT_STEPS`], an integer in 1 to [`super::refine::MAX_STEPS`], checked
+//! even when `refine = false`, which ignores it), simulating the base scene at each log-midpoint, and fit the boundary lines
 //! through the bisected points instead of the cell midpoints ([`super::refine`]; the
 //! simulations go to `refine.csv`). A sharded run (`--shard I/N`, `N > 1`) never refines: it
 //! lacks the rest of the grid; [`merge`] refines when the shards' phase file asked for it.
