@@ -74,7 +74,8 @@ enum Cmd {
     },
     /// Regime phase diagram over scaled weight W and scaled torque G (one simulation per
     /// cell, in parallel); writes phase.csv, boundaries.json and the regime map and Fig. 3
-    /// charts (PNG and SVG). Rerunning with the same --out reuses the finished cells.
+    /// charts (PNG and SVG), and with `refine = true` the boundary bisection's refine.csv.
+    /// Rerunning with the same --out reuses the finished cells and refinement simulations.
     Phase {
         /// Phase file (TOML): the base problem and the W and G grids.
         file: PathBuf,
@@ -90,7 +91,8 @@ enum Cmd {
         shard: Option<design::phase::Shard>,
     },
     /// Combine the output directories of `slither phase --shard I/N` runs (one phase file and
-    /// base problem) into one: the same phase.csv, phase.json and figures as an unsharded run.
+    /// base problem) into one: the same phase.csv, phase.json and figures as an unsharded run,
+    /// bisecting the boundaries into refine.csv when the phase file has `refine = true`.
     /// Refuses directories of another grid or base file and reports missing cells.
     Merge {
         /// Shard output directories.
@@ -734,7 +736,9 @@ fn merge(dirs: &[PathBuf], out: &Path) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
-    match design::phase::merge(dirs, out) {
+    let t0 = Instant::now();
+    let report = |done: usize, c: &design::phase::Cell| eprintln!("{}", refine_line(done, c));
+    match design::phase::merge(dirs, out, &report) {
         Ok(m) => {
             eprintln!(
                 "merged {} cells from {} directories ({} found twice with identical results); wrote {}",
@@ -743,6 +747,9 @@ fn merge(dirs: &[PathBuf], out: &Path) -> ExitCode {
                 m.duplicates,
                 out.display()
             );
+            if let Some(r) = &m.refinement {
+                eprintln!("{}", refine_summary(r, t0.elapsed().as_secs_f64()));
+            }
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -818,8 +825,16 @@ fn phase(path: &Path, out: &Path, quiet: bool, shard: Option<design::phase::Shar
             None => {}
         }
     };
+    let refine_report = |done: usize, c: &design::phase::Cell| {
+        let line = refine_line(done, c);
+        match &bar {
+            Some(b) => b.println(line),
+            None if !quiet || c.status != design::Status::Ok => eprintln!("{line}"),
+            None => {}
+        }
+    };
     let t0 = Instant::now();
-    let result = design::phase::sweep_shard(&ph, out, shard, &report);
+    let result = design::phase::sweep_shard(&ph, out, shard, &report, &refine_report);
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
@@ -854,6 +869,9 @@ fn phase(path: &Path, out: &Path, quiet: bool, shard: Option<design::phase::Shar
         t0.elapsed().as_secs_f64(),
         out.display()
     );
+    if let Some(r) = &sw.refinement {
+        eprintln!("{}", refine_summary(r, t0.elapsed().as_secs_f64()));
+    }
     if failed == sw.cells.len() && !sw.cells.is_empty() {
         eprintln!(
             "error: {}: every cell failed; see {}",
@@ -863,4 +881,39 @@ fn phase(path: &Path, out: &Path, quiet: bool, shard: Option<design::phase::Shar
         return ExitCode::from(3);
     }
     ExitCode::SUCCESS
+}
+
+/// One refinement simulation, for the log.
+fn refine_line(done: usize, c: &design::phase::Cell) -> String {
+    if c.status == design::Status::Ok {
+        format!(
+            "refine {done}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} s",
+            c.weight,
+            c.torque,
+            c.regime.map_or("-", |r| r.as_str()),
+            c.v_s_over_v_m,
+            c.wall_time_s
+        )
+    } else {
+        format!(
+            "refine {done}: W = {} G = {}: failed (its pair keeps the interval reached): {}",
+            c.weight, c.torque, c.reason
+        )
+    }
+}
+
+/// The refinement's counts, for the last lines of `phase` and `merge`.
+fn refine_summary(r: &design::refine::Refinement, elapsed_s: f64) -> String {
+    let stopped = r.points.iter().filter(|p| p.failed.is_some()).count();
+    format!(
+        "refinement ({} bisection steps): {} neighbour pairs, {} boundary points ({} stopped early by a failed simulation); {} simulated, {} reused, {} failed; {:.1} s since start; wrote refine.csv",
+        r.steps,
+        r.pairs,
+        r.points.len(),
+        stopped,
+        r.simulated,
+        r.reused,
+        r.failed,
+        elapsed_s
+    )
 }

@@ -329,3 +329,222 @@ fn merge_refuses_shards_of_another_grid_and_bad_ranges_are_named() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("I/N"));
 }
+
+/// The rows of a `refine.csv` (or `phase.csv`) in file order, without the wall-time column.
+fn ordered_rows(csv: &Path) -> Vec<String> {
+    std::fs::read_to_string(csv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let mut f: Vec<&str> = l.split(',').collect();
+            f[16] = "";
+            f.join(",")
+        })
+        .collect()
+}
+
+fn json(file: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(file).unwrap()).unwrap()
+}
+
+/// The number before `word` in `text` ("12 simulated" -> 12).
+fn count_before(text: &str, word: &str) -> usize {
+    let at = text
+        .find(&format!(" {word}"))
+        .unwrap_or_else(|| panic!("no {word:?} in {text}"));
+    text[..at]
+        .rsplit([' ', '('])
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap_or_else(|_| panic!("no count before {word:?} in {text}"))
+}
+
+#[test]
+fn refine_bisects_the_boundaries_resumes_and_merges() {
+    let dir = scratch("refine");
+    let grid = "base = \"base.toml\"\nweight = [100.0, 1000.0]\ntorque = [12.0, 22.0]\nrefine = true\nrefine_steps = 2\n";
+    let file = phase(&dir, grid);
+    let out = dir.join("whole");
+    let o = run(&file, &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let summary = err
+        .lines()
+        .find(|l| l.starts_with("refinement (2 bisection steps)"))
+        .unwrap_or_else(|| panic!("no refinement line in {err}"));
+    let simulated = count_before(summary, "simulated");
+    assert_eq!(count_before(summary, "reused"), 0, "{summary}");
+    // refine.csv: phase.csv's columns, one row per refinement simulation, sorted by G then W.
+    let csv = out.join("refine.csv");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let first = ordered_rows(&csv);
+    assert_eq!(
+        text.lines().next(),
+        std::fs::read_to_string(out.join("phase.csv"))
+            .unwrap()
+            .lines()
+            .next()
+    );
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').take(2).map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert!(simulated >= 2, "{summary}");
+    assert_eq!(rows.len(), simulated, "{text}");
+    assert!(
+        rows.windows(2)
+            .all(|r| (r[0][1], r[0][0]) < (r[1][1], r[1][0])),
+        "{text}"
+    );
+    // Each row lies strictly inside the grid, on a ray of constant G or W through it.
+    for r in &rows {
+        let on_row = [12.0, 22.0].contains(&r[1]) && r[0] > 100.0 && r[0] < 1000.0;
+        let on_column = [100.0, 1000.0].contains(&r[0]) && r[1] > 12.0 && r[1] < 22.0;
+        assert!(on_row || on_column, "{r:?}");
+    }
+    // boundaries.json: bisection lines through points bracketed 2^2 times tighter than the grid.
+    let bounds = json(&out.join("boundaries.json"));
+    let lines = bounds.as_array().unwrap();
+    assert!(!lines.is_empty(), "the tiny grid has no boundary: {bounds}");
+    let mut points = 0;
+    for b in lines {
+        assert_eq!(b["method"], "bisection", "{b}");
+        for p in b["points"].as_array().unwrap() {
+            points += 1;
+            assert_eq!(p["method"], "bisection", "{p}");
+            assert_eq!(p["steps"], 2, "{p}");
+            assert!(p["failed"].is_null(), "{p}");
+            let spacing = if p["along"] == "W" {
+                1.0
+            } else {
+                (22f64 / 12.0).log10()
+            };
+            let h = p["half_width"].as_f64().unwrap();
+            assert!((h - spacing / 8.0).abs() < 1e-12, "{p}");
+        }
+        assert_eq!(
+            b["cells"].as_array().unwrap().len(),
+            b["points"].as_array().unwrap().len()
+        );
+    }
+    assert_eq!(
+        points,
+        count_before(summary, "boundary points"),
+        "{summary}"
+    );
+    let map = std::fs::read_to_string(out.join("phase.svg")).unwrap();
+    assert!(map.contains("bisected"), "the legend does not say bisected");
+
+    // A rerun simulates nothing: every midpoint comes from refine.csv, unchanged.
+    let o = run(&file, &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let again = err
+        .lines()
+        .find(|l| l.starts_with("refinement"))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert_eq!(count_before(again, "simulated"), 0, "{again}");
+    assert_eq!(count_before(again, "reused"), simulated, "{again}");
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), text);
+    assert_eq!(json(&out.join("boundaries.json")), bounds);
+    // A lost row is simulated again, and only that one.
+    let mut lines_of: Vec<&str> = text.lines().collect();
+    lines_of.remove(1);
+    std::fs::write(&csv, lines_of.join("\n") + "\n").unwrap();
+    let o = run(&file, &out);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let third = err.lines().find(|l| l.starts_with("refinement")).unwrap();
+    assert_eq!(count_before(third, "simulated"), 1, "{third}");
+    assert_eq!(ordered_rows(&csv), first);
+
+    // Shards never refine; merge does, with the same result as the unsharded run.
+    let f = file.to_str().unwrap();
+    let mut dirs = Vec::new();
+    for i in 1..=2 {
+        let d = dir.join(format!("shard{i}"));
+        let o = run_args(&[
+            "phase",
+            f,
+            "--out",
+            d.to_str().unwrap(),
+            "--shard",
+            &format!("{i}/2"),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(!d.join("refine.csv").exists(), "a shard refined");
+        assert_eq!(json(&d.join("phase.json"))["refine_steps"], 2);
+        dirs.push(d.to_str().unwrap().to_string());
+    }
+    let merged = dir.join("merged");
+    let merge = |dirs: &[String], out: &Path| {
+        let mut args = vec!["merge".to_string()];
+        args.extend(dirs.iter().cloned());
+        args.extend(["--out".to_string(), out.to_str().unwrap().to_string()]);
+        Command::new(BIN).args(&args).output().unwrap()
+    };
+    let o = merge(&dirs, &merged);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let m = err
+        .lines()
+        .find(|l| l.starts_with("refinement"))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert_eq!(count_before(m, "simulated"), simulated, "{m}");
+    assert_eq!(ordered_rows(&merged.join("refine.csv")), first);
+    assert_eq!(json(&merged.join("boundaries.json")), bounds);
+    // Merge refuses to refine with a base file that changed since the shards ran ...
+    let base = dir.join("base.toml");
+    std::fs::write(&base, format!("{BASE}\n# edited\n")).unwrap();
+    let o = merge(&dirs, &dir.join("merged-edited"));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("base.toml") && err.contains("changed"),
+        "{err}"
+    );
+    std::fs::write(&base, BASE).unwrap();
+    // ... and shards of one grid run with and without refinement.
+    let plain = dir.join("plain.toml");
+    std::fs::write(
+        &plain,
+        format!("[phase]\n{}", grid.replace("refine = true\n", "")),
+    )
+    .unwrap();
+    let d = dir.join("shard2-plain");
+    let o = run_args(&[
+        "phase",
+        plain.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+        "--shard",
+        "2/2",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    dirs[1] = d.to_str().unwrap().to_string();
+    let o = merge(&dirs, &dir.join("merged-mixed"));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("cannot merge") && err.contains("refine"),
+        "{err}"
+    );
+}
+
+#[test]
+fn bad_refine_steps_exit_2_naming_the_key_and_range() {
+    for (name, steps) in [
+        ("zero", "0"),
+        ("nine", "9"),
+        ("fraction", "2.5"),
+        ("text", "\"3\""),
+    ] {
+        rejects(
+            &format!("refine-steps-{name}"),
+            &format!("base = \"base.toml\"\nweight = [1.0]\ntorque = [1.0]\nrefine = true\nrefine_steps = {steps}\n"),
+            &[":8:", "phase.refine_steps", "[1, 8]"],
+        );
+    }
+}

@@ -63,10 +63,12 @@
 //! `study.rs` the study file (schema, validation, the search space); `history.rs` the
 //! evaluations and `history.csv`; `simulate.rs` one evaluation (a simulation); `search.rs` the
 //! argmin glue (cost function, budgeted solvers, iteration observer) and [`optimize`];
-//! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram.
+//! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram, [`refine`] its
+//! boundaries by bisection.
 
 mod history;
 pub mod phase;
+pub mod refine;
 mod report;
 mod search;
 mod simulate;

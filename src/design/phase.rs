@@ -9,7 +9,18 @@
 //! base = "s_start.toml"                 # problem file, relative to the phase file
 //! weight = [100.0, 300.0, 1000.0]       # scaled weights W, each > 0
 //! torque = [5.0, 10.0, 15.0, 20.0]      # scaled torques G, each >= 0
+//! refine = false                        # bisect the boundaries between neighbouring cells
+//! refine_steps = 3                      # bisection steps per neighbour pair, 1 to 8
 //! ```
+//!
+//! `refine` (default `false`): after the grid, bisect every pair of neighbouring cells of
+//! different regimes along the line joining them (a ray of constant `G` for neighbours in `W`,
+//! of constant `W` for neighbours in `G`), `refine_steps` times (default
+//! [`super::refine::DEFAULT_STEPS`], an integer in 1 to [`super::refine::MAX_STEPS`], checked
+//! even when `refine = false`, which ignores it), simulating the base scene at each log-midpoint, and fit the boundary lines
+//! through the bisected points instead of the cell midpoints ([`super::refine`]; the
+//! simulations go to `refine.csv`). A sharded run (`--shard I/N`, `N > 1`) never refines: it
+//! lacks the rest of the grid; [`merge`] refines when the shards' phase file asked for it.
 //!
 //! Each cell keeps the base's geometry, density, gravity, friction, gait shape, pulse speed and
 //! time stepping. `W` is set through the bending stiffness, `B = rho g a^2 L^3 / W`, with the
@@ -50,6 +61,9 @@ pub struct Phase {
     pub weight: Vec<f64>,
     /// Scaled torques `G` (dimensionless).
     pub torque: Vec<f64>,
+    /// `Some(K)`: `refine = true`, bisect the boundaries `K = refine_steps` times per
+    /// neighbour pair ([`super::refine`]); `None`: boundaries through cell midpoints.
+    pub refine: Option<usize>,
 }
 
 #[derive(Deserialize)]
@@ -64,6 +78,9 @@ struct PhaseTable {
     base: String,
     weight: toml::Value,
     torque: toml::Value,
+    #[serde(default)]
+    refine: bool,
+    refine_steps: Option<toml::Value>,
 }
 
 /// A grid axis as written: a list, or `{ from, to, count, spacing = "log" | "linear" }`
@@ -178,6 +195,24 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         |x| x.is_finite() && x >= 0.0,
         "scaled torques G >= 0",
     )?;
+    let steps = match &t.refine_steps {
+        None => super::refine::DEFAULT_STEPS,
+        Some(v) => v
+            .as_integer()
+            .filter(|k| (1..=super::refine::MAX_STEPS as i64).contains(k))
+            .map(|k| k as usize)
+            .ok_or_else(|| {
+                invalid(
+                    "refine_steps",
+                    format!("{v}"),
+                    &format!(
+                        "an integer in [1, {}] (bisection steps per neighbour pair; default {})",
+                        super::refine::MAX_STEPS,
+                        super::refine::DEFAULT_STEPS
+                    ),
+                )
+            })?,
+    };
     let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
     let base_text = match problem::read(&base_path) {
         Ok(text) => text,
@@ -220,6 +255,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         base,
         weight,
         torque,
+        refine: t.refine.then_some(steps),
     })
 }
 
@@ -319,7 +355,8 @@ impl Cell {
         }
     }
 
-    fn row(&self, hash: u64) -> String {
+    /// The cell as a `phase.csv` row (no newline) for the base file with hash `hash`.
+    pub(crate) fn row(&self, hash: u64) -> String {
         let clean = super::csv_field(&self.reason);
         format!(
             "{:e},{:e},{:e},{},{},{:e},{:e},{:e},{},{:e},{:e},{},{:e},{:e},{:e},{:e},{:.3},{:016x},{}",
@@ -436,7 +473,7 @@ pub enum PhaseError {
         source: std::io::Error,
     },
     /// An existing `phase.csv` that is not ours.
-    #[error("{file}:{line}: not a phase.csv row (expected the columns {HEADER}); move the file away or choose another --out")]
+    #[error("{file}:{line}: not a row of a phase study (expected the columns {HEADER}); move the file away or choose another --out")]
     Csv {
         /// The file.
         file: PathBuf,
@@ -480,6 +517,9 @@ pub struct Sweep {
     pub reused: usize,
     /// An incomplete last line of `phase.csv` (a write cut short by a crash) was dropped.
     pub dropped_partial_row: bool,
+    /// The bisection of the boundaries, when the phase file asked for it and the run holds the
+    /// whole grid.
+    pub refinement: Option<super::refine::Refinement>,
 }
 
 /// Finished cells of an existing `phase.csv`, keyed by the bits of `(W, G)`.
@@ -497,11 +537,38 @@ pub struct PhaseCsv {
 /// its newline (a row cut short by a crash) is removed from the file, so the next row is not
 /// glued onto it; any other line that is not a row is [`PhaseError::Csv`] naming it.
 pub fn read_phase_csv(csv: &Path, base_hash: u64) -> Result<PhaseCsv, PhaseError> {
+    let r = read_rows(csv)?;
+    Ok(PhaseCsv {
+        cells: r
+            .rows
+            .into_iter()
+            .filter(|(_, h)| *h == base_hash)
+            .map(|(c, _)| ((c.weight.to_bits(), c.torque.to_bits()), c))
+            .collect(),
+        fresh: r.fresh,
+        dropped_partial_row: r.dropped_partial_row,
+    })
+}
+
+/// Every row of a `phase.csv` or `refine.csv` (the same columns), in file order.
+#[derive(Debug, Default)]
+pub struct Rows {
+    /// The rows, each with the hash of the base file it was simulated for.
+    pub rows: Vec<(Cell, u64)>,
+    /// The file did not exist or held nothing (not even a complete header).
+    pub fresh: bool,
+    /// An incomplete last line (no newline: a write cut short) was cut off the file.
+    pub dropped_partial_row: bool,
+}
+
+/// Read every row of a `phase.csv` or `refine.csv` (of any base file), cutting a torn last line
+/// off the file as [`read_phase_csv`] does.
+pub fn read_rows(csv: &Path) -> Result<Rows, PhaseError> {
     let io = |source| PhaseError::Io {
         file: csv.to_path_buf(),
         source,
     };
-    let mut out = PhaseCsv::default();
+    let mut out = Rows::default();
     let bytes = match std::fs::read(csv) {
         Ok(b) => b,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
@@ -544,14 +611,11 @@ pub fn read_phase_csv(csv: &Path, base_hash: u64) -> Result<PhaseCsv, PhaseError
         if line.trim().is_empty() {
             continue;
         }
-        let (c, h) = Cell::parse(line).ok_or(PhaseError::Csv {
+        let row = Cell::parse(line).ok_or(PhaseError::Csv {
             file: csv.to_path_buf(),
             line: n + 1,
         })?;
-        if h == base_hash {
-            out.cells
-                .insert((c.weight.to_bits(), c.torque.to_bits()), c);
-        }
+        out.rows.push(row);
     }
     Ok(out)
 }
@@ -605,6 +669,9 @@ pub struct RunInfo {
     pub torque: Vec<f64>,
     /// The shard this directory holds (`null`: every cell).
     pub shard: Option<Shard>,
+    /// Bisection steps of `refine = true` (`null`: no refinement); [`merge`] refines with it.
+    #[serde(default)]
+    pub refine_steps: Option<usize>,
 }
 
 fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
@@ -614,23 +681,27 @@ fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
 }
 
 /// Run the diagram into `out` (`phase.csv`, `phase.json`, `boundaries.json` and the figures,
-/// each as PNG and SVG), reusing finished rows.
-/// `report(done, total, cell)` is called after each newly simulated cell.
+/// each as PNG and SVG, and with `refine = true` `refine.csv`), reusing finished rows.
+/// `report(done, total, cell)` is called after each newly simulated cell of the grid,
+/// `refine_report(done, cell)` after each new refinement simulation.
 pub fn sweep(
     ph: &Phase,
     out: &Path,
     report: &(dyn Fn(usize, usize, &Cell) + Sync),
+    refine_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Sweep, PhaseError> {
-    sweep_shard(ph, out, None, report)
+    sweep_shard(ph, out, None, report, refine_report)
 }
 
 /// [`sweep`] of one shard's cells only (all with `None`). A shard's directory gets
-/// `phase.csv` and `phase.json` but no figures; [`merge`] combines the shards.
+/// `phase.csv` and `phase.json` but no figures and no refinement (unless it is the only shard,
+/// `1/1`); [`merge`] combines the shards.
 pub fn sweep_shard(
     ph: &Phase,
     out: &Path,
     shard: Option<Shard>,
     report: &(dyn Fn(usize, usize, &Cell) + Sync),
+    refine_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Sweep, PhaseError> {
     let io = |file: &Path| {
         let file = file.to_path_buf();
@@ -664,6 +735,7 @@ pub fn sweep_shard(
             weight: ph.weight.clone(),
             torque: ph.torque.clone(),
             shard,
+            refine_steps: ph.refine,
         },
     )?;
     let grid: Vec<(f64, f64)> = ph
@@ -707,29 +779,71 @@ pub fn sweep_shard(
         .iter()
         .map(|&(w, g)| done[&key(w, g)].clone())
         .collect();
-    let sw = Sweep {
+    let refinement = if shard.is_none_or(|s| s.count == 1) {
+        let refine = ph.refine.map(|k| (&ph.base, ph.base_hash, k));
+        finish(out, &ph.weight, &ph.torque, &cells, refine, refine_report)?
+    } else {
+        None
+    };
+    Ok(Sweep {
         cells,
         simulated,
         reused,
         dropped_partial_row: old.dropped_partial_row,
+        refinement,
+    })
+}
+
+/// The end of a run that holds the whole grid: the boundary points (bisected when `refine`
+/// gives the base problem, its hash and the steps; else the cell midpoints), `boundaries.json`
+/// and the figures.
+fn finish(
+    out: &Path,
+    weight: &[f64],
+    torque: &[f64],
+    cells: &[Cell],
+    refine: Option<(&Problem, u64, usize)>,
+    refine_report: &(dyn Fn(usize, &Cell) + Sync),
+) -> Result<Option<super::refine::Refinement>, PhaseError> {
+    let refinement = match refine {
+        Some((base, hash, steps)) => Some(super::refine::refine(
+            base,
+            hash,
+            steps,
+            out,
+            weight,
+            torque,
+            cells,
+            refine_report,
+        )?),
+        None => None,
     };
-    if shard.is_none_or(|s| s.count == 1) {
-        figures(out, &ph.weight, &ph.torque, &sw.cells)?;
-    }
-    Ok(sw)
+    let bounds = match &refinement {
+        Some(r) => fit_boundaries(&r.points),
+        None => {
+            let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
+            boundaries(weight, torque, &labels)
+        }
+    };
+    figures(out, weight, torque, cells, &bounds)?;
+    Ok(refinement)
 }
 
 /// The figures of a complete grid, each as PNG and SVG (`phase`, `speed`, Fig. 3a-c), and
-/// `boundaries.json`.
-fn figures(out: &Path, weight: &[f64], torque: &[f64], cells: &[Cell]) -> Result<(), PhaseError> {
-    let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
-    let bounds = boundaries(weight, torque, &labels);
+/// `boundaries.json` (the lines `bounds`).
+fn figures(
+    out: &Path,
+    weight: &[f64],
+    torque: &[f64],
+    cells: &[Cell],
+    bounds: &[Boundary],
+) -> Result<(), PhaseError> {
     let file = out.join("boundaries.json");
-    let text = serde_json::to_string_pretty(&bounds).expect("serialisable");
+    let text = serde_json::to_string_pretty(bounds).expect("serialisable");
     std::fs::write(&file, text + "\n").map_err(|source| PhaseError::Io { file, source })?;
     for ext in ["png", "svg"] {
         let f = out.join(format!("phase.{ext}"));
-        regime_map(&f, weight, torque, cells, &bounds)
+        regime_map(&f, weight, torque, cells, bounds)
             .map_err(|source| PhaseError::Plot { file: f, source })?;
         let f = out.join(format!("speed.{ext}"));
         speed_chart(&f, torque, cells).map_err(|source| PhaseError::Plot { file: f, source })?;
@@ -739,12 +853,17 @@ fn figures(out: &Path, weight: &[f64], torque: &[f64], cells: &[Cell]) -> Result
 }
 
 /// A fitted boundary between two regimes: the line `log10 G = slope log10 W + intercept`
-/// through the midpoints (in log W, log G) of neighbouring cells with these two labels. The
-/// paper's boundaries are lines of constant `W/G`: slope 1.
+/// (least squares in `log10 G`) through the points where it crosses the segments between
+/// neighbouring cells with these two labels: their log-midpoints, or with `[phase] refine =
+/// true` the points bisection placed ([`super::refine`]). The paper's boundaries are lines of
+/// constant `W/G`: slope 1.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Boundary {
     /// The two regimes, e.g. "F/N" (alphabetical).
     pub pair: String,
+    /// How the points were placed: `"bisection"` when at least one point was bisected,
+    /// `"midpoints"` otherwise (no refinement, or every bisection failed at its first step).
+    pub method: &'static str,
     /// Slope in log-log (`None` with fewer than two distinct weights among the points).
     pub slope: Option<f64>,
     /// Intercept of `log10 G` at `log10 W = 0`.
@@ -753,53 +872,31 @@ pub struct Boundary {
     pub ratio_at_g10: Option<f64>,
     /// Root-mean-square residual of `log10 G` (decades).
     pub residual: Option<f64>,
-    /// The neighbouring cells `[[W, G], [W, G]]` whose midpoints were fitted.
+    /// The neighbouring cells `[[W, G], [W, G]]` whose crossings were fitted.
     pub cells: Vec<[[f64; 2]; 2]>,
+    /// The fitted points: `W`, `G`, the axis each was located along, its half-width (decades
+    /// along that axis), method, bisection steps and failure (see [`super::refine::Point`]).
+    pub points: Vec<super::refine::Point>,
 }
 
 /// Fit every boundary between neighbouring cells (along W and along G, cells with `G > 0`) of
-/// a weight-major grid of labels (`None`: failed cell, not used).
+/// a weight-major grid of labels (`None`: failed cell, not used), through the cell pairs'
+/// log-midpoints.
 pub fn boundaries(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]) -> Vec<Boundary> {
-    let nt = torque.len();
-    let mut pairs: std::collections::BTreeMap<String, Vec<[[f64; 2]; 2]>> = Default::default();
-    let mut add = |a: (usize, usize), b: (usize, usize)| {
-        let (la, lb) = (labels[a.0 * nt + a.1], labels[b.0 * nt + b.1]);
-        if let (Some(ra), Some(rb)) = (la, lb) {
-            if ra != rb && torque[a.1] > 0.0 && torque[b.1] > 0.0 {
-                let (x, y) = if ra.as_str() < rb.as_str() {
-                    (ra, rb)
-                } else {
-                    (rb, ra)
-                };
-                pairs
-                    .entry(format!("{}/{}", x.as_str(), y.as_str()))
-                    .or_default()
-                    .push([[weight[a.0], torque[a.1]], [weight[b.0], torque[b.1]]]);
-            }
-        }
-    };
-    for i in 0..weight.len() {
-        for j in 0..nt {
-            if i + 1 < weight.len() {
-                add((i, j), (i + 1, j));
-            }
-            if j + 1 < nt {
-                add((i, j), (i, j + 1));
-            }
-        }
+    fit_boundaries(&super::refine::midpoint_points(weight, torque, labels))
+}
+
+/// Fit one line per regime pair through its points (midpoints or bisected), by least squares in
+/// `log10 G` against `log10 W`; the lines in alphabetical order of their pairs.
+pub fn fit_boundaries(points: &[super::refine::Point]) -> Vec<Boundary> {
+    let mut pairs: std::collections::BTreeMap<&str, Vec<super::refine::Point>> = Default::default();
+    for p in points {
+        pairs.entry(p.pair.as_str()).or_default().push(p.clone());
     }
     pairs
         .into_iter()
-        .map(|(pair, cells)| {
-            let pts: Vec<(f64, f64)> = cells
-                .iter()
-                .map(|[a, b]| {
-                    (
-                        0.5 * (a[0].log10() + b[0].log10()),
-                        0.5 * (a[1].log10() + b[1].log10()),
-                    )
-                })
-                .collect();
+        .map(|(pair, points)| {
+            let pts: Vec<(f64, f64)> = points.iter().map(|p| (p.w.log10(), p.g.log10())).collect();
             let n = pts.len() as f64;
             let (mx, my) = (
                 pts.iter().map(|p| p.0).sum::<f64>() / n,
@@ -818,15 +915,20 @@ pub fn boundaries(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]) -> 
                     .sqrt();
                 (slope, intercept, rms)
             });
+            let bisected = points
+                .iter()
+                .any(|p| p.method == super::refine::Method::Bisection);
             Boundary {
-                pair,
+                pair: pair.to_string(),
+                method: if bisected { "bisection" } else { "midpoints" },
                 slope: fit.map(|f| f.0),
                 intercept: fit.map(|f| f.1),
                 ratio_at_g10: fit
                     .filter(|f| f.0.abs() > 1e-12)
                     .map(|(s, c, _)| 10f64.powf((1.0 - c) / s) / 10.0),
                 residual: fit.map(|f| f.2),
-                cells,
+                cells: points.iter().map(|p| p.cells).collect(),
+                points,
             }
         })
         .collect()
@@ -923,13 +1025,23 @@ pub struct Merged {
     pub cells: Vec<Cell>,
     /// Cells found in more than one directory (with identical results).
     pub duplicates: usize,
+    /// The bisection of the boundaries, when the shards' phase file asked for it.
+    pub refinement: Option<super::refine::Refinement>,
 }
 
 /// Combine the `phase.csv` of shard directories (of one phase file and base problem, checked
 /// with their `phase.json`) into `out`: the same `phase.csv` (rows in grid order),
 /// `phase.json` and figures as an unsharded run. Refuses directories of other grids or base
 /// files, cells found twice with different results, and a grid with missing cells (listed).
-pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, PhaseError> {
+/// When the shards ran a phase file with `refine = true` (their `phase.json`), the boundaries
+/// are bisected here, into `out/refine.csv` (resumable as in an unsharded run), with the base
+/// problem read again from the file named in `phase.json` (refused if its text changed since:
+/// hash). `refine_report(done, cell)` is called after each refinement simulation.
+pub fn merge(
+    dirs: &[PathBuf],
+    out: &Path,
+    refine_report: &(dyn Fn(usize, &Cell) + Sync),
+) -> Result<Merged, PhaseError> {
     let mismatch = |dir: &Path, why: String| PhaseError::Merge {
         dir: dir.to_path_buf(),
         why,
@@ -956,6 +1068,21 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, PhaseError> {
                         format!(
                             "base problem {} (hash {}) differs from {} (hash {})",
                             info.base_file, info.base_hash, r.base_file, r.base_hash
+                        ),
+                    ));
+                }
+                if r.refine_steps != info.refine_steps {
+                    let say = |k: Option<usize>| {
+                        k.map_or("refine = false".to_string(), |k| {
+                            format!("refine = true, refine_steps = {k}")
+                        })
+                    };
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "ran with {}, another directory with {}",
+                            say(info.refine_steps),
+                            say(r.refine_steps)
                         ),
                     ));
                 }
@@ -1015,6 +1142,30 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, PhaseError> {
         });
     }
     let hash = u64::from_str_radix(&info.base_hash, 16).expect("checked above");
+    // The base problem, for the refinement's simulations: the file the shards ran, unchanged.
+    let base = match info.refine_steps {
+        None => None,
+        Some(_) => {
+            let path = PathBuf::from(&info.base_file);
+            let refuse = |why: String| PhaseError::Merge {
+                dir: path.clone(),
+                why: format!("cannot refine the boundaries (refine = true): {why}"),
+            };
+            let text = std::fs::read_to_string(&path).map_err(|e| {
+                refuse(format!(
+                    "the base problem named in phase.json is not readable ({e}); merge from the directory the shards ran in"
+                ))
+            })?;
+            if super::fnv1a(text.as_bytes()) != hash {
+                return Err(refuse(format!(
+                    "the base problem changed since the shards ran (hash {:016x}, the shards' {})",
+                    super::fnv1a(text.as_bytes()),
+                    info.base_hash
+                )));
+            }
+            Some(problem::parse(&text, &path).map_err(|e| refuse(e.to_string()))?)
+        }
+    };
     let cells: Vec<Cell> = grid
         .iter()
         .map(|(w, g)| found[&(w.to_bits(), g.to_bits())].0.clone())
@@ -1036,8 +1187,23 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Merged, PhaseError> {
             ..info.clone()
         },
     )?;
-    figures(out, &info.weight, &info.torque, &cells)?;
-    Ok(Merged { cells, duplicates })
+    let refine = base
+        .as_ref()
+        .zip(info.refine_steps)
+        .map(|(b, k)| (b, hash, k));
+    let refinement = finish(
+        out,
+        &info.weight,
+        &info.torque,
+        &cells,
+        refine,
+        refine_report,
+    )?;
+    Ok(Merged {
+        cells,
+        duplicates,
+        refinement,
+    })
 }
 
 /// A cell's row without its wall time (what must agree between two runs of one cell).
@@ -1300,10 +1466,20 @@ where
         let (Some(s), Some(c)) = (b.slope, b.intercept) else {
             continue;
         };
+        let col = BOUNDARY_COLORS[k % BOUNDARY_COLORS.len()];
         if let Some(seg) = boundary_segment(s, c, lw, lg) {
-            let col = BOUNDARY_COLORS[k % BOUNDARY_COLORS.len()];
             chart
                 .draw_series(LineSeries::new(seg, col.stroke_width(4)))
+                .map_err(|e| err(&e))?;
+        }
+        // Bisected points: where the boundary was found, as dots of the line's colour.
+        if b.method == "bisection" {
+            chart
+                .draw_series(
+                    b.points
+                        .iter()
+                        .map(|p| Circle::new((p.w, p.g), 5, col.filled())),
+                )
                 .map_err(|e| err(&e))?;
         }
     }
@@ -1393,11 +1569,16 @@ fn map_legend<DB: DrawingBackend>(
             }
         });
         let text = format!(
-            "{}: s = {:.2}, W/G {} at G = 10 ({} pairs)",
+            "{}: s = {:.2}, W/G {} at G = 10 ({} {})",
             b.pair,
             b.slope.unwrap_or(f64::NAN),
             ratio,
-            b.cells.len()
+            b.points.len(),
+            if b.method == "bisection" {
+                "bisected"
+            } else {
+                "pairs"
+            }
         );
         right
             .draw(&Text::new(text, (44, y), left_style(15)))
