@@ -112,7 +112,8 @@ fn bench_assembly(c: &mut Criterion) {
 }
 
 /// One node's bending and twist value, gradient and Hessian together (intrinsic coordinates,
-/// edge frames included), by the staged jets and by the closed forms, averaged over the 49
+/// edge frames included; `fused_edges_shared` computes each edge frame once, as the assembly
+/// does), by the staged jets and by the closed forms, averaged over the 49
 /// interior nodes of the 50-element rod of [`setup`].
 fn bench_stencil(c: &mut Criterion) {
     use slither::energy::autodiff::intrinsic;
@@ -177,6 +178,36 @@ fn bench_stencil(c: &mut Criterion) {
                         twist: m.twist / (2.0 * m.voronoi[i]),
                     };
                     let l = node_local(&st, [&e0, &e1], [y[6], y[7]]);
+                    l.0 + l.2[(3, 4)] + l.2[(1, 2)]
+                })
+                .sum::<f64>()
+        })
+    });
+    // As the assembly does it: each edge's frame once, shared by its two nodes.
+    g.bench_function("fused_edges_shared", |b| {
+        use slither::energy::node::{node_local, EdgeFrame, NodeStencil};
+        b.iter(|| {
+            let q = black_box(&q);
+            let edges: Vec<EdgeFrame> = (0..m.nodes - 1)
+                .map(|j| {
+                    let (fr, k) = (&s.frames[j.saturating_sub(1)], usize::from(j > 0));
+                    let (a, b) = (dof::node(j), dof::node(j + 1));
+                    let e = [q[b] - q[a], q[b + 1] - q[a + 1], q[b + 2] - q[a + 2]];
+                    EdgeFrame::new(e, fr.t_old[k], fr.a1_old[k])
+                })
+                .collect();
+            nodes
+                .iter()
+                .map(|&i| {
+                    let st = NodeStencil {
+                        frame: &s.frames[i - 1],
+                        kappa0: kappa0[i],
+                        bend: m.bend / (2.0 * m.voronoi[i]),
+                        m0: m0[i],
+                        twist: m.twist / (2.0 * m.voronoi[i]),
+                    };
+                    let theta = [q[dof::edge(i - 1)], q[dof::edge(i)]];
+                    let l = node_local(&st, [&edges[i - 1], &edges[i]], theta);
                     l.0 + l.2[(3, 4)] + l.2[(1, 2)]
                 })
                 .sum::<f64>()

@@ -194,12 +194,14 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> 
     let rot = |e: &EdgeFrame, c: f64, s: f64| {
         let d1 = f::add(f::scale(e.a1, c), f::scale(e.a2, s));
         let d2 = f::sub(f::scale(e.a2, c), f::scale(e.a1, s));
-        let jd1 = lin(c, &e.ja1, s, &e.ja2);
-        let jd2 = lin(c, &e.ja2, -s, &e.ja1);
-        (d1, d2, jd1, jd2)
+        (d1, d2)
     };
-    let (d10, d20, jd10, jd20) = rot(e0, c0, s0);
-    let (d11, d21, jd11, jd21) = rot(e1, c1, s1);
+    let (d10, d20) = rot(e0, c0, s0);
+    let (d11, d21) = rot(e1, c1, s1);
+    // The frames' Jacobians contracted with the other edge's tangent: `Ja^T t`.
+    let (ja0, jb0) = (mul_t(&e0.ja1, t1), mul_t(&e0.ja2, t1));
+    let (ja1, jb1) = (mul_t(&e1.ja1, t0), mul_t(&e1.ja2, t0));
+    let mix = |x: f64, a: [f64; 3], y: f64, b: [f64; 3]| f::add(f::scale(a, x), f::scale(b, y));
 
     // Bending: psi_a, chi and their gradients in x = (t0, t1, theta0, theta1).
     let chi = 1.0 + f::dot(t0, t1);
@@ -210,16 +212,17 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> 
     let cat = |a: [f64; 3], b: [f64; 3], c: f64, d: f64| -> [f64; 8] {
         [a[0], a[1], a[2], b[0], b[1], b[2], c, d]
     };
+    // Jd1^T t = c Ja1^T t + s Ja2^T t, Jd2^T t = c Ja2^T t - s Ja1^T t.
     let g_psi = [
         cat(
-            f::sub(d21, mul_t(&jd20, t1)),
-            f::sub(mul_t(&jd21, t0), d20),
+            f::sub(d21, mix(c0, jb0, -s0, ja0)),
+            f::sub(mix(c1, jb1, -s1, ja1), d20),
             f::dot(t1, d10),
             -f::dot(t0, d11),
         ),
         cat(
-            f::sub(mul_t(&jd10, t1), d11),
-            f::sub(d10, mul_t(&jd11, t0)),
+            f::sub(mix(c0, ja0, s0, jb0), d11),
+            f::sub(d10, mix(c1, ja1, s1, jb1)),
             f::dot(t1, d20),
             -f::dot(t0, d21),
         ),
@@ -244,12 +247,10 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> 
     let (u1, u1p) = (comb(e1, al1, be1), comb(e1, al1p, be1p));
     let ju0 = lin(al0, &e0.ja1, be0, &e0.ja2);
     let ju1 = lin(al1, &e1.ja1, be1, &e1.ja2);
-    let ju0p = lin(al0p, &e0.ja1, be0p, &e0.ja2);
-    let ju1p = lin(al1p, &e1.ja1, be1p, &e1.ja2);
     let h00 = lin(al0, &e0.hess_a1(t1), be0, &e0.hess_a2(t1));
     let h11 = lin(al1, &e1.hess_a1(t0), be1, &e1.hess_a2(t0));
-    let t0_th0 = mul_t(&ju0p, t1);
-    let t1_th1 = mul_t(&ju1p, t0);
+    let t0_th0 = mix(al0p, ja0, be0p, jb0);
+    let t1_th1 = mix(al1p, ja1, be1p, jb1);
     let mut hpsi = [[0.0; 8]; 8];
     for i in 0..3 {
         for j in 0..3 {
