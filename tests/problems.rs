@@ -147,15 +147,16 @@ fn whole_run(p: &problem::Problem) -> (sim::Outcome, f64, f64) {
 /// the iterations of active-set attempts that fell back (not counted before) and taking the
 /// Newton step after an early lift-off or slide instead of discarding it: 3.96 iterations per
 /// step, 22 conic solves and 8 fallbacks (less wall time: 8 more conic solves against about
-/// 470 fewer iterations). A slowdown of more than 5 % in iterations, or a storm of
-/// fallbacks, fails here.
+/// 470 fewer iterations); with `tolerance` 5e-6 instead of 1e-5 (so that a 100x tighter
+/// solve moves every bundled scene's v_s/v_m by less than 1e-4), 4.04, 22 and 7. A slowdown
+/// of more than 5 % in iterations, or a storm of fallbacks, fails here.
 #[test]
 fn s_start_newton_and_contact_statistics_are_pinned() {
     let p = problem::load(Path::new("problems/s_start.toml")).unwrap();
     let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
     assert_eq!(st.steps, 1786);
-    assert!(per_step <= 4.16, "{per_step} Newton iterations per step");
+    assert!(per_step <= 4.25, "{per_step} Newton iterations per step");
     assert!(st.conic_solves <= 26, "{} conic solves", st.conic_solves);
     assert!(
         st.active_set_fallbacks as f64 <= 0.006 * st.steps as f64,
@@ -171,7 +172,8 @@ fn s_start_newton_and_contact_statistics_are_pinned() {
 /// 3572 steps fell back to the conic program (contacts on the cone's edge cycling between
 /// sticking and sliding) and it took 11 times the 50-element wall time; with 1e-8 a, 3
 /// fallbacks and 4.77 Newton iterations per step; with the early step taken, cycles sent to
-/// the conic program when detected and the fallen-back iterations counted, 6 and 4.33.
+/// the conic program when detected and the fallen-back iterations counted, 6 and 4.33; with
+/// `tolerance` 5e-6, 6 and 4.43.
 #[test]
 fn s_start_at_100_elements_has_no_fallback_storm() {
     let mut p = problem::load(Path::new("problems/s_start.toml")).unwrap();
@@ -179,7 +181,7 @@ fn s_start_at_100_elements_has_no_fallback_storm() {
     p.time.dt = Some(1e-3);
     let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
-    assert!(per_step <= 4.55, "{per_step} Newton iterations per step");
+    assert!(per_step <= 4.65, "{per_step} Newton iterations per step");
     assert!(
         st.active_set_fallbacks as f64 <= 0.005 * st.steps as f64,
         "{} fallbacks",
