@@ -63,8 +63,10 @@
 //! `study.rs` the study file (schema, validation, the search space); `history.rs` the
 //! evaluations and `history.csv`; `simulate.rs` one evaluation (a simulation); `search.rs` the
 //! argmin glue (cost function, budgeted solvers, iteration observer) and [`optimize`];
-//! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram.
+//! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram;
+//! [`accuracy`] a study's `[accuracy]` table (the model chosen once for every run).
 
+pub mod accuracy;
 mod history;
 pub mod phase;
 mod report;

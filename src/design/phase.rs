@@ -50,12 +50,17 @@ pub struct Phase {
     pub weight: Vec<f64>,
     /// Scaled torques `G` (dimensionless).
     pub torque: Vec<f64>,
+    /// `[accuracy]`, if given ([`super::accuracy`]).
+    pub accuracy: Option<problem::AccuracySpec>,
+    /// The model chosen for it (set by [`super::accuracy::prepare_phase`]).
+    pub chosen: Option<super::accuracy::StudyAccuracy>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PhaseFile {
     phase: PhaseTable,
+    accuracy: Option<problem::AccuracySpec>,
 }
 
 #[derive(Deserialize)]
@@ -213,7 +218,20 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
             "a problem with a [ground]",
         ));
     }
+    if let Some(a) = &f.accuracy {
+        if let Err((key, value, allowed)) = problem::check_accuracy(a, &base) {
+            return Err(ProblemError::Invalid {
+                file: path.into(),
+                line: key_line(&text, "accuracy", key),
+                key: format!("accuracy.{key}"),
+                value,
+                allowed,
+            });
+        }
+    }
     Ok(Phase {
+        accuracy: f.accuracy,
+        chosen: None,
         file: path.into(),
         base_hash: super::fnv1a(base_text.as_bytes()),
         base_path,
@@ -605,6 +623,9 @@ pub struct RunInfo {
     pub torque: Vec<f64>,
     /// The shard this directory holds (`null`: every cell).
     pub shard: Option<Shard>,
+    /// The model chosen for the phase file's `[accuracy]` (absent without one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<super::accuracy::StudyAccuracy>,
 }
 
 fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
@@ -664,6 +685,7 @@ pub fn sweep_shard(
             weight: ph.weight.clone(),
             torque: ph.torque.clone(),
             shard,
+            accuracy: ph.chosen.clone(),
         },
     )?;
     let grid: Vec<(f64, f64)> = ph
