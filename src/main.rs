@@ -457,8 +457,57 @@ impl design::EvaluationObserver for StudyProgress {
     }
 }
 
+/// A study's `[accuracy]` after [`design::accuracy::prepare_study`] or `prepare_phase`
+/// (`prepared`: whether a recorded choice was reused): prints the choice. `Err` is the exit
+/// code (1: `accuracy.json` could not be written).
+fn study_accuracy(
+    out: &Path,
+    quiet: bool,
+    prepared: std::io::Result<bool>,
+    chosen: Option<&design::accuracy::StudyAccuracy>,
+) -> Result<(), ExitCode> {
+    match prepared {
+        Ok(reused) => {
+            if let (Some(c), false) = (chosen, quiet) {
+                eprintln!(
+                    "accuracy {}: {} {} elements, tolerance {:.0e} for every run{}",
+                    c.target,
+                    if reused {
+                        "reusing the recorded choice of"
+                    } else {
+                        "chose"
+                    },
+                    c.elements,
+                    c.error_tolerance,
+                    match c.selection["estimated_error"].as_f64() {
+                        Some(e) => format!(" (estimated error {e:.2e})"),
+                        None => String::new(),
+                    }
+                );
+            }
+            Ok(())
+        }
+        Err(e) => {
+            eprintln!(
+                "error: {}: {e}",
+                out.join(design::accuracy::ACCURACY_FILE).display()
+            );
+            Err(ExitCode::from(1))
+        }
+    }
+}
+
+/// One line per run of an accuracy selection (nothing with `--quiet`).
+fn selection_log(quiet: bool) -> impl FnMut(&str) {
+    move |line: &str| {
+        if !quiet {
+            eprintln!("{line}")
+        }
+    }
+}
+
 fn optimize(path: &Path, out: &Path, quiet: bool) -> ExitCode {
-    let study = match design::load_study(path) {
+    let mut study = match design::load_study(path) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");
@@ -469,6 +518,10 @@ fn optimize(path: &Path, out: &Path, quiet: bool) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
+    let prepared = design::accuracy::prepare_study(&mut study, out, &mut selection_log(quiet));
+    if let Err(code) = study_accuracy(out, quiet, prepared, study.chosen.as_ref()) {
+        return code;
+    }
     let show_bar = !quiet && std::io::stderr().is_terminal();
     let bar = show_bar.then(|| {
         let b = ProgressBar::with_draw_target(
@@ -763,7 +816,7 @@ fn merge(dirs: &[PathBuf], out: &Path) -> ExitCode {
 }
 
 fn phase(path: &Path, out: &Path, quiet: bool, shard: Option<design::phase::Shard>) -> ExitCode {
-    let ph = match design::phase::load(path) {
+    let mut ph = match design::phase::load(path) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");
@@ -774,6 +827,10 @@ fn phase(path: &Path, out: &Path, quiet: bool, shard: Option<design::phase::Shar
         Ok(l) => l,
         Err(code) => return code,
     };
+    let prepared = design::accuracy::prepare_phase(&mut ph, out, &mut selection_log(quiet));
+    if let Err(code) = study_accuracy(out, quiet, prepared, ph.chosen.as_ref()) {
+        return code;
+    }
     let grid = ph.weight.len() * ph.torque.len();
     let total = match shard {
         Some(s) => (0..grid).filter(|&k| s.owns(k)).count(),

@@ -18,10 +18,11 @@
 //!
 //! The time estimate is assumed to carry over from `N` to the chosen mesh. Every run uses
 //! BDF2 with adaptive steps from the file's `dt` (its `[solver] integrator` and `[time]
-//! adaptive` are overridden). Gait scenes with stick-slip respond to the step by small jumps
-//! as well as smoothly (`src/chart/gait.rs`: the S-start's v_s/v_m scatters by about 2 %
-//! under 4 % changes of a fine step); a difference `d` that is such a jump can make the
-//! estimate too large or too small. Measured on the S-start with target 0.01: estimated
+//! adaptive` are overridden). BDF2 at fine steps is sensitive on gait scenes with stick-slip:
+//! any perturbation (the step, the tolerance, the 7th digit of a friction coefficient) moves
+//! the S-start's v_s/v_m with a standard deviation of 1.3 % (README, "Time stepping"), so a
+//! difference `d` of that size is scatter, not a smooth error, and can make the estimate too
+//! large or too small. Measured on the S-start with target 0.01: estimated
 //! 0.86 %, actual 2.2 % against BDF2 at a fixed 2.5e-4 s on the chosen 100-element mesh.
 
 use crate::model::Model;

@@ -64,8 +64,10 @@
 //! evaluations and `history.csv`; `simulate.rs` one evaluation (a simulation); `search.rs` the
 //! argmin glue (cost function, budgeted solvers, iteration observer) and [`optimize`];
 //! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram, [`refine`] its
-//! boundaries by bisection.
+//! boundaries by bisection; [`accuracy`] a study's `[accuracy]` table (the model chosen once
+//! for every run).
 
+pub mod accuracy;
 mod history;
 pub mod phase;
 pub mod refine;

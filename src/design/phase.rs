@@ -64,12 +64,17 @@ pub struct Phase {
     /// `Some(K)`: `refine = true`, bisect the boundaries `K = refine_steps` times per
     /// neighbour pair ([`super::refine`]); `None`: boundaries through cell midpoints.
     pub refine: Option<usize>,
+    /// `[accuracy]`, if given ([`super::accuracy`]).
+    pub accuracy: Option<problem::AccuracySpec>,
+    /// The model chosen for it (set by [`super::accuracy::prepare_phase`]).
+    pub chosen: Option<super::accuracy::StudyAccuracy>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PhaseFile {
     phase: PhaseTable,
+    accuracy: Option<problem::AccuracySpec>,
 }
 
 #[derive(Deserialize)]
@@ -248,7 +253,20 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
             "a problem with a [ground]",
         ));
     }
+    if let Some(a) = &f.accuracy {
+        if let Err((key, value, allowed)) = problem::check_accuracy(a, &base) {
+            return Err(ProblemError::Invalid {
+                file: path.into(),
+                line: key_line(&text, "accuracy", key),
+                key: format!("accuracy.{key}"),
+                value,
+                allowed,
+            });
+        }
+    }
     Ok(Phase {
+        accuracy: f.accuracy,
+        chosen: None,
         file: path.into(),
         base_hash: super::fnv1a(base_text.as_bytes()),
         base_path,
@@ -672,6 +690,9 @@ pub struct RunInfo {
     /// Bisection steps of `refine = true` (`null`: no refinement); [`merge`] refines with it.
     #[serde(default)]
     pub refine_steps: Option<usize>,
+    /// The model chosen for the phase file's `[accuracy]` (absent without one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<super::accuracy::StudyAccuracy>,
 }
 
 fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
@@ -736,6 +757,7 @@ pub fn sweep_shard(
             torque: ph.torque.clone(),
             shard,
             refine_steps: ph.refine,
+            accuracy: ph.chosen.clone(),
         },
     )?;
     let grid: Vec<(f64, f64)> = ph

@@ -40,6 +40,9 @@ pub(super) struct Optimum<'a> {
     on_bound_side: Vec<&'static str>,
     duration_pulses: f64,
     wall_time_s: f64,
+    /// The model chosen for the study's `[accuracy]` (absent without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    accuracy: Option<&'a super::accuracy::StudyAccuracy>,
 }
 
 #[derive(Serialize)]
@@ -145,6 +148,7 @@ pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(),
         termination: &r.termination,
         duration_pulses: study.duration_pulses,
         wall_time_s: r.wall_time_s,
+        accuracy: study.chosen.as_ref(),
     };
     let path = out.join("optimum.json");
     let text = serde_json::to_string_pretty(&o).map_err(|e| DesignError::Io {

@@ -10,6 +10,9 @@ pub struct StudySpec {
     pub study: StudyTable,
     /// `[optimize]`: bounds of the optimised parameters (required table).
     pub optimize: Option<OptimizeTable>,
+    /// `[accuracy]`: choose the model once on the base problem for every evaluation
+    /// ([`super::accuracy`]). Absent: the base file's model.
+    pub accuracy: Option<problem::AccuracySpec>,
 }
 
 /// `[study]`.
@@ -318,6 +321,10 @@ pub struct Study {
     pub particles: usize,
     /// Seed of the random draws.
     pub seed: u64,
+    /// `[accuracy]`, if given.
+    pub accuracy: Option<problem::AccuracySpec>,
+    /// The model chosen for it (set by [`super::accuracy::prepare_study`]).
+    pub chosen: Option<super::accuracy::StudyAccuracy>,
 }
 
 impl Study {
@@ -653,7 +660,14 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         starts,
         particles,
         seed: opt.seed.unwrap_or(1),
+        accuracy: spec.accuracy.clone(),
+        chosen: None,
     };
+    if let Some(a) = &spec.accuracy {
+        if let Err((key, value, allowed)) = problem::check_accuracy(a, &study.base) {
+            return Err(fail("accuracy", key, value, allowed));
+        }
+    }
     // The shortest run (at the fastest speed) must hold at least one time step.
     let v_max = study
         .space

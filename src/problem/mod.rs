@@ -62,6 +62,34 @@ fn d_max_elements() -> usize {
     400
 }
 
+/// Range checks of an `[accuracy]` table against the problem it applies to (a problem file's
+/// own, or a study's base problem): `Err((key, value as written, allowed range))`.
+pub fn check_accuracy(a: &AccuracySpec, p: &Problem) -> Result<(), (&'static str, String, String)> {
+    if !(a.target.is_finite() && (1e-4..=0.5).contains(&a.target)) {
+        return Err((
+            "target",
+            format!("{}", a.target),
+            "in [1e-4, 0.5] (relative error of v_s/v_m)".into(),
+        ));
+    }
+    let n = p.rod.elements;
+    if !(n..=100_000).contains(&a.max_elements) {
+        return Err((
+            "max_elements",
+            format!("{}", a.max_elements),
+            format!("an integer in [rod.elements, 100000] = [{n}, 100000]"),
+        ));
+    }
+    if p.time.mode != Mode::Dynamic || p.ground.is_none() || p.gait.kind == Kind::None {
+        return Err((
+            "target",
+            format!("{}", a.target),
+            "given only for a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)".into(),
+        ));
+    }
+    Ok(())
+}
+
 /// `[ground]`: a plane `z = 0` with anisotropic kinetic Coulomb friction.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -625,32 +653,8 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     }
     time::check(p, &c)?;
     if let Some(a) = &p.accuracy {
-        if !(a.target.is_finite() && (1e-4..=0.5).contains(&a.target)) {
-            return Err(c.fail(
-                "accuracy",
-                "target",
-                format!("{}", a.target),
-                "in [1e-4, 0.5] (relative error of v_s/v_m)",
-            ));
-        }
-        if !(r.elements..=100_000).contains(&a.max_elements) {
-            return Err(c.fail(
-                "accuracy",
-                "max_elements",
-                format!("{}", a.max_elements),
-                &format!(
-                    "an integer in [rod.elements, 100000] = [{}, 100000]",
-                    r.elements
-                ),
-            ));
-        }
-        if t.mode != Mode::Dynamic || p.ground.is_none() || p.gait.kind == Kind::None {
-            return Err(c.fail(
-                "accuracy",
-                "target",
-                format!("{}", a.target),
-                "given only for a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)",
-            ));
+        if let Err((key, value, allowed)) = check_accuracy(a, p) {
+            return Err(c.fail("accuracy", key, value, &allowed));
         }
     }
     if !(1..=10_000).contains(&t.load_steps) {
