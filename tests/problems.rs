@@ -97,7 +97,10 @@ fn s_start_lift_off_stays_on_the_active_set_path() {
 /// stopped, so it needs a few conic solves, not a whole Newton solve from the step's start
 /// (40 solves for 19 fallbacks in the first 1.5 s; 227 when each started afresh; with the
 /// normal forces inside the Newton system, 4 fallbacks in the first 1.5 s, so the test runs
-/// to 2.5 s).
+/// to 2.5 s). With the early status changes' step taken and `tolerance` 5e-6: 7 fallbacks
+/// and 22 conic solves, five fallbacks needing 1 to 4 solves and two (whose active-set
+/// statuses were far from the solution's, 0.18 a away) 7 each: the bound is 4 solves per
+/// fallback on average (a fresh start needs about 12), and no warm start may fail.
 #[test]
 fn s_start_fallbacks_start_the_conic_path_near_the_solution() {
     let o = s_start_until(2.5);
@@ -107,7 +110,8 @@ fn s_start_fallbacks_start_the_conic_path_near_the_solution() {
         o.stats.step_halvings
     );
     assert!(fb >= 5, "the scene must exercise the fallback: {fb}");
-    assert!(conic <= 3 * fb, "{conic} conic solves for {fb} fallbacks");
+    assert!(conic <= 4 * fb, "{conic} conic solves for {fb} fallbacks");
+    assert_eq!(o.stats.warm_conic_restarts, 0);
     assert_eq!(o.stats.step_halvings, 0);
 }
 

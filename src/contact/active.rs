@@ -319,16 +319,17 @@ impl ActiveSet {
         let mut project = false;
         tangential.resize(nc, [0.0; 2]);
         let mut it = 0;
-        // Fingerprints of the iterates (coordinates and statuses) after status changes: an
-        // exact repeat is a cycle the iteration cannot leave (stick -> slide -> stick of one
-        // contact whose force sits on the cone's edge), for the conic program at once.
+        // Fingerprints of the iterates (coordinates, statuses, early changes) after status
+        // changes: an exact repeat is a cycle the iteration cannot leave (stick -> slide ->
+        // stick of one contact whose force sits on the cone's edge), for the conic program at
+        // once.
         let mut seen: Vec<(u64, usize)> = Vec::new();
         let mut after_switch = false;
         while it < cap {
             it += 1;
             self.spent = it;
             if after_switch {
-                let key = fingerprint(q, &ct.mode);
+                let key = fingerprint(q, &ct.mode, early);
                 if let Some(&(_, first)) = seen.iter().find(|(k, _)| *k == key) {
                     return Err(Failure::ContactCycle {
                         iteration: it,
@@ -671,15 +672,16 @@ impl ContactModel for ActiveSet {
     }
 }
 
-/// A hash of the coordinates' bits and the contacts' statuses.
-fn fingerprint(q: &[f64], mode: &[Mode]) -> u64 {
+/// A hash of the coordinates' bits, the contacts' statuses and which contacts already
+/// changed status early (the state the rest of the iteration depends on).
+fn fingerprint(q: &[f64], mode: &[Mode], early: &[bool]) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     for x in q {
         x.to_bits().hash(&mut h);
     }
-    for m in mode {
-        (*m as u8).hash(&mut h);
+    for (m, e) in mode.iter().zip(early) {
+        (*m as u8, *e).hash(&mut h);
     }
     h.finish()
 }
