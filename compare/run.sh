@@ -50,6 +50,18 @@ for dt in 1e-3 5e-4 1.25e-4; do
     grep -q "^dt = $dt" "$out/slither_dt$dt.toml"
     "$slither" run "$out/slither_dt$dt.toml" --out "$out/slither_dt$dt" --no-plots --quiet
 done
+# Adaptive BDF2 at its default error tolerance (issue 11): on PyElastica's scene and on the
+# bundled S-start (problems/s_start.toml), each as the file with integrator and adaptive set.
+for name in pyelastica_s_start s_start; do
+    echo "== slither, BDF2 adaptive, problems/$name.toml"
+    sed -e 's/^\[ground\]/[solver]\nintegrator = "bdf2"\n\n[ground]/' \
+        -e 's/^dt = 2e-3/dt = 2e-3\nadaptive = true/' \
+        "problems/$name.toml" > "$out/${name}_bdf2_adaptive.toml"
+    grep -q '^adaptive = true' "$out/${name}_bdf2_adaptive.toml"
+    grep -q '^integrator = "bdf2"' "$out/${name}_bdf2_adaptive.toml"
+    "$slither" run "$out/${name}_bdf2_adaptive.toml" --out "$out/${name}_bdf2_adaptive" \
+        --no-plots --quiet
+done
 echo "load after: $(cat /proc/loadavg)"
 
 "$venv/bin/python" - "$out" "$repo/problems/pyelastica_s_start.toml" <<'EOF'
@@ -83,7 +95,15 @@ for dt in ("1e-3", "5e-4", "1.25e-4"):
     s = sl_fine[dt]
     rows.append(("slither (implicit Euler)", float(dt), s["steps"], s["wall_time_s"],
                  s["t_final"], float("nan"), s["v_s_over_v_m"], sl_conv))
+ad = {name: json.load(open(os.path.join(out, f"{name}_bdf2_adaptive", "summary.json")))
+      for name in ("pyelastica_s_start", "s_start")}
+rows.append(("slither (BDF2 adaptive, default tolerance)", float("nan"),
+             ad["pyelastica_s_start"]["steps"], ad["pyelastica_s_start"]["wall_time_s"],
+             ad["pyelastica_s_start"]["t_final"], float("nan"),
+             ad["pyelastica_s_start"]["v_s_over_v_m"], sl_conv))
 def dt_str(dt):
+    if dt != dt:
+        return "adaptive"
     return ("%.2e" % dt).replace(".00e", "e")
 
 
@@ -116,6 +136,13 @@ for pe_row in [r for r in rows if r[0].startswith("PyElastica")]:
           f"{pe_row[3] / pe_row[4]:.3f} s per simulated s, slither at dt {dt_str(best[1])} "
           f"({100 * abs(best[6] - best[7]) / abs(best[7]):.2f} %) "
           f"{best[3] / best[4]:.3f}: {pe_row[3] / pe_row[4] / (best[3] / best[4]):.2f}x.")
+b = ad["s_start"]
+b_rate = b["wall_time_s"] / b["t_final"]
+pe_rate = pe["2e-5"]["wall_time_s"] / pe["2e-5"]["simulated_s"]
+print(f"Bundled S-start (problems/s_start.toml) by adaptive BDF2 at the default tolerance: "
+      f"{b['steps']} steps, {b['wall_time_s']:.2f} s for {b['t_final']:.3f} s = {b_rate:.3f} s "
+      f"per simulated s, v_s/v_m {b['v_s_over_v_m']:.4f}; PyElastica at dt 2e-5 on its scene "
+      f"{pe_rate:.3f}: {pe_rate / b_rate:.1f}x.")
 print()
 print("v_s/v_m (heading): centre-of-mass velocity along the instantaneous ground-projected")
 print("tail-to-head direction, time-averaged (the PyElastica reference README's v_s).")
