@@ -11,13 +11,26 @@ ok = [r for r in rows if r["status"] == "ok"]
 print(f"cells {len(rows)}, finished {len(ok)}, failed {len(rows) - len(ok)}")
 print("regimes", dict(Counter(r["regime"] for r in rows)))
 print("sum of cell wall times (s)", round(sum(float(r["wall_time_s"]) for r in rows), 1))
+# Each boundary: how its points were placed (`method`: "bisection" when at least one point
+# was bisected with `[phase] refine = true`, else "midpoints"; a boundaries.json from before
+# the field existed prints "-") and its points (bisected ones, failed bisections, the largest
+# half-width in decades along the axis each was located on).
+def placement(b):
+    pts = b.get("points")
+    if pts is None:
+        return f"method {b.get('method', '-')}, {len(b['cells'])} pairs"
+    bis = sum(p["method"] == "bisection" for p in pts)
+    bad = sum(p.get("failed") is not None for p in pts)
+    hw = max((p["half_width"] for p in pts), default=float("nan"))
+    return (f"method {b.get('method', '-')}, {len(pts)} points ({bis} bisected, {bad} failed, "
+            f"half-width up to {hw:.3f} decades)")
 for b in json.load(open(f"{out}/boundaries.json")):
     if b["slope"] is None:
-        print(f"  {b['pair']}: no fit ({len(b['cells'])} pairs)")
+        print(f"  {b['pair']}: no fit; {placement(b)}")
         continue
     r10 = "-" if b["ratio_at_g10"] is None else f"{b['ratio_at_g10']:.3g}"
     print(f"  {b['pair']}: slope {b['slope']:.3f} (off 1 by {b['slope'] - 1:+.3f}), W/G at G=10 "
-          f"{r10}, residual {b['residual']:.3f} decades, {len(b['cells'])} pairs")
+          f"{r10}, residual {b['residual']:.3f} decades; {placement(b)}")
 # Fig. 3a: at each G, Wr_max against W/G (Spearman rank correlation, and values).
 def spearman(x, y):
     def rank(v):
