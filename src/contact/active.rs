@@ -625,6 +625,9 @@ impl ContactModel for ActiveSet {
                 Err(why) => {
                     log::debug!("  active set rejected: {why}");
                     nw.stats.active_set_fallbacks += 1;
+                    if matches!(why, Failure::ContactCycle { .. }) {
+                        nw.stats.contact_cycles += 1;
+                    }
                     let spent = self.spent;
                     if q.iter().all(|x| x.is_finite()) {
                         // Start the conic path from where the active set stopped (lifted onto

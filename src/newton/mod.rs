@@ -64,6 +64,9 @@ pub struct Stats {
     /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
     /// from the step's start.
     pub warm_conic_restarts: usize,
+    /// Fallbacks because the active-set iterates cycled (an exact repeat of iterate and
+    /// statuses), sent to the conic path before the iteration cap.
+    pub contact_cycles: usize,
     /// Newton iterations (plain and active-set) assembled with every stencil's Hessian
     /// projected to positive semi-definite, after the exact Hessian was found indefinite.
     pub projected_iterations: usize,
