@@ -563,7 +563,16 @@ impl ActiveSet {
             let slope: f64 = nw.asm.grad.iter().zip(&nw.dq).map(|(g, d)| g * d).sum();
             let alpha = {
                 let ct: &Contacts = ct;
-                nw.backtrack(m, q, f0, slope, small, &|x| {
+                // Near the solution (correction within 100 tolerances) a converged coupled
+                // direction is the Newton direction of the system with the normal forces
+                // moving, not of the merit below (normal forces frozen at this iterate), which
+                // can refuse it: at 200 elements the line search then cut every step to a
+                // quarter and Newton crawled (contraction 0.75) into the iteration cap. Such
+                // steps are taken in full; convergence is still judged by the correction and
+                // the predicted force change.
+                let near = dx <= 100.0 * m.tolerance * a && dth <= 100.0 * m.tolerance;
+                let full = small || (sweeps > 0 && sweeps < MAX_SWEEPS && near);
+                nw.backtrack(m, q, f0, slope, full, &|x| {
                     obj.value(x) + ct.dissipation(ground, x)
                 })
             };
