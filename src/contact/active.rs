@@ -18,6 +18,13 @@
 //! when every normal force is non-negative, every sticking contact's friction force lies in
 //! the anisotropic friction set, every sliding contact still slides and no free contact
 //! reached the ground. Otherwise the integrator falls back to the conic program.
+//!
+//! Within a step, statuses change as the iteration goes: at a converged point whose exact
+//! conditions fail, and earlier when a contact pulls, or leaves the cone, both now and after
+//! the step. After an early lift-off or slide the Newton step is still taken (it held fixed
+//! only the coordinates the change releases). An exact repeat of iterate, statuses and early
+//! changes is a cycle and goes to the conic program at once; so do an iteration or status
+//! change cap. The iterations of a failed attempt count in the step's total.
 
 use super::reactions::{Reactions, MAX_SWEEPS};
 use super::{Conic, ContactModel, Contacts, Ground};
