@@ -251,12 +251,14 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> 
     let h11 = lin(al1, &e1.hess_a1(t0), be1, &e1.hess_a2(t0));
     let t0_th0 = mix(al0p, ja0, be0p, jb0);
     let t1_th1 = mix(al1p, ja1, be1p, jb1);
+    // hpsi = Hess Psi - K Hess chi (K = sum_a delta_a kappa_a; Hess chi is the identity in
+    // the (t0, t1) blocks).
     let mut hpsi = [[0.0; 8]; 8];
     for i in 0..3 {
         for j in 0..3 {
             hpsi[i][j] = h00[i][j];
             hpsi[3 + i][3 + j] = h11[i][j];
-            // d2/dt0_i dt1_j: JU1[i][j] + JU0[j][i], and chi's identity block.
+            // d2 Psi/dt0_i dt1_j = JU1[i][j] + JU0[j][i], minus K on the diagonal.
             let x = ju1[i][j] + ju0[j][i] - if i == j { big_k } else { 0.0 };
             hpsi[i][3 + j] = x;
             hpsi[3 + j][i] = x;
