@@ -629,9 +629,8 @@ fn particle_swarm_runs_generations_and_resumes_deterministically() {
     .unwrap();
     assert_eq!(resumed.reused, 6);
     assert_eq!(resumed.evaluations, 12);
-    let points = |r: &design::Report| -> Vec<Point> {
-        r.visited.iter().map(|v| v.0.point.clone()).collect()
-    };
+    let points =
+        |r: &design::Report| -> Vec<Point> { r.visited.iter().map(|v| v.0.point).collect() };
     assert_eq!(points(&resumed), points(&r));
     // Another seed draws another swarm.
     std::fs::write(&path, pso_study(12).replace("seed = 7", "seed = 8")).unwrap();
