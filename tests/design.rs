@@ -608,6 +608,30 @@ fn particle_swarm_runs_generations_and_resumes_deterministically() {
             "the first 12 evaluations replay the same points"
         );
     }
+    // A study interrupted in the middle of a generation (6 of 12: the first generation and
+    // half the second) and resumed replays the uninterrupted swarm point for point (the
+    // reflection into the bounds is deterministic).
+    let cut = path.parent().unwrap().join("cut");
+    std::fs::write(&path, pso_study(6)).unwrap();
+    let first = design::optimize(
+        &design::load_study(&path).unwrap(),
+        &cut,
+        &mut design::Silent,
+    )
+    .unwrap();
+    assert_eq!(first.evaluations, 6);
+    std::fs::write(&path, pso_study(12)).unwrap();
+    let resumed = design::optimize(
+        &design::load_study(&path).unwrap(),
+        &cut,
+        &mut design::Silent,
+    )
+    .unwrap();
+    assert_eq!(resumed.reused, 6);
+    assert_eq!(resumed.evaluations, 12);
+    let points =
+        |r: &design::Report| -> Vec<Point> { r.visited.iter().map(|v| v.0.point).collect() };
+    assert_eq!(points(&resumed), points(&r));
     // Another seed draws another swarm.
     std::fs::write(&path, pso_study(12).replace("seed = 7", "seed = 8")).unwrap();
     let other = design::optimize(

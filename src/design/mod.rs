@@ -49,9 +49,11 @@
 //!   `starts = K` runs it K times one after the other, each with an equal share of
 //!   `max_evaluations`, the first from the study's start, the others from uniform random
 //!   points in the bounds.
-//! * `method = "particle-swarm"`: argmin's `ParticleSwarm` on the unit cube (positions clamped
-//!   to it, so no penalty applies), `particles` per generation (default
-//!   [`DEFAULT_PARTICLES`]). The first generation is the start plus uniform random points;
+//! * `method = "particle-swarm"`: argmin's `ParticleSwarm`, its positions mapped into the unit
+//!   cube by [`reflect`] (a triangle wave of period 2 per coordinate, so a particle that
+//!   overshoots a bound is evaluated as far inside and can come back, where argmin's own clamp
+//!   kept it on the face; no penalty applies; see `search.rs`), `particles` per generation
+//!   (default [`DEFAULT_PARTICLES`]). The first generation is the start plus uniform random points;
 //!   each generation's costs come in one `bulk_cost` call, whose new points are simulated in
 //!   parallel (rayon, one simulation per core) and then recorded in generation order.
 //!
