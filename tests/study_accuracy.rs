@@ -199,3 +199,64 @@ fn bad_accuracy_tables_in_study_files_exit_2_naming_the_key() {
         );
     }
 }
+
+/// Sharded with `[accuracy]` and `refine = true`: the merge checks the base file against the
+/// choice's record (the rows are keyed by file and model), refines at the chosen model, and
+/// gives the unsharded run's cells and refinement.
+#[test]
+fn sharded_accuracy_study_with_refine_merges_like_the_unsharded_run() {
+    let dir = scratch("shard-refine");
+    let file = dir.join("phase.toml");
+    std::fs::write(
+        &file,
+        "[phase]\nbase = \"base.toml\"\nweight = [300.0]\ntorque = [4.0, 18.0]\nrefine = true\n\
+         refine_steps = 1\n\n[accuracy]\ntarget = 0.5\nmax_elements = 40\n",
+    )
+    .unwrap();
+    let csv = |d: &Path, name: &str| -> Vec<String> {
+        let text = std::fs::read_to_string(d.join(name)).unwrap_or_default();
+        let mut rows: Vec<String> = text
+            .lines()
+            .skip(1)
+            .map(|l| {
+                // Every column but the wall time (16).
+                let mut f: Vec<&str> = l.split(',').collect();
+                if f.len() > 16 {
+                    f[16] = "";
+                }
+                f.join(",")
+            })
+            .collect();
+        rows.sort();
+        rows
+    };
+    let whole = dir.join("whole");
+    let o = run("phase", &file, &whole);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut dirs = Vec::new();
+    for i in 1..=2 {
+        let d = dir.join(format!("shard{i}"));
+        let o = Command::new(BIN)
+            .args([
+                "phase",
+                file.to_str().unwrap(),
+                "--out",
+                d.to_str().unwrap(),
+            ])
+            .args(["--shard", &format!("{i}/2")])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        dirs.push(d);
+    }
+    let merged = dir.join("merged");
+    let o = Command::new(BIN)
+        .arg("merge")
+        .args(dirs.iter().map(|d| d.to_str().unwrap()))
+        .args(["--out", merged.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(csv(&merged, "phase.csv"), csv(&whole, "phase.csv"));
+    assert_eq!(csv(&merged, "refine.csv"), csv(&whole, "refine.csv"));
+}

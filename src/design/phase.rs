@@ -1178,14 +1178,27 @@ pub fn merge(
                     "the base problem named in phase.json is not readable ({e}); merge from the directory the shards ran in"
                 ))
             })?;
-            if super::fnv1a(text.as_bytes()) != hash {
+            // With `[accuracy]` the rows are keyed by the file and the chosen model: the file
+            // is checked against the choice's own record, and refined at that model.
+            let (file_hash, shards_hash) = match &info.accuracy {
+                Some(c) => (
+                    u64::from_str_radix(&c.base_file_hash, 16).ok(),
+                    c.base_file_hash.clone(),
+                ),
+                None => (Some(hash), info.base_hash.clone()),
+            };
+            if Some(super::fnv1a(text.as_bytes())) != file_hash {
                 return Err(refuse(format!(
                     "the base problem changed since the shards ran (hash {:016x}, the shards' {})",
                     super::fnv1a(text.as_bytes()),
-                    info.base_hash
+                    shards_hash
                 )));
             }
-            Some(problem::parse(&text, &path).map_err(|e| refuse(e.to_string()))?)
+            let base = problem::parse(&text, &path).map_err(|e| refuse(e.to_string()))?;
+            Some(match &info.accuracy {
+                Some(c) => c.apply(&base),
+                None => base,
+            })
         }
     };
     let cells: Vec<Cell> = grid
