@@ -11,9 +11,9 @@ pub struct SolverSpec {
     /// Convergence: the last Newton correction is below `tolerance * a` on every position and
     /// below `tolerance` (rad) on every twist angle. Default 5e-6, in (0, 1e-3]
     /// (with `normal_force_tolerance` 1e-3: a 100x tighter pair moves v_s/v_m by 2.7e-6 on the
-    /// S-start and at most 1.02e-4 on the bundled scenes, the sidewinding scene the most, whose
-    /// v_s/v_m moves 2.4e-4 when a friction coefficient changes by 1e-7 relative; at 1e-5 the
-    /// PyElastica S-start moved 1.3e-4; `examples/tolerance_check.rs` prints the table).
+    /// S-start and at most 1.02e-4 on the bundled scenes, the sidewinding scene the most (3e-6
+    /// brings it to 2.0e-5 at 4% more Newton iterations); at 1e-5 the PyElastica S-start moved
+    /// 1.3e-4; `examples/tolerance_check.rs` prints the table).
     #[serde(default = "d_tol")]
     pub tolerance: f64,
     /// Newton iterations per step before the step is rejected. Default 50 (static: 10x).
