@@ -270,6 +270,8 @@ pub struct ActiveSet {
     /// Iterations of the last [`ActiveSet::iterate`] (counted in the step's total also when
     /// it fails and the conic path finishes the step).
     spent: usize,
+    /// Fingerprints of the iterates after status changes within the step (reused storage).
+    seen: Vec<(u64, usize)>,
 }
 
 impl ActiveSet {
@@ -284,6 +286,7 @@ impl ActiveSet {
             tangential: Vec::new(),
             early: Vec::new(),
             spent: 0,
+            seen: Vec::new(),
         }
     }
 
@@ -330,7 +333,8 @@ impl ActiveSet {
         // changes: an exact repeat is a cycle the iteration cannot leave (stick -> slide ->
         // stick of one contact whose force sits on the cone's edge), for the conic program at
         // once.
-        let mut seen: Vec<(u64, usize)> = Vec::new();
+        let seen = &mut self.seen;
+        seen.clear();
         let mut after_switch = false;
         while it < cap {
             it += 1;

@@ -579,6 +579,27 @@ pub struct Rows {
     pub dropped_partial_row: bool,
 }
 
+/// Open a study's CSV of rows (`phase.csv`, `refine.csv`) for appending, writing the header
+/// first when the file is `fresh`. Rows are then written one per `write_all` and flushed, so a
+/// crash leaves whole lines or a torn last one ([`read_rows`] drops it).
+pub(super) fn append_rows(csv: &Path, fresh: bool) -> Result<std::fs::File, PhaseError> {
+    let io = |source| PhaseError::Io {
+        file: csv.to_path_buf(),
+        source,
+    };
+    let mut file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(csv)
+        .map_err(io)?;
+    if fresh {
+        file.write_all(format!("{HEADER}\n").as_bytes())
+            .and_then(|_| file.flush())
+            .map_err(io)?;
+    }
+    Ok(file)
+}
+
 /// Read every row of a `phase.csv` or `refine.csv` (of any base file), cutting a torn last line
 /// off the file as [`read_phase_csv`] does.
 pub fn read_rows(csv: &Path) -> Result<Rows, PhaseError> {
@@ -736,17 +757,7 @@ pub fn sweep_shard(
     let key = |w: f64, g: f64| (w.to_bits(), g.to_bits());
     let old = read_phase_csv(&csv, ph.base_hash)?;
     let mut done = old.cells;
-    let mut file = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(&csv)
-        .map_err(io(&csv))?;
-    if old.fresh {
-        // One write per line, so a crash leaves whole lines or a torn last one (dropped above).
-        file.write_all(format!("{HEADER}\n").as_bytes())
-            .and_then(|_| file.flush())
-            .map_err(io(&csv))?;
-    }
+    let file = append_rows(&csv, old.fresh)?;
     write_info(
         out,
         &RunInfo {

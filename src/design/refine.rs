@@ -290,16 +290,7 @@ pub fn refine(
         .filter(|(_, h)| *h == base_hash)
         .map(|(c, _)| (key(c.weight, c.torque), c.clone()))
         .collect();
-    let mut file = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(&csv)
-        .map_err(io(&csv))?;
-    if old.fresh {
-        file.write_all(format!("{HEADER}\n").as_bytes())
-            .and_then(|_| file.flush())
-            .map_err(io(&csv))?;
-    }
+    let file = super::phase::append_rows(&csv, old.fresh)?;
     let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
     let pairs = neighbour_pairs(weight, torque, &labels);
     let (reused, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));

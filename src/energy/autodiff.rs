@@ -720,6 +720,26 @@ pub(crate) mod testing {
         (p, y, r)
     }
 
+    /// A closed form's value, gradient and Hessian `got` equal the reference `want` for
+    /// stencil `seed`: the value to 1e-12, gradient and Hessian to 1e-9 relative.
+    pub fn assert_matches(
+        got: super::super::stencil::Local,
+        want: super::super::stencil::Local,
+        seed: u64,
+    ) {
+        let ((v, g, h), (v_ref, g_ref, h_ref)) = (got, want);
+        assert!(
+            (v - v_ref).abs() <= 1e-12 * v_ref.abs().max(1e-12),
+            "value {v} vs {v_ref} (seed {seed})"
+        );
+        let eg = rel_diff(g.as_slice(), g_ref.as_slice());
+        let eh = rel_diff(h.as_slice(), h_ref.as_slice());
+        assert!(
+            eg < 1e-9 && eh < 1e-9,
+            "gradient {eg:e}, Hessian {eh:e} (seed {seed})"
+        );
+    }
+
     /// Largest difference relative to the largest entry.
     pub fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
         let scale = a

@@ -83,6 +83,21 @@ pub fn ref_twist_tangent_derivatives(
     (g, h)
 }
 
+/// The reference twist's value, as [`crate::rod::frames::strains`] computes it: the angle
+/// about `t^i` from the space-parallel transport of `a1^{i-1}` to `a1^i`, on the `2 pi` branch
+/// nearest the previous step's `prev`.
+pub fn ref_twist_value(t: [[f64; 3]; 2], a1: [[f64; 3]; 2], prev: f64) -> f64 {
+    let u = f::transport(t[0], t[1], a1[0]);
+    let r = f::dot(f::cross(u, a1[1]), t[1]).atan2(f::dot(u, a1[1]));
+    let two_pi = std::f64::consts::TAU;
+    let k = ((prev - r) / two_pi).round();
+    if k != 0.0 {
+        r + k * two_pi
+    } else {
+        r
+    }
+}
+
 /// Chain rule through `t = e / |e|` for each of the two edges: gradient and Hessian in the
 /// edge vectors from those in the tangents.
 pub fn tangents_to_edges(
@@ -148,14 +163,7 @@ pub fn twist_local(st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Lo
     let t = [val(&edges[0].t), val(&edges[1].t)];
     let a = [val(&edges[0].a1), val(&edges[1].a1)];
     let len = [edges[0].len.v, edges[1].len.v];
-    // Value, as `frames::strains`: the angle from the transported a1^{i-1} to a1^i about t^i.
-    let u = f::transport(t[0], t[1], a[0]);
-    let mut r = f::dot(f::cross(u, a[1]), t[1]).atan2(f::dot(u, a[1]));
-    let two_pi = std::f64::consts::TAU;
-    let k = ((fr.ref_twist_prev - r) / two_pi).round();
-    if k != 0.0 {
-        r += k * two_pi;
-    }
+    let r = ref_twist_value(t, a, fr.ref_twist_prev);
     let (gt, ht) = ref_twist_tangent_derivatives(t[0], t[1], fr.t_old[0], fr.t_old[1]);
     let (ge, he) = tangents_to_edges(t, len, &gt, &ht);
     let d = y[7] - y[6] + r - st.m0;
@@ -322,22 +330,7 @@ impl StencilDerivatives for Closed {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::energy::autodiff::testing::{rel_diff, stencil};
-
-    /// The closed form `got` equals the staged jets' `want` for stencil `seed`.
-    fn assert_matches(got: Local, want: Local, seed: u64) {
-        let ((v, g, h), (v_ref, g_ref, h_ref)) = (got, want);
-        assert!(
-            (v - v_ref).abs() <= 1e-12 * v_ref.abs().max(1e-12),
-            "value {v} vs {v_ref} (seed {seed})"
-        );
-        let eg = rel_diff(g.as_slice(), g_ref.as_slice());
-        let eh = rel_diff(h.as_slice(), h_ref.as_slice());
-        assert!(
-            eg < 1e-9 && eh < 1e-9,
-            "gradient {eg:e}, Hessian {eh:e} (seed {seed})"
-        );
-    }
+    use crate::energy::autodiff::testing::{assert_matches, stencil};
 
     /// The closed form equals the staged jets (themselves checked against hyper-dual numbers
     /// and finite differences) on random, strongly bent stencils with frozen frames away from

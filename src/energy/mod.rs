@@ -72,6 +72,19 @@ pub fn rod_terms() -> Vec<Box<dyn Term>> {
     ]
 }
 
+/// Edge `j`'s vector at `q` with its frozen tangent and reference director (from the first
+/// stencil holding it).
+fn edge_at(ctx: &Ctx, q: &[f64], j: usize) -> ([f64; 3], [f64; 3], [f64; 3]) {
+    let (fr, k) = if j == 0 {
+        (&ctx.frames[0], 0)
+    } else {
+        (&ctx.frames[j - 1], 1)
+    };
+    let (a, b) = (dof::node(j), dof::node(j + 1));
+    let e = [q[b] - q[a], q[b + 1] - q[a + 1], q[b + 2] - q[a + 2]];
+    (e, fr.t_old[k], fr.a1_old[k])
+}
+
 /// Gradient and upper-triangular banded Hessian in compressed-column form, with a pattern
 /// fixed at construction (half-bandwidth [`dof::HALF_BANDWIDTH`]) so that the symbolic
 /// factorisation is computed once.
@@ -144,13 +157,7 @@ impl Assembly {
             let ne = ctx.model.nodes - 1;
             edges.clear();
             for j in 0..ne {
-                let (t_old, a1_old) = if j == 0 {
-                    (ctx.frames[0].t_old[0], ctx.frames[0].a1_old[0])
-                } else {
-                    (ctx.frames[j - 1].t_old[1], ctx.frames[j - 1].a1_old[1])
-                };
-                let (a, b) = (dof::node(j), dof::node(j + 1));
-                let e = [q[b] - q[a], q[b + 1] - q[a + 1], q[b + 2] - q[a + 2]];
+                let (e, t_old, a1_old) = edge_at(ctx, q, j);
                 edges.push(stencil::EdgeJets::new(e, t_old, a1_old));
             }
             match &mut self.edges_key {

@@ -41,7 +41,7 @@
 
 use super::autodiff::{self, StencilEnergy};
 use super::bend::BendStencil;
-use super::closed::ref_twist_tangent_derivatives;
+use super::closed::{ref_twist_tangent_derivatives, ref_twist_value};
 use super::stencil::{self, Jets, Local, StencilDerivatives};
 use super::twist::TwistStencil;
 use super::{Assembly, Ctx, Term};
@@ -184,6 +184,20 @@ pub struct NodeStencil<'a> {
     pub twist: f64,
 }
 
+impl<'a> NodeStencil<'a> {
+    /// Interior node `i`'s stencil of the rod in `ctx`.
+    pub fn of(ctx: &Ctx<'a>, i: usize) -> Self {
+        let m = ctx.model;
+        NodeStencil {
+            frame: &ctx.frames[i - 1],
+            kappa0: ctx.kappa0[i],
+            bend: m.bend / (2.0 * m.voronoi[i]),
+            m0: ctx.m0[i],
+            twist: m.twist / (2.0 * m.voronoi[i]),
+        }
+    }
+}
+
 /// Value, gradient and Hessian of node `st`'s bending plus twist in its intrinsic
 /// coordinates, with its two edges' frames and twist angles `theta`.
 pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> Local {
@@ -276,12 +290,7 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> 
     hpsi[7][7] = -f::dot(t0, u1);
 
     // Twist: m = theta1 - theta0 + r(t0, t1).
-    let u = f::transport(t0, t1, e0.a1);
-    let mut r = f::dot(f::cross(u, e1.a1), t1).atan2(f::dot(u, e1.a1));
-    let k = ((st.frame.ref_twist_prev - r) / std::f64::consts::TAU).round();
-    if k != 0.0 {
-        r += k * std::f64::consts::TAU;
-    }
+    let r = ref_twist_value([t0, t1], [e0.a1, e1.a1], st.frame.ref_twist_prev);
     let (gr, hr) = ref_twist_tangent_derivatives(t0, t1, st.frame.t_old[0], st.frame.t_old[1]);
     let dm = theta[1] - theta[0] + r - st.m0;
     let gm = [gr[0], gr[1], gr[2], gr[3], gr[4], gr[5], -1.0, 1.0];
@@ -372,19 +381,11 @@ impl Term for BendTwist {
         "bend+twist"
     }
     fn eval(&self, ctx: &Ctx, q: &[f64], out: Option<&mut Assembly>, project: bool) -> f64 {
-        let m = ctx.model;
-        let stencil = |i: usize| NodeStencil {
-            frame: &ctx.frames[i - 1],
-            kappa0: ctx.kappa0[i],
-            bend: m.bend / (2.0 * m.voronoi[i]),
-            m0: ctx.m0[i],
-            twist: m.twist / (2.0 * m.voronoi[i]),
-        };
-        let nodes = m.nodes;
+        let nodes = ctx.model.nodes;
         let Some(asm) = out else {
             let mut e = 0.0;
             for i in 1..nodes - 1 {
-                let (b, t) = split(&stencil(i));
+                let (b, t) = split(&NodeStencil::of(ctx, i));
                 let y = autodiff::intrinsic(q, i);
                 e += b.eval(&y) + t.eval(&y);
             }
@@ -392,37 +393,25 @@ impl Term for BendTwist {
         };
         let mut edges = std::mem::take(&mut asm.node_edges);
         edges.clear();
-        for j in 0..nodes - 1 {
-            let fr = &ctx.frames[j.saturating_sub(1)];
-            let k = usize::from(j > 0);
-            let (a, b) = (dof::node(j), dof::node(j + 1));
-            let e = [q[b] - q[a], q[b + 1] - q[a + 1], q[b + 2] - q[a + 2]];
-            edges.push(EdgeFrame::new(e, fr.t_old[k], fr.a1_old[k]));
-        }
+        edges.extend((0..nodes - 1).map(|j| {
+            let (e, t_old, a1_old) = super::edge_at(ctx, q, j);
+            EdgeFrame::new(e, t_old, a1_old)
+        }));
         let mut e = 0.0;
         for i in 1..nodes - 1 {
             let theta = [q[dof::edge(i - 1)], q[dof::edge(i)]];
-            let local = node_local(&stencil(i), [&edges[i - 1], &edges[i]], theta);
+            let local = node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]], theta);
             e += autodiff::add_local(asm, i, local, project);
         }
         asm.node_edges = edges;
         e
     }
     fn gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64], _scratch: &mut Assembly) -> f64 {
-        let m = ctx.model;
         stencil::gradient_nodes(
             ctx,
             q,
             grad,
-            |i| {
-                split(&NodeStencil {
-                    frame: &ctx.frames[i - 1],
-                    kappa0: ctx.kappa0[i],
-                    bend: m.bend / (2.0 * m.voronoi[i]),
-                    m0: ctx.m0[i],
-                    twist: m.twist / (2.0 * m.voronoi[i]),
-                })
-            },
+            |i| split(&NodeStencil::of(ctx, i)),
             |(b, t), y| {
                 let (vb, gb) = Jets.bend_gradient(b, y);
                 let (vt, gt) = Jets.twist_gradient(t, y);
@@ -451,7 +440,7 @@ fn split<'a>(st: &NodeStencil<'a>) -> (BendStencil<'a>, TwistStencil<'a>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::energy::autodiff::testing::{rel_diff, stencil};
+    use crate::energy::autodiff::testing::{assert_matches, stencil};
 
     /// The fused closed form equals the sum of the staged jets' bending and twist (themselves
     /// checked against hyper-dual numbers and finite differences) on random, strongly bent
@@ -471,20 +460,13 @@ mod tests {
                 EdgeFrame::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0]),
                 EdgeFrame::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1]),
             ];
-            let (v, g, h) = node_local(&st, [&edges[0], &edges[1]], [y[6], y[7]]);
             let (b, t) = split(&st);
             let (vb, gb, hb) = b.derivatives(y);
             let (vt, gt, ht) = t.derivatives(y);
-            let (v_ref, g_ref, h_ref) = (vb + vt, gb + gt, hb + ht);
-            assert!(
-                (v - v_ref).abs() <= 1e-12 * v_ref.abs().max(1e-12),
-                "value {v} vs {v_ref} (seed {seed})"
-            );
-            let eg = rel_diff(g.as_slice(), g_ref.as_slice());
-            let eh = rel_diff(h.as_slice(), h_ref.as_slice());
-            assert!(
-                eg < 1e-9 && eh < 1e-9,
-                "gradient {eg:e}, Hessian {eh:e} (seed {seed})"
+            assert_matches(
+                node_local(&st, [&edges[0], &edges[1]], [y[6], y[7]]),
+                (vb + vt, gb + gt, hb + ht),
+                seed,
             );
         }
     }
