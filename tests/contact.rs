@@ -292,6 +292,16 @@ fn contact_newton_converges_quadratically() {
             .collect()
     };
     let raw = s_start_residuals(true);
+    for r in &raw {
+        if r.windows(2)
+            .any(|w| (0.0..0.1).contains(&w[0]) && w[1] > 1e-8 && w[1] > w[0] * w[0])
+        {
+            println!(
+                "DBG {:?}",
+                r.iter().map(|x| format!("{x:.2e}")).collect::<Vec<_>>()
+            );
+        }
+    }
     let iterations = raw.iter().flatten().filter(|r| **r >= 0.0).count();
     let inexact = raw.iter().flatten().filter(|r| **r < 0.0).count();
     println!("coupled: {inexact} of {iterations} iterations not full exact Newton steps");

@@ -100,7 +100,13 @@ fn s_start_lift_off_stays_on_the_active_set_path() {
 /// to 2.5 s). With the early status changes' step taken and `tolerance` 5e-6: 7 fallbacks
 /// and 22 conic solves, five fallbacks needing 1 to 4 solves and two (whose active-set
 /// statuses were far from the solution's, 0.18 a away) 7 each: the bound is 4 solves per
-/// fallback on average (a fresh start needs about 12), and no warm start may fail.
+/// fallback on average (a fresh start needs about 12), and no warm start may fail. With the
+/// coupled direction by GMRES, stalls sent to the conic program after 8 iterations without a
+/// tenfold fall of the correction, and `warm_conic_iterations` 20: 6 fallbacks and 27 conic
+/// solves, four needing 1 solve, one 6 and one 17 (a step the active set stalls on, where the
+/// conic path's normal-force fixed point contracts by 0.57 per iteration; with the old cap of
+/// 8 its warm start failed and the step took 8 + 17 solves). The bound is 5 solves per
+/// fallback on average (loosened from 4 for that step), and no warm start may fail.
 #[test]
 fn s_start_fallbacks_start_the_conic_path_near_the_solution() {
     let o = s_start_until(2.5);
@@ -110,7 +116,7 @@ fn s_start_fallbacks_start_the_conic_path_near_the_solution() {
         o.stats.step_halvings
     );
     assert!(fb >= 5, "the scene must exercise the fallback: {fb}");
-    assert!(conic <= 4 * fb, "{conic} conic solves for {fb} fallbacks");
+    assert!(conic <= 5 * fb, "{conic} conic solves for {fb} fallbacks");
     assert_eq!(o.stats.warm_conic_restarts, 0);
     assert_eq!(o.stats.step_halvings, 0);
 }
@@ -152,16 +158,21 @@ fn whole_run(p: &problem::Problem) -> (sim::Outcome, f64, f64) {
 /// Newton step after an early lift-off or slide instead of discarding it: 3.96 iterations per
 /// step, 22 conic solves and 8 fallbacks (less wall time: 8 more conic solves against about
 /// 470 fewer iterations); with `tolerance` 5e-6 instead of 1e-5 (so that a 100x tighter
-/// solve moves every bundled scene's v_s/v_m by less than 1e-4), 4.04, 22 and 7. A slowdown
-/// of more than 5 % in iterations, or a storm of fallbacks, fails here.
+/// solve moves every bundled scene's v_s/v_m by less than 1e-4), 4.04, 22 and 7. With the
+/// coupled direction solved by GMRES instead of fixed-point sweeps (which failed to contract on
+/// 8.7 % of the iterates, leaving them linear), vanished slips stuck before the assembly
+/// instead of after it, every iterate fingerprinted and stalls sent to the conic program:
+/// 3.80, 27 and 6 (three runs with friction perturbed by 1e-6: 3.79 to 3.80). More than 4
+/// iterations per step (the target), or a storm of fallbacks, fails here; the conic bound
+/// allows for the stalled step's 17 solves (see the warm-start test).
 #[test]
 fn s_start_newton_and_contact_statistics_are_pinned() {
     let p = problem::load(Path::new("problems/s_start.toml")).unwrap();
     let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
     assert_eq!(st.steps, 1786);
-    assert!(per_step <= 4.25, "{per_step} Newton iterations per step");
-    assert!(st.conic_solves <= 26, "{} conic solves", st.conic_solves);
+    assert!(per_step <= 4.0, "{per_step} Newton iterations per step");
+    assert!(st.conic_solves <= 30, "{} conic solves", st.conic_solves);
     assert!(
         st.active_set_fallbacks as f64 <= 0.006 * st.steps as f64,
         "{} fallbacks",
@@ -177,7 +188,9 @@ fn s_start_newton_and_contact_statistics_are_pinned() {
 /// sticking and sliding) and it took 11 times the 50-element wall time; with 1e-8 a, 3
 /// fallbacks and 4.77 Newton iterations per step; with the early step taken, cycles sent to
 /// the conic program when detected and the fallen-back iterations counted, 6 and 4.33; with
-/// `tolerance` 5e-6, 6 and 4.43.
+/// `tolerance` 5e-6, 6 and 4.43; with the coupled direction by GMRES, vanished slips stuck
+/// before the assembly and stalls detected, 6 and 3.95 (three runs with friction perturbed by
+/// 1e-6: 3.95 to 3.96; the bound leaves 4 % for rounding differences between machines).
 #[test]
 fn s_start_at_100_elements_has_no_fallback_storm() {
     let mut p = problem::load(Path::new("problems/s_start.toml")).unwrap();
@@ -185,7 +198,7 @@ fn s_start_at_100_elements_has_no_fallback_storm() {
     p.time.dt = Some(1e-3);
     let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
-    assert!(per_step <= 4.65, "{per_step} Newton iterations per step");
+    assert!(per_step <= 4.1, "{per_step} Newton iterations per step");
     // Most of its fallbacks are stick-slide cycles caught by the exact-repeat test (5 of 6),
     // not 40-iteration failures.
     assert!(

@@ -22,14 +22,16 @@
 //! Within a step, statuses change as the iteration goes: at a converged point whose exact
 //! conditions fail, and earlier when a contact pulls, or leaves the cone, both now and after
 //! the step. After an early lift-off or slide the Newton step is still taken (it held fixed
-//! only the coordinates the change releases). An exact repeat of iterate, statuses and early
-//! changes is a cycle and goes to the conic program at once; so do an iteration or status
-//! change cap. The iterations of a failed attempt count in the step's total.
+//! only the coordinates the change releases). A sliding contact whose slip vanished sticks
+//! before the iterate is assembled. An exact repeat of iterate, statuses and early changes is a cycle
+//! and goes to the conic program at once; so does a stall (the correction not falling
+//! tenfold in [`STALL_WINDOW`] iterations with unchanged statuses), and an iteration or
+//! status change cap. The iterations of a failed attempt count in the step's total.
 
-use super::reactions::{Reactions, MAX_SWEEPS};
+use super::reactions::{Reactions, UNCOUPLED};
 use super::{Conic, ContactModel, Contacts, Ground};
 use crate::model::Model;
-use crate::newton::{Failure, Newton, Objective, Path, Potential};
+use crate::newton::{Failure, Newton, Objective, Path, Potential, STALL_WINDOW};
 use crate::rod::{dof, vec3::f};
 use std::time::Instant;
 
@@ -270,8 +272,10 @@ pub struct ActiveSet {
     /// Iterations of the last [`ActiveSet::iterate`] (counted in the step's total also when
     /// it fails and the conic path finishes the step).
     spent: usize,
-    /// Fingerprints of the iterates after status changes within the step (reused storage).
+    /// Fingerprints of the iterates within the step (reused storage).
     seen: Vec<(u64, usize)>,
+    /// Corrections `max(dx / a, dtheta)` since the last status change (reused storage).
+    progress: Vec<f64>,
 }
 
 impl ActiveSet {
@@ -287,6 +291,7 @@ impl ActiveSet {
             early: Vec::new(),
             spent: 0,
             seen: Vec::new(),
+            progress: Vec::new(),
         }
     }
 
@@ -329,17 +334,43 @@ impl ActiveSet {
         let mut project = false;
         tangential.resize(nc, [0.0; 2]);
         let mut it = 0;
-        // Fingerprints of the iterates (coordinates, statuses, early changes) after status
-        // changes: an exact repeat is a cycle the iteration cannot leave (stick -> slide ->
-        // stick of one contact whose force sits on the cone's edge), for the conic program at
-        // once.
+        // Fingerprints of the iterates (coordinates, statuses, early changes): an exact
+        // repeat is a cycle the iteration cannot leave, for the conic program at once. Two
+        // kinds were seen on the S-start: stick -> slide -> stick of one contact whose force
+        // sits on the cone's edge, and, with statuses fixed, a 3-cycle of full steps while the
+        // normal forces the merit freezes changed sign from one iterate to the next.
         let seen = &mut self.seen;
         seen.clear();
-        let mut after_switch = false;
+        let progress = &mut self.progress;
+        progress.clear();
+        let mut progress_switches = 0;
+        // Set when an iterate is redone with the projected Hessian (same point, no cycle).
+        let mut redo = false;
+        log::debug!("  active step");
         while it < cap {
             it += 1;
             self.spent = it;
-            if after_switch {
+            // A sliding contact whose slip vanished sticks (before the assembly it changes).
+            let mut switched = 0;
+            for c in 0..nc {
+                if ct.mode[c] == Mode::Slide {
+                    let s = ct.slip(c, q);
+                    let len = s[0].hypot(s[1]);
+                    if len <= set.contact_tolerance * a {
+                        log::debug!("  switch zero-slip {c}");
+                        ct.set_mode(m, c, Mode::Stick, q, held);
+                        switched += 1;
+                    }
+                }
+            }
+            if switched > 0 {
+                switches += switched;
+                nw.stats.residuals.push(f64::NAN);
+                if switches > switch_cap {
+                    return Err(Failure::ContactSwitches { iteration: it });
+                }
+            }
+            if !redo {
                 let key = fingerprint(q, &ct.mode, early);
                 if let Some(&(_, first)) = seen.iter().find(|(k, _)| *k == key) {
                     return Err(Failure::ContactCycle {
@@ -348,8 +379,8 @@ impl ActiveSet {
                     });
                 }
                 seen.push((key, it));
-                after_switch = false;
             }
+            redo = false;
             let t0 = Instant::now();
             let mut f0 = obj.assemble(q, &mut nw.asm, project);
             if project {
@@ -386,8 +417,7 @@ impl ActiveSet {
                     }
                 }
             }
-            // Sliding dissipation; a contact whose slip vanished sticks.
-            let mut switched = 0;
+            // Sliding dissipation.
             reactions.begin(nc);
             for c in 0..nc {
                 if ct.mode[c] != Mode::Slide {
@@ -395,9 +425,7 @@ impl ActiveSet {
                 }
                 let (g2, h3, slip) = ct.slide_derivatives(ground, c, q);
                 let k = dof::node(ct.nodes[c]);
-                if slip <= set.contact_tolerance * a {
-                    ct.set_mode(m, c, Mode::Stick, q, held);
-                    switched += 1;
+                if slip == 0.0 {
                     continue;
                 }
                 nw.asm.grad[k] += g2[0];
@@ -406,16 +434,6 @@ impl ActiveSet {
                 nw.asm.add_h(k, k + 1, h3[1]);
                 nw.asm.add_h(k + 1, k + 1, h3[2]);
                 reactions.set_slide(c, g2, ct.normal[c]);
-            }
-            if switched > 0 {
-                switches += switched;
-                nw.stats.residuals.push(f64::NAN);
-                after_switch = true;
-                nw.stats.assembly_s += t0.elapsed().as_secs_f64();
-                if switches > switch_cap {
-                    return Err(Failure::ContactSwitches { iteration: it });
-                }
-                continue;
             }
             f0 += ct.dissipation(ground, q);
             reactions.capture(ct, &nw.asm);
@@ -436,6 +454,7 @@ impl ActiveSet {
             } else if nw.lin.factor(&nw.asm).is_err() {
                 // Indefinite: redo this iterate with the projected Hessian.
                 project = true;
+                redo = true;
                 it -= 1;
                 nw.stats.factor_s += t1.elapsed().as_secs_f64();
                 continue;
@@ -446,12 +465,12 @@ impl ActiveSet {
             // The sliding contacts' normal forces inside the Newton system, then the
             // predicted change of every reaction over the step.
             let force_step = set.normal_force_tolerance * scale;
-            let sweeps = if set.contact_coupling && reactions.coupled() {
-                // Sweep until the coupling's remaining error is below the square of this
+            let mut krylov = if set.contact_coupling && reactions.coupled() {
+                // GMRES until the coupling's residual is below the square of this
                 // iterate's residual (so the iteration keeps its quadratic rate).
-                let sweep_tol =
+                let krylov_tol =
                     scale * (1e-2 * set.normal_force_tolerance).min(residual * residual);
-                reactions.couple(ct, nw, held, sweep_tol)
+                reactions.couple(ct, nw, held, krylov_tol)
             } else {
                 0
             };
@@ -465,9 +484,24 @@ impl ActiveSet {
                 });
             }
             let (dx, dth) = nw.correction_norms();
+            if switches != progress_switches {
+                progress.clear();
+                progress_switches = switches;
+            }
+            progress.push((dx / a).max(dth));
+            if let Some(&before) = progress.iter().rev().nth(STALL_WINDOW) {
+                let now = *progress.last().unwrap();
+                if now > 0.1 * before {
+                    return Err(Failure::Stalled {
+                        iteration: it,
+                        now,
+                        before,
+                    });
+                }
+            }
             let small = dx <= m.tolerance * a && dth <= m.tolerance;
             let settled = dn_step <= force_step;
-            log::debug!("  active it {it}: dx {dx:.3e} dth {dth:.3e} dN(step) {dn_step:.3e} sweeps {sweeps} N_min {n_min:.3e} stick ratio {worst_ratio:.6} switches {switches}");
+            log::debug!("  active it {it}: dx {dx:.3e} dth {dth:.3e} dN(step) {dn_step:.3e} krylov {krylov} N_min {n_min:.3e} stick ratio {worst_ratio:.6} switches {switches}");
             if small && settled {
                 // Exact Coulomb conditions at the converged point; a contact that violates
                 // them changes status (pulling: lifts off; friction outside the cone: slides
@@ -475,9 +509,11 @@ impl ActiveSet {
                 let mut switched = 0;
                 for c in 0..nc {
                     if ct.mode[c] != Mode::Free && ct.react[c] < -force_tol * scale {
+                        log::debug!("  switch conv-lift {c}");
                         ct.set_mode(m, c, Mode::Free, q, held);
                         switched += 1;
                     } else if ct.mode[c] == Mode::Stick && ct.ratio[c] > 1.0 + force_tol {
+                        log::debug!("  switch conv-slide {c}");
                         ct.set_mode(m, c, Mode::Slide, q, held);
                         switched += 1;
                     }
@@ -491,7 +527,6 @@ impl ActiveSet {
                 }
                 switches += switched;
                 nw.stats.residuals.push(f64::NAN);
-                after_switch = true;
                 if switches > switch_cap {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
@@ -509,6 +544,7 @@ impl ActiveSet {
                     continue;
                 }
                 if ct.mode[c] != Mode::Free && ct.react[c] < pull && ct.react[c] + ch[2] < pull {
+                    log::debug!("  switch early-lift {c}");
                     ct.set_mode(m, c, Mode::Free, q, held);
                     early[c] = true;
                     switched += 1;
@@ -518,6 +554,7 @@ impl ActiveSet {
                     let n_after = (ct.react[c] + ch[2]).max(0.0);
                     let (r, _, _) = ct.stick_ratio(ground, c, after, n_after);
                     if r > 1.0 + force_tol {
+                        log::debug!("  switch early-slide {c}");
                         ct.set_mode(m, c, Mode::Slide, q, held);
                         early[c] = true;
                         switched += 1;
@@ -538,6 +575,7 @@ impl ActiveSet {
                         }
                         let s1 = ct.slip(c, &nw.trial);
                         if s0[0] * s1[0] + s0[1] * s1[1] <= 0.0 {
+                            log::debug!("  switch reversal {c}");
                             ct.set_mode(m, c, Mode::Stick, q, held);
                             switched += 1;
                         }
@@ -550,6 +588,7 @@ impl ActiveSet {
                             } else {
                                 Mode::Stick
                             };
+                            log::debug!("  switch landing {c}");
                             ct.set_mode(m, c, mode, q, held);
                             switched += 1;
                         }
@@ -560,7 +599,6 @@ impl ActiveSet {
             if switched > 0 {
                 switches += switched;
                 nw.stats.residuals.push(f64::NAN);
-                after_switch = true;
                 if switches > switch_cap {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
@@ -571,7 +609,14 @@ impl ActiveSet {
                 // The merit with the new statuses at the (slightly moved) start point.
                 f0 = obj.value(q) + ct.dissipation(ground, q);
             }
-            let slope: f64 = nw.asm.grad.iter().zip(&nw.dq).map(|(g, d)| g * d).sum();
+            let mut slope: f64 = nw.asm.grad.iter().zip(&nw.dq).map(|(g, d)| g * d).sum();
+            if slope >= 0.0 && krylov > 0 && krylov != UNCOUPLED {
+                // The coupled direction need not descend on the merit (whose normal forces are
+                // frozen at this iterate); the symmetric direction does.
+                reactions.restore_symmetric(&mut nw.dq);
+                krylov = UNCOUPLED;
+                slope = nw.asm.grad.iter().zip(&nw.dq).map(|(g, d)| g * d).sum();
+            }
             let alpha = {
                 let ct: &Contacts = ct;
                 // Near the solution (correction within 100 tolerances) a converged coupled
@@ -582,7 +627,7 @@ impl ActiveSet {
                 // steps are taken in full; convergence is still judged by the correction and
                 // the predicted force change.
                 let near = dx <= 100.0 * m.tolerance * a && dth <= 100.0 * m.tolerance;
-                let full = small || (sweeps > 0 && sweeps < MAX_SWEEPS && near);
+                let full = small || (krylov > 0 && krylov < UNCOUPLED && near);
                 nw.backtrack(m, q, f0, slope, full, &|x| {
                     obj.value(x) + ct.dissipation(ground, x)
                 })
@@ -595,9 +640,9 @@ impl ActiveSet {
                     slope,
                 });
             };
-            if alpha < 1.0 || project || sweeps == MAX_SWEEPS {
+            if alpha < 1.0 || project || krylov == UNCOUPLED {
                 // Not a full Newton step of the exact linearisation (damped, projected Hessian
-                // or coupling sweeps not converged): marked for the convergence tests.
+                // or the coupled direction not found): marked for the convergence tests.
                 nw.stats.residuals.push(-1.0);
             }
             std::mem::swap(q, &mut nw.trial);
@@ -640,6 +685,7 @@ impl ContactModel for ActiveSet {
                 Ok(it) => {
                     nw.stats.active_set_steps += 1;
                     self.last_conic = false;
+                    log::debug!("  step total {it}");
                     return Ok(it);
                 }
                 Err(why) => {
@@ -659,6 +705,7 @@ impl ContactModel for ActiveSet {
                         match self.conic.iterate(nw, obj, q, cap) {
                             Ok(it) => {
                                 self.last_conic = true;
+                                log::debug!("  step total {} (warm conic)", spent + it);
                                 return Ok(spent + it);
                             }
                             Err(why) => {
@@ -671,6 +718,7 @@ impl ContactModel for ActiveSet {
                     self.conic.restore_normals();
                     let it = self.conic.iterate(nw, obj, q, m.max_iterations)?;
                     self.last_conic = true;
+                    log::debug!("  step total {} (conic)", spent + it);
                     return Ok(spent + it);
                 }
             }

@@ -103,6 +103,12 @@ impl Path {
     }
 }
 
+/// Iterations with unchanged contact statuses over which the active-set correction must fall
+/// tenfold ([`Failure::Stalled`]). On the S-start, the iterations that ran into the 40-iteration
+/// cap did so either crawling (contraction 0.93 per iteration) or nearly cycling (period 3,
+/// not bitwise exact); converging stretches contract by 0.3 or better.
+pub const STALL_WINDOW: usize = 8;
+
 /// Why a step's solve failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Failure {
@@ -151,6 +157,17 @@ pub enum Failure {
     ContactSwitches {
         /// 1-based iteration.
         iteration: usize,
+    },
+    /// The active-set iteration stopped converging: with the statuses unchanged for
+    /// [`STALL_WINDOW`] iterations, the correction did not fall tenfold.
+    #[error("active-set Newton stalls (iteration {iteration}: correction {now:.3e}, {STALL_WINDOW} iterations earlier {before:.3e})")]
+    Stalled {
+        /// 1-based iteration.
+        iteration: usize,
+        /// The correction now and `STALL_WINDOW` iterations earlier (scaled).
+        now: f64,
+        /// See `now`.
+        before: f64,
     },
     /// The active set returned to an earlier iterate with the same statuses: it would cycle.
     #[error("contact statuses cycle (active-set iteration {iteration} repeats iteration {first})")]
