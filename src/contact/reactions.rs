@@ -184,12 +184,13 @@ impl Reactions {
             return 0;
         }
         let max_it = MAX_KRYLOV.min(ns);
+        // Storage for `count` vectors of `len` entries (each entry is written before it is
+        // read; the images are cleared as they are used).
         let grow = |v: &mut Vec<Vec<f64>>, len: usize, count: usize| {
             while v.len() < count {
                 v.push(Vec::new());
             }
             for x in v.iter_mut().take(count) {
-                x.clear();
                 x.resize(len, 0.0);
             }
         };
@@ -208,6 +209,7 @@ impl Reactions {
         for j in 0..max_it {
             // w = (I + V^T A^-1 U) v_j, keeping A^-1 U v_j.
             let z = &mut self.images[j];
+            z.fill(0.0);
             for (i, &c) in self.active.iter().enumerate() {
                 let k = dof::node(ct.nodes[c]);
                 let u = self.unit[c];
