@@ -444,6 +444,7 @@ impl<'m> Integrator<'m> {
                         return Ok(out);
                     }
                     self.rollback(s);
+                    self.newton.stats.rejected_iterations += it;
                     out.rejected_error += 1;
                     h = control.retry_after_reject(h, err, p);
                     format!("local error estimate {err:.3e} x the tolerance")

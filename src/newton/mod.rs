@@ -37,6 +37,9 @@ pub struct Stats {
     pub steps: usize,
     /// Newton iterations over all accepted steps.
     pub newton_iterations: usize,
+    /// Newton iterations of solved steps that the adaptive error control rejected (work not
+    /// in `newton_iterations`).
+    pub rejected_iterations: usize,
     /// Step halvings (each failed attempt that was retried with h/2).
     pub step_halvings: usize,
     /// Line-search backtracks.
