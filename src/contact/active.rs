@@ -691,8 +691,10 @@ impl ContactModel for ActiveSet {
                 Err(why) => {
                     log::debug!("  active set rejected: {why}");
                     nw.stats.active_set_fallbacks += 1;
-                    if matches!(why, Failure::ContactCycle { .. }) {
-                        nw.stats.contact_cycles += 1;
+                    match why {
+                        Failure::ContactCycle { .. } => nw.stats.contact_cycles += 1,
+                        Failure::Stalled { .. } => nw.stats.active_set_stalls += 1,
+                        _ => {}
                     }
                     let spent = self.spent;
                     if q.iter().all(|x| x.is_finite()) {
