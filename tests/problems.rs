@@ -161,7 +161,7 @@ fn whole_run(p: &problem::Problem) -> (sim::Outcome, f64, f64) {
 /// solve moves every bundled scene's v_s/v_m by less than 1e-4), 4.04, 22 and 7. With the
 /// coupled direction solved by GMRES instead of fixed-point sweeps (which failed to contract on
 /// 8.7 % of the iterates, leaving them linear), vanished slips stuck before the assembly
-/// instead of after it, every iterate fingerprinted and stalls sent to the conic program:
+/// instead of after it, and stalls sent to the conic program:
 /// 3.81, 28 and 6 (three runs with friction perturbed by 1e-6: 3.80 to 3.81). More than 4
 /// iterations per step (the target), or a storm of fallbacks, fails here; the conic bound
 /// allows for the stalled step's 18 solves (see the warm-start test).

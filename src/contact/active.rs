@@ -23,10 +23,10 @@
 //! conditions fail, and earlier when a contact pulls, or leaves the cone, both now and after
 //! the step. After an early lift-off or slide the Newton step is still taken (it held fixed
 //! only the coordinates the change releases). A sliding contact whose slip vanished sticks
-//! before the iterate is assembled. An exact repeat of iterate, statuses and early changes is a cycle
-//! and goes to the conic program at once; so does a stall (the correction not falling
-//! tenfold in [`STALL_WINDOW`] iterations with unchanged statuses), and an iteration or
-//! status change cap. The iterations of a failed attempt count in the step's total.
+//! before the iterate is assembled. An exact repeat of iterate, statuses and early changes
+//! is a cycle and goes to the conic program at once; so does a stall (the correction not
+//! falling tenfold in [`STALL_WINDOW`] iterations with unchanged statuses), and an iteration
+//! or status change cap. The iterations of a failed attempt count in the step's total.
 
 use super::reactions::{Reactions, UNCOUPLED};
 use super::{Conic, ContactModel, Contacts, Ground};
@@ -334,18 +334,18 @@ impl ActiveSet {
         let mut project = false;
         tangential.resize(nc, [0.0; 2]);
         let mut it = 0;
-        // Fingerprints of the iterates (coordinates, statuses, early changes): an exact
-        // repeat is a cycle the iteration cannot leave, for the conic program at once. Two
-        // kinds were seen on the S-start: stick -> slide -> stick of one contact whose force
-        // sits on the cone's edge, and, with statuses fixed, a 3-cycle of full steps while the
-        // normal forces the merit freezes changed sign from one iterate to the next.
+        // Fingerprints of the iterates (coordinates, statuses, early changes) after status
+        // changes: an exact repeat is a cycle the iteration cannot leave (stick -> slide ->
+        // stick of one contact whose force sits on the cone's edge), for the conic program at
+        // once. Near cycles without status changes (full coupled steps while the normal forces
+        // change sign from one iterate to the next; not bitwise repeats, so fingerprinting
+        // every iterate caught none) are left to the stall test below.
         let seen = &mut self.seen;
         seen.clear();
+        let mut fingerprinted = usize::MAX;
         let progress = &mut self.progress;
         progress.clear();
         let mut progress_switches = 0;
-        // Set when an iterate is redone with the projected Hessian (same point, no cycle).
-        let mut redo = false;
         log::debug!("  active step");
         while it < cap {
             it += 1;
@@ -370,7 +370,8 @@ impl ActiveSet {
                     return Err(Failure::ContactSwitches { iteration: it });
                 }
             }
-            if !redo {
+            if switches != fingerprinted {
+                fingerprinted = switches;
                 let key = fingerprint(q, &ct.mode, early);
                 if let Some(&(_, first)) = seen.iter().find(|(k, _)| *k == key) {
                     return Err(Failure::ContactCycle {
@@ -380,7 +381,6 @@ impl ActiveSet {
                 }
                 seen.push((key, it));
             }
-            redo = false;
             let t0 = Instant::now();
             let mut f0 = obj.assemble(q, &mut nw.asm, project);
             if project {
@@ -454,7 +454,6 @@ impl ActiveSet {
             } else if nw.lin.factor(&nw.asm).is_err() {
                 // Indefinite: redo this iterate with the projected Hessian.
                 project = true;
-                redo = true;
                 it -= 1;
                 nw.stats.factor_s += t1.elapsed().as_secs_f64();
                 continue;
