@@ -221,19 +221,20 @@ impl Contacts {
     }
 
     /// Gradient (x, y) and Hessian (xx, xy, yy) of the sliding contact `c`'s dissipation at
-    /// `q` with its current normal force, and the slip magnitude (zero: not differentiable).
+    /// `q` with its current normal force (zero at zero slip, where it is not differentiable;
+    /// the active set sticks such a contact before it gets here).
     pub(crate) fn slide_derivatives(
         &self,
         g: &Ground,
         c: usize,
         q: &[f64],
-    ) -> ([f64; 2], [f64; 3], f64) {
+    ) -> ([f64; 2], [f64; 3]) {
         let [vf, vs] = self.slip(c, q);
         let mu = if vf > 0.0 { g.mu_f } else { g.mu_b };
         let (pa, pb) = (mu * vf, g.mu_s * vs);
         let r = pa.hypot(pb);
         if r == 0.0 {
-            return ([0.0; 2], [0.0; 3], 0.0);
+            return ([0.0; 2], [0.0; 3]);
         }
         let n = self.normal[c];
         // In (v_f, v_s): gradient N J u, Hessian N/r J (I - u u^T) J, J = diag(mu, mu_s).
@@ -249,7 +250,7 @@ impl Contacts {
         let hx = |i: usize, j: usize| {
             hff * fw[i] * fw[j] + hfs * (fw[i] * sd[j] + sd[i] * fw[j]) + hss * sd[i] * sd[j]
         };
-        (grad, [hx(0, 0), hx(0, 1), hx(1, 1)], f::norm([vf, vs, 0.0]))
+        (grad, [hx(0, 0), hx(0, 1), hx(1, 1)])
     }
 }
 
@@ -423,11 +424,8 @@ impl ActiveSet {
                 if ct.mode[c] != Mode::Slide {
                     continue;
                 }
-                let (g2, h3, slip) = ct.slide_derivatives(ground, c, q);
+                let (g2, h3) = ct.slide_derivatives(ground, c, q);
                 let k = dof::node(ct.nodes[c]);
-                if slip == 0.0 {
-                    continue;
-                }
                 nw.asm.grad[k] += g2[0];
                 nw.asm.grad[k + 1] += g2[1];
                 nw.asm.add_h(k, k, h3[0]);

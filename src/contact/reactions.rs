@@ -59,6 +59,9 @@ pub struct Reactions {
     hess: Vec<Vec<f64>>,
     rot: Vec<(f64, f64)>,
     resid: Vec<f64>,
+    /// The next Krylov vector before normalisation, and the least-squares solution.
+    work: Vec<f64>,
+    y: Vec<f64>,
 }
 
 fn row_of(asm: &Assembly, k: usize) -> Row {
@@ -170,19 +173,6 @@ impl Reactions {
         if ns == 0 {
             return 0;
         }
-        // Right-hand side: the normal-force changes of the symmetric direction.
-        let r0: Vec<f64> = self
-            .active
-            .iter()
-            .map(|&c| {
-                let k = dof::node(ct.nodes[c]);
-                row_dot(&self.rows[c][2], k + 2, &nw.dq)
-            })
-            .collect();
-        let beta = r0.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if beta <= tol {
-            return 0;
-        }
         let max_it = MAX_KRYLOV.min(ns);
         // Storage for `count` vectors of `len` entries (each entry is written before it is
         // read; the images are cleared as they are used).
@@ -197,13 +187,19 @@ impl Reactions {
         grow(&mut self.basis, ns, max_it + 1);
         grow(&mut self.images, n, max_it);
         grow(&mut self.hess, max_it + 1, max_it);
+        // Right-hand side: the normal-force changes of the symmetric direction.
+        for (b, &c) in self.basis[0].iter_mut().zip(&self.active) {
+            *b = row_dot(&self.rows[c][2], dof::node(ct.nodes[c]) + 2, &nw.dq);
+        }
+        let beta = self.basis[0].iter().map(|x| x * x).sum::<f64>().sqrt();
+        if beta <= tol {
+            return 0;
+        }
+        self.basis[0].iter_mut().for_each(|b| *b /= beta);
         self.rot.clear();
         self.resid.clear();
         self.resid.resize(max_it + 1, 0.0);
         self.resid[0] = beta;
-        for (b, r) in self.basis[0].iter_mut().zip(&r0) {
-            *b = r / beta;
-        }
         let mut done = 0;
         let mut converged = false;
         for j in 0..max_it {
@@ -220,15 +216,11 @@ impl Reactions {
                 }
             }
             nw.lin.solve(z);
-            let mut w: Vec<f64> = self
-                .active
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| {
-                    let k = dof::node(ct.nodes[c]);
-                    self.basis[j][i] + row_dot(&self.rows[c][2], k + 2, z)
-                })
-                .collect();
+            let w = &mut self.work;
+            w.clear();
+            w.extend(self.active.iter().enumerate().map(|(i, &c)| {
+                self.basis[j][i] + row_dot(&self.rows[c][2], dof::node(ct.nodes[c]) + 2, z)
+            }));
             // Modified Gram-Schmidt.
             for i in 0..=j {
                 let hij: f64 = w.iter().zip(&self.basis[i]).map(|(a, b)| a * b).sum();
@@ -240,7 +232,7 @@ impl Reactions {
             let norm = w.iter().map(|x| x * x).sum::<f64>().sqrt();
             self.hess[j][j + 1] = norm;
             if norm > 0.0 {
-                for (b, a) in self.basis[j + 1].iter_mut().zip(&w) {
+                for (b, a) in self.basis[j + 1].iter_mut().zip(w.iter()) {
                     *b = a / norm;
                 }
             }
@@ -268,7 +260,9 @@ impl Reactions {
             return UNCOUPLED;
         }
         // Back substitution for y, then dq = dq0 - sum_j y_j A^-1 U v_j.
-        let mut y = vec![0.0; done];
+        let y = &mut self.y;
+        y.clear();
+        y.resize(done, 0.0);
         for i in (0..done).rev() {
             let mut t = self.resid[i];
             for (jj, yj) in y.iter().enumerate().skip(i + 1) {

@@ -268,6 +268,20 @@ pub(super) fn first_generation(
 
 pub(super) type PsoState = PopulationState<Particle<Vec<f64>, f64>, f64>;
 
+/// argmin's particles from the first generation's positions, velocities and costs.
+pub(super) fn population(
+    positions: Vec<Vec<f64>>,
+    velocities: Vec<Vec<f64>>,
+    costs: Vec<f64>,
+) -> Vec<Particle<Vec<f64>, f64>> {
+    positions
+        .into_iter()
+        .zip(velocities)
+        .zip(costs)
+        .map(|((p, v), c)| Particle::new(p, c, v))
+        .collect()
+}
+
 /// A solver that also stops when the evaluation limit is reached (or a fatal error occurred).
 pub(super) struct Budgeted<S> {
     inner: S,
@@ -492,12 +506,7 @@ pub fn optimize(
             );
             let us: Vec<&[f64]> = positions.iter().map(Vec::as_slice).collect();
             let costs = evaluator.batch(&us);
-            let population: Vec<Particle<Vec<f64>, f64>> = positions
-                .into_iter()
-                .zip(velocities)
-                .zip(costs)
-                .map(|((p, v), c)| Particle::new(p, c, v))
-                .collect();
+            let population = population(positions, velocities, costs);
             if calls.get() < study.max_evaluations && !fatal.get() {
                 let pso = reflecting_swarm(n, study.particles, study.seed.wrapping_add(1));
                 let run = Executor::new(Reflected(evaluator.clone()), budgeted_pso(pso))
@@ -654,12 +663,7 @@ mod tests {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         let (positions, velocities) = first_generation(vec![0.5; 3], particles, &mut rng);
         let costs = bowl.bulk_cost(&positions).unwrap();
-        let population: Vec<Particle<Vec<f64>, f64>> = positions
-            .into_iter()
-            .zip(velocities)
-            .zip(costs)
-            .map(|((p, v), c)| Particle::new(p, c, v))
-            .collect();
+        let population = population(positions, velocities, costs);
         let configure = |s: PsoState| s.population(population).max_iters(generations);
         if reflecting {
             let pso = reflecting_swarm(3, particles, seed.wrapping_add(1));
