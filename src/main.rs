@@ -310,10 +310,10 @@ fn run(
     if let Some(r) = &report {
         if !quiet {
             eprintln!(
-                "accuracy {}: chose {} elements, tolerance {:.0e}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs in {:.1} s",
+                "accuracy {}: chose {} elements, {}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs in {:.1} s",
                 r.target,
                 r.elements,
-                r.error_tolerance,
+                model_label(r.dt, r.error_tolerance),
                 r.estimated_error,
                 r.time_error,
                 r.mesh_error,
@@ -470,7 +470,7 @@ fn study_accuracy(
         Ok(reused) => {
             if let (Some(c), false) = (chosen, quiet) {
                 eprintln!(
-                    "accuracy {}: {} {} elements, tolerance {:.0e} for every run{}",
+                    "accuracy {}: {} {} elements, {} for every run{}",
                     c.target,
                     if reused {
                         "reusing the recorded choice of"
@@ -478,7 +478,7 @@ fn study_accuracy(
                         "chose"
                     },
                     c.elements,
-                    c.error_tolerance,
+                    model_label(c.dt, c.error_tolerance),
                     match c.selection["estimated_error"].as_f64() {
                         Some(e) => format!(" (estimated error {e:.2e})"),
                         None => String::new(),
@@ -674,7 +674,7 @@ enum ChartCmd {
     WorkPrecision {
         /// Problem file: without [ground] (e.g. problems/cantilever_swing.toml) implicit Euler
         /// against velocity Verlet; with [ground] and a gait (e.g. problems/s_start.toml)
-        /// implicit Euler, BDF2 and adaptive BDF2 against a cached BDF2 reference.
+        /// implicit Euler, BDF2 and adaptive BDF2 against a cached fine implicit Euler reference.
         problem: PathBuf,
         /// Output directory (created if absent).
         #[arg(long, default_value = "out/work_precision")]
@@ -720,7 +720,8 @@ fn chart_cmd(which: ChartCmd) -> ExitCode {
     let mut log = |line: &str| eprintln!("{line}");
     let gait_scene = p.ground.is_some() && p.time.mode == problem::Mode::Dynamic;
     if gait_scene && matches!(which, ChartCmd::WorkPrecision { .. }) {
-        // A scene with ground: implicit Euler, BDF2 and adaptive BDF2 against a BDF2 reference.
+        // A scene with ground: implicit Euler, BDF2 and adaptive BDF2 against a fine implicit
+        // Euler reference.
         let model = Model::new(&p);
         let cache = out.join("reference.json");
         if let Err(e) = std::fs::create_dir_all(&out) {
@@ -973,4 +974,13 @@ fn refine_summary(r: &design::refine::Refinement, elapsed_s: f64) -> String {
         r.failed,
         elapsed_s
     )
+}
+
+/// The time resolution of an accuracy choice, for messages.
+fn model_label(dt: Option<f64>, tolerance: Option<f64>) -> String {
+    match (dt, tolerance) {
+        (Some(h), _) => format!("implicit Euler at dt {h:.3e} s"),
+        (None, Some(t)) => format!("adaptive BDF2 at tolerance {t:.0e}"),
+        (None, None) => "no time resolution".into(),
+    }
 }

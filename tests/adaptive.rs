@@ -383,7 +383,10 @@ fn accuracy_settings_are_checked_and_reported() {
         .unwrap()
         .iter()
         .any(|r| r["elements"].as_u64() == Some(chosen) && r["v_s_over_v_m"].as_f64() == Some(vs)));
-    assert_eq!(v["time_steps"]["adaptive"], true);
+    // The file's integrator is implicit Euler: the chosen model is fixed steps.
+    assert_eq!(a["integrator"], "implicit");
+    assert!(a["dt"].as_f64().is_some() && a.get("error_tolerance").is_none());
+    assert_eq!(v["time_steps"]["adaptive"], false);
 }
 
 #[test]
@@ -509,9 +512,10 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
         bdf2_dt: vec![8e-3, 2e-3],
         tolerances: vec![1e-3, 1e-5],
         adaptive_first_dt: 2e-3,
+        reference_integrator: problem::IntegratorKind::Implicit,
         reference_dt: 1e-3,
         reference_change: 1e-3,
-        reference_halvings: 2,
+        reference_halvings: 5,
         reference_jitter: 0.04,
     };
     let dir = std::env::temp_dir().join(format!("slither-gait-chart-{}", std::process::id()));
@@ -527,6 +531,11 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
     assert_eq!(g.points.len(), 6);
     let r = &g.reference;
     assert!(r.runs.len() >= 2 && r.scatter_runs.len() == 2);
+    assert!(r
+        .runs
+        .iter()
+        .chain(&r.scatter_runs)
+        .all(|x| x.method == "implicit" && x.tolerance.is_none()));
     assert!(r.v_ratio.is_finite() && r.v_ratio > 0.0);
     assert!(r.scatter.is_finite());
     for pt in &g.points {
@@ -540,16 +549,21 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
             pt.run.method
         );
     }
-    // The coarse fixed steps are further from the reference in the centreline than the fine.
-    for method in ["implicit", "bdf2"] {
-        let e: Vec<f64> = g
-            .points
+    // Against the converged implicit Euler reference: implicit Euler's coarse step is further
+    // from it in the centreline than its fine step (first order), and BDF2 (second order) is
+    // closer than implicit Euler at each step. (BDF2's own 8e-3 and 2e-3 s are not ordered on
+    // this scene: 4.3e-3 and 4.6e-3 L, stick-slip.)
+    let errors = |method: &str| -> Vec<f64> {
+        g.points
             .iter()
             .filter(|pt| pt.run.method == method)
             .map(|pt| pt.x_error)
-            .collect();
-        assert!(e[0] > e[1], "{method}: {e:?}");
-    }
+            .collect()
+    };
+    let (ie, bdf2) = (errors("implicit"), errors("bdf2"));
+    assert!(ie[0] > ie[1], "implicit: {ie:?}");
+    assert!(bdf2[0] < ie[0] && bdf2[1] < ie[1], "{bdf2:?} vs {ie:?}");
+    assert!(r.converged, "reference change {}", r.change);
     slither::chart::write_gait_precision(&dir, &g).unwrap();
     for f in [
         "gait_precision.csv",
@@ -585,52 +599,130 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The selection's estimates follow from its runs, for both time resolutions: implicit Euler
+/// (the S-start file's integrator: fixed steps, halved) and adaptive BDF2 (tolerances).
 #[test]
 fn accuracy_selection_reports_consistent_estimates() {
-    let p = small_s_start(20, 0.6);
-    let mut lines = Vec::new();
-    let sel = slither::chart::accuracy::select(&p, 0.05, 80, &mut |l| lines.push(l.to_string()));
-    let r = &sel.report;
-    println!("{}", lines.join("\n"));
-    println!("{}", serde_json::to_string_pretty(r).unwrap());
-    // At least the two tolerances and the two meshes were run.
-    assert!(r.runs.len() >= 3);
-    assert!(r.runs.iter().any(|x| x.elements == 40));
-    assert!((r.estimated_error - (r.time_error + r.mesh_error)).abs() < 1e-15);
-    assert_eq!(r.met, r.estimated_error <= r.target);
-    assert_eq!(sel.model.elements(), r.elements);
-    assert_eq!(sel.model.adaptive.unwrap().tolerance, r.error_tolerance);
-    // The chosen run is one of the runs and its value is the reported one.
-    let v = slither::chart::speed_ratio(&sel.model, &sel.outcome);
-    assert!(r.runs.iter().any(|x| x.elements == r.elements
-        && x.error_tolerance == r.error_tolerance
-        && x.v_s_over_v_m == v));
-    // The mesh estimate follows from the two mesh runs at the chosen tolerance.
-    let at = |n: usize| {
-        r.runs
+    use slither::chart::accuracy::Resolution;
+    for bdf2 in [false, true] {
+        let mut p = small_s_start(20, 0.6);
+        if bdf2 {
+            p.solver.integrator = problem::IntegratorKind::Bdf2;
+        }
+        let mut lines = Vec::new();
+        let sel =
+            slither::chart::accuracy::select(&p, 0.05, 80, &mut |l| lines.push(l.to_string()));
+        let r = &sel.report;
+        println!("{}", lines.join("\n"));
+        println!("{}", serde_json::to_string_pretty(r).unwrap());
+        // The file's integrator decides the time resolution; the chosen model is run with it.
+        let res = match (r.dt, r.error_tolerance) {
+            (Some(h), None) => Resolution::Step(h),
+            (None, Some(t)) => Resolution::Tolerance(t),
+            other => panic!("a step or a tolerance, not {other:?}"),
+        };
+        assert_eq!(
+            r.integrator,
+            if bdf2 { "bdf2-adaptive" } else { "implicit" }
+        );
+        match res {
+            Resolution::Step(h) => {
+                assert!(!bdf2);
+                assert!(sel.model.adaptive.is_none());
+                assert_eq!(sel.model.dt, h);
+                // Halvings of the file's step.
+                let k = (p.time.dt.unwrap() / h).log2();
+                assert!((k - k.round()).abs() < 1e-9 && k.round() <= 5.0, "{h}");
+                assert_eq!(
+                    sel.model.solver.integrator,
+                    problem::IntegratorKind::Implicit
+                );
+            }
+            Resolution::Tolerance(t) => {
+                assert!(bdf2);
+                assert_eq!(sel.model.adaptive.unwrap().tolerance, t);
+            }
+        }
+        // At least the two time resolutions and the two meshes were run.
+        assert!(r.runs.len() >= 3);
+        assert!(r.runs.iter().any(|x| x.elements == 40));
+        assert!((r.estimated_error - (r.time_error + r.mesh_error)).abs() < 1e-15);
+        assert_eq!(r.met, r.estimated_error <= r.target);
+        assert_eq!(sel.model.elements(), r.elements);
+        let same = |x: &slither::output::AccuracyRun| {
+            x.dt == r.dt && x.error_tolerance == r.error_tolerance
+        };
+        // The chosen run is one of the runs and its value is the reported one.
+        let v = slither::chart::speed_ratio(&sel.model, &sel.outcome);
+        assert!(r
+            .runs
             .iter()
-            .find(|x| x.elements == n && x.error_tolerance == r.error_tolerance)
-            .map(|x| x.v_s_over_v_m)
-    };
-    let (n, other) = if let Some(b) = at(2 * r.elements) {
-        (r.elements, b)
-    } else {
-        (r.elements / 2, at(r.elements / 2).unwrap())
-    };
-    let (vn, v2n) = if n == r.elements {
-        (at(n).unwrap(), other)
-    } else {
-        (other, at(r.elements).unwrap())
-    };
-    let d = (vn - v2n).abs() / v2n.abs();
-    let expected = if n == r.elements {
-        4.0 * d / 3.0
-    } else {
-        d / 3.0
-    };
-    assert!(
-        (r.mesh_error - expected).abs() <= 1e-12 * expected.max(1e-300),
-        "{} vs {expected}",
-        r.mesh_error
-    );
+            .any(|x| x.elements == r.elements && same(x) && x.v_s_over_v_m == v));
+        // The mesh estimate follows from the two mesh runs at the chosen resolution.
+        let at = |n: usize| {
+            r.runs
+                .iter()
+                .find(|x| x.elements == n && same(x))
+                .map(|x| x.v_s_over_v_m)
+        };
+        let (n, other) = if let Some(b) = at(2 * r.elements) {
+            (r.elements, b)
+        } else {
+            (r.elements / 2, at(r.elements / 2).unwrap())
+        };
+        let (vn, v2n) = if n == r.elements {
+            (at(n).unwrap(), other)
+        } else {
+            (other, at(r.elements).unwrap())
+        };
+        let d = (vn - v2n).abs() / v2n.abs();
+        let expected = if n == r.elements {
+            4.0 * d / 3.0
+        } else {
+            d / 3.0
+        };
+        assert!(
+            (r.mesh_error - expected).abs() <= 1e-12 * expected.max(1e-300),
+            "{} vs {expected}",
+            r.mesh_error
+        );
+        // The time estimate follows from the chosen resolution and its neighbour (the finer
+        // one when that was run, else the coarser) on the mesh it was measured on.
+        let at_res = |n: usize, res: Resolution| {
+            r.runs
+                .iter()
+                .find(|x| {
+                    let close = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                        (Some(a), Some(b)) => (a - b).abs() <= 1e-12 * b.abs(),
+                        (None, None) => true,
+                        _ => false,
+                    };
+                    x.elements == n
+                        && close(x.dt, res.dt())
+                        && close(x.error_tolerance, res.tolerance())
+                })
+                .map(|x| x.v_s_over_v_m)
+        };
+        let ratio = res.error_ratio();
+        let coarse = match res {
+            Resolution::Step(h) => Resolution::Step(2.0 * h),
+            Resolution::Tolerance(t) => Resolution::Tolerance(10.0 * t),
+        };
+        let estimate =
+            |n: usize| match (at_res(n, res), at_res(n, res.refined()), at_res(n, coarse)) {
+                (Some(v), Some(fine), _) => {
+                    Some((v - fine).abs() / fine.abs() * ratio / (ratio - 1.0))
+                }
+                (Some(v), None, Some(c)) => Some((c - v).abs() / v.abs() / (ratio - 1.0)),
+                _ => None,
+            };
+        let expected = estimate(r.time_error_elements).expect("the time pair was run");
+        // It was measured on the chosen mesh unless the rounds ran out.
+        assert_eq!(r.time_error_elements, r.elements, "{r:?}");
+        assert!(
+            (r.time_error - expected).abs() <= 1e-9 * expected.max(1e-300),
+            "{} vs {expected}",
+            r.time_error
+        );
+    }
 }

@@ -31,6 +31,13 @@ const PHASE: &str = "[phase]\nbase = \"base.toml\"\nweight = [300.0]\ntorque = [
 #[test]
 fn phase_cells_run_at_the_selected_model_and_resume_reuses_the_choice() {
     let dir = scratch("phase");
+    // This study's base asks for BDF2: the selection refines adaptive BDF2's tolerance (the
+    // optimize test below covers implicit Euler's steps).
+    std::fs::write(
+        dir.join("base.toml"),
+        format!("{BASE}\n[solver]\nintegrator = \"bdf2\"\n"),
+    )
+    .unwrap();
     let file = dir.join("phase.toml");
     std::fs::write(
         &file,
@@ -64,13 +71,18 @@ fn phase_cells_run_at_the_selected_model_and_resume_reuses_the_choice() {
     assert_eq!(chosen.base_file_hash, format!("{:016x}", ph.base_hash));
     assert_eq!(info["base_hash"], format!("{:016x}", chosen.row_hash()));
     // Each cell is the simulation of that cell at the chosen model (adaptive BDF2 at the chosen
-    // mesh and tolerance), and not the base file's model (implicit Euler, fixed dt 1e-2).
+    // mesh and tolerance), and not the base file's model (BDF2 at a fixed dt 1e-2).
     let csv = std::fs::read_to_string(out.join("phase.csv")).unwrap();
     let rows: Vec<&str> = csv.lines().skip(1).collect();
     assert_eq!(rows.len(), 2, "{csv}");
     let at_model = chosen.apply(&ph.base);
     assert_eq!(at_model.rod.elements, chosen.elements);
-    assert_eq!(at_model.time.error_tolerance, Some(chosen.error_tolerance));
+    assert!(
+        chosen.error_tolerance.is_some() && chosen.dt.is_none(),
+        "{chosen:?}"
+    );
+    assert_eq!(at_model.time.error_tolerance, chosen.error_tolerance);
+    assert!(at_model.time.adaptive);
     let mut differs = false;
     // (Rows are in the order the cells finished.)
     for row in &rows {
@@ -138,6 +150,13 @@ fn optimize_evaluations_run_at_the_selected_model() {
     assert!(reused && lines.is_empty(), "{lines:?}");
     assert_eq!(study.base.rod.elements, chosen.elements);
     assert_eq!(study.base_hash, row_hash);
+    // The base file is implicit Euler: the choice is a fixed step, a halving of the file's.
+    let h = chosen.dt.expect("implicit Euler chooses a step");
+    assert!(chosen.error_tolerance.is_none(), "{chosen:?}");
+    assert_eq!(study.base.time.dt, Some(h));
+    assert!(!study.base.time.adaptive);
+    let k = (1e-2 / h).log2();
+    assert!((k - k.round()).abs() < 1e-9, "{h}");
     // The first evaluation (the start) is the simulation at the chosen model.
     let history = std::fs::read_to_string(out.join(design::HISTORY_FILE)).unwrap();
     let first: Vec<&str> = history.lines().nth(1).unwrap().split(',').collect();

@@ -3,13 +3,19 @@
 //! over fixed steps and BDF2 with error-controlled steps over tolerances
 //! ([`crate::integrator::adaptive`]), at the scene's mesh.
 //!
-//! **Reference.** BDF2 at fixed steps from `reference_dt`, halved until `v_s/v_m` changes by
-//! less than `reference_change` (0.1 %) between two successive runs (at most
-//! `reference_halvings` halvings); the finest run is the reference. Because gait scenes with
-//! stick-slip can respond to the step size by small jumps rather than smoothly (the S-start's
-//! `v_s/v_m` moves by up to 2 % between fixed steps of 2.4e-4, 2.5e-4 and 2.6e-4 s), the
-//! reference's step is also run `reference_jitter` (4 %) shorter and longer, and the spread of
-//! those three values is reported as the reference's scatter: errors below it are not resolved.
+//! **Reference.** `reference_integrator` (implicit Euler by default) at fixed steps from
+//! `reference_dt`, halved until `v_s/v_m` changes by less than `reference_change` (0.1 %)
+//! between two successive runs (at most `reference_halvings` halvings); the finest run is the
+//! reference. Because gait scenes with stick-slip can respond to the step size by small jumps
+//! rather than smoothly, the reference's step is also run `reference_jitter` (4 %) shorter
+//! and longer, and the spread of those three values is reported as the reference's scatter:
+//! errors below it are not resolved. Implicit Euler is the default because BDF2 at fine steps
+//! is sensitive on the S-start (a standard deviation of 1.3 % of v_s/v_m over perturbations
+//! of the step or the 7th digit of a friction coefficient; README, "Time stepping"), while
+//! implicit Euler down to 3.125e-5 s moves by at most 0.25 % under such perturbations
+//! (0.30870 and 0.30829 at 6.25e-5 and 3.125e-5 s on the 50-element S-start). Below that it
+//! resolves the fast modes too and scatters like BDF2 (0.30273 at 1.5625e-5 s), so the
+//! halving stops there.
 //! The reference is cached in `DIR/reference.json` under a hash of the problem and the
 //! reference settings, so a second chart of the same scene reuses it.
 //!
@@ -31,12 +37,16 @@ pub struct GaitPrecisionOptions {
     pub tolerances: Vec<f64>,
     /// First step of adaptive runs (s). Default 2e-3.
     pub adaptive_first_dt: f64,
-    /// Coarsest reference step (s). Default 5e-4.
+    /// Integrator of the reference runs. Default implicit Euler.
+    pub reference_integrator: IntegratorKind,
+    /// Coarsest reference step (s). Default 2.5e-4.
     pub reference_dt: f64,
     /// Relative change of `v_s/v_m` between successive reference runs that ends the halving.
     /// Default 1e-3.
     pub reference_change: f64,
-    /// Most halvings of the reference step. Default 3.
+    /// Most halvings of the reference step. Default 3 (2.5e-4 to 3.125e-5 s: implicit Euler's
+    /// damping of the rod's fast modes fades below that, and with it its insensitivity, e.g.
+    /// 0.30273 at 1.5625e-5 s on the 50-element S-start against 0.30829 at 3.125e-5 s).
     pub reference_halvings: usize,
     /// Relative change of the reference step for the scatter runs. Default 0.04.
     pub reference_jitter: f64,
@@ -49,7 +59,8 @@ impl Default for GaitPrecisionOptions {
             bdf2_dt: vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4],
             tolerances: vec![1e-3, 3e-4, 1e-4, 3e-5, 1e-5],
             adaptive_first_dt: 2e-3,
-            reference_dt: 5e-4,
+            reference_integrator: IntegratorKind::Implicit,
+            reference_dt: 2.5e-4,
             reference_change: 1e-3,
             reference_halvings: 3,
             reference_jitter: 0.04,
@@ -211,8 +222,12 @@ pub fn gait_reference(
     log: &mut dyn FnMut(&str),
 ) -> Result<GaitReference, ChartError> {
     let key = fnv1a(&format!(
-        "{problem:?}|{}|{}|{}|{}",
-        opts.reference_dt, opts.reference_change, opts.reference_halvings, opts.reference_jitter
+        "{problem:?}|{}|{}|{}|{}|{:?}",
+        opts.reference_dt,
+        opts.reference_change,
+        opts.reference_halvings,
+        opts.reference_jitter,
+        opts.reference_integrator
     ));
     if let Some(path) = cache {
         if let Ok(text) = std::fs::read_to_string(path) {
@@ -224,15 +239,20 @@ pub fn gait_reference(
             }
         }
     }
+    let kind = opts.reference_integrator;
+    let name = match kind {
+        IntegratorKind::Bdf2 => "bdf2",
+        _ => "implicit",
+    };
     let mut runs: Vec<GaitRun> = Vec::new();
     let mut dt = opts.reference_dt;
     let mut change = f64::NAN;
     for k in 0..=opts.reference_halvings {
-        let r = gait_run(&variant(model, IntegratorKind::Bdf2, dt, None), "bdf2");
+        let r = gait_run(&variant(model, kind, dt, None), name);
         log_run(log, "reference", &r);
         if r.status != "ok" || !r.v_ratio.is_finite() {
             return Err(ChartError::Reference(format!(
-                "BDF2 at dt = {dt:e} s: {}",
+                "{name} at dt = {dt:e} s: {}",
                 r.status
             )));
         }
@@ -248,10 +268,7 @@ pub fn gait_reference(
     let best = runs.last().expect("one run").clone();
     let mut scatter_runs = Vec::new();
     for f in [1.0 - opts.reference_jitter, 1.0 + opts.reference_jitter] {
-        let r = gait_run(
-            &variant(model, IntegratorKind::Bdf2, best.dt * f, None),
-            "bdf2",
-        );
+        let r = gait_run(&variant(model, kind, best.dt * f, None), name);
         log_run(log, "reference scatter", &r);
         scatter_runs.push(r);
     }
@@ -357,11 +374,12 @@ impl GaitPrecision {
     pub fn summary(&self) -> String {
         let r = &self.reference;
         let mut s = format!(
-            "{} ({} elements, T = {} s)\nreference: BDF2 dt = {:.3e} s, v_s/v_m = {:.5} (last change {:.2e}, {}); scatter over dt x (1 -+ {}): {:.2e}\n\
+            "{} ({} elements, T = {} s)\nreference: {} dt = {:.3e} s, v_s/v_m = {:.5} (last change {:.2e}, {}); scatter over dt x (1 -+ {}): {:.2e}\n\
              method         dt (s)     tol     steps  rej  wall (s)  v_s/v_m  v error   x error/L\n",
             self.scene,
             self.elements,
             self.duration,
+            r.runs.last().map_or("?", |x| x.method.as_str()),
             r.runs.last().map_or(f64::NAN, |x| x.dt),
             r.v_ratio,
             r.change,

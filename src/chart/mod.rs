@@ -14,7 +14,8 @@
 //!   No ground means no `v_s`; the centreline error stands for accuracy.
 //! * **Gait work-precision** ([`gait_precision`]): scenes with ground and muscles, where the
 //!   explicit reference cannot run: implicit Euler and BDF2 over fixed steps and adaptive BDF2
-//!   over tolerances against a BDF2 reference refined until `v_s/v_m` settles (`src/chart/gait.rs`).
+//!   over tolerances against an implicit Euler reference refined until `v_s/v_m` settles
+//!   (`src/chart/gait.rs`).
 //! * **Stability map** ([`stability_map`]): over scaled weight `W = rho g a^2 L^3 / B` and
 //!   element count `N`, the largest step each method runs the scene with to its end by
 //!   geometric bisection (relative resolution `rtol`). Stable means: every step accepted with

@@ -1,5 +1,6 @@
 //! `[accuracy]` in study files (`slither optimize`, `slither phase`): the model (mesh and
-//! adaptive BDF2 error tolerance) is chosen once, on the study's base scene, by the selection
+//! time resolution: implicit Euler's step, or adaptive BDF2's error tolerance when the base
+//! file asks for `integrator = "bdf2"`) is chosen once, on the study's base scene, by the selection
 //! of `slither run --accuracy` ([`crate::chart::accuracy::select`]), and every evaluation or
 //! cell then runs at that model.
 //!
@@ -25,7 +26,7 @@
 //! `phase.csv`, `phase.json`, `optimum.json`) is then a hash of the base file's hash and the
 //! chosen model, so rows of a run at another model (or without `[accuracy]`) are never reused.
 
-use crate::chart::accuracy::{accuracy_problem, select};
+use crate::chart::accuracy::{accuracy_problem, select, Resolution};
 use crate::problem::{AccuracySpec, Problem};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -44,27 +45,48 @@ pub struct StudyAccuracy {
     pub max_elements: usize,
     /// Chosen mesh (elements).
     pub elements: usize,
-    /// Chosen error tolerance of adaptive BDF2 (fraction of L per step).
-    pub error_tolerance: f64,
+    /// Chosen fixed step of implicit Euler (s); absent for adaptive BDF2 (and in records
+    /// written before implicit Euler could be chosen).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// Chosen error tolerance of adaptive BDF2 (fraction of L per step); absent for implicit
+    /// Euler.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_tolerance: Option<f64>,
     /// The selection's report (estimates and every run, as `summary.json`'s `accuracy` of
     /// `slither run --accuracy`).
     pub selection: serde_json::Value,
 }
 
 impl StudyAccuracy {
-    /// `base` at the chosen model: adaptive BDF2 at the chosen tolerance and mesh.
-    pub fn apply(&self, base: &Problem) -> Problem {
-        accuracy_problem(base, self.elements, self.error_tolerance)
+    /// The chosen time resolution (a record with neither `dt` nor `error_tolerance` is not
+    /// one this version wrote: `None`).
+    pub fn resolution(&self) -> Option<Resolution> {
+        match (self.dt, self.error_tolerance) {
+            (Some(h), None) => Some(Resolution::Step(h)),
+            (None, Some(t)) => Some(Resolution::Tolerance(t)),
+            _ => None,
+        }
     }
 
-    /// Resume key of the study's rows at this model, from the base file's hash (`u64`).
+    /// `base` at the chosen model: the chosen mesh and time resolution.
+    pub fn apply(&self, base: &Problem) -> Problem {
+        let res = self
+            .resolution()
+            .expect("a chosen model has a step or a tolerance");
+        accuracy_problem(base, self.elements, res)
+    }
+
+    /// Resume key of the study's rows at this model, from the base file's hash (`u64`). The
+    /// adaptive BDF2 key is the one of records written before implicit Euler could be chosen.
     pub fn row_hash(&self) -> u64 {
+        let model = match self.resolution() {
+            Some(Resolution::Tolerance(t)) => format!("error_tolerance {t:e}"),
+            Some(Resolution::Step(h)) => format!("implicit dt {h:e}"),
+            None => "unknown".into(),
+        };
         super::fnv1a(
-            format!(
-                "{} elements {} error_tolerance {:e}",
-                self.base_file_hash, self.elements, self.error_tolerance
-            )
-            .as_bytes(),
+            format!("{} elements {} {model}", self.base_file_hash, self.elements).as_bytes(),
         )
     }
 }
@@ -84,6 +106,7 @@ pub fn choose(
     if let Ok(text) = std::fs::read_to_string(&file) {
         if let Ok(old) = serde_json::from_str::<StudyAccuracy>(&text) {
             if old.base_file_hash == base_file_hash
+                && old.resolution().is_some()
                 && old.target == spec.target
                 && old.max_elements == spec.max_elements
             {
@@ -98,6 +121,7 @@ pub fn choose(
         target: spec.target,
         max_elements: spec.max_elements,
         elements: r.elements,
+        dt: r.dt,
         error_tolerance: r.error_tolerance,
         selection: serde_json::to_value(r).map_err(std::io::Error::other)?,
     };

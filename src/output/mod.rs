@@ -87,12 +87,24 @@ pub struct Summary {
 pub struct AccuracyReport {
     /// Allowed relative error of `v_s/v_m`.
     pub target: f64,
+    /// How time was refined: `"implicit"` (fixed implicit Euler steps, halved) or
+    /// `"bdf2-adaptive"` (adaptive BDF2, tolerance divided by ten), from the file's
+    /// `[solver] integrator`.
+    pub integrator: String,
     /// Chosen mesh (elements).
     pub elements: usize,
-    /// Chosen error tolerance (adaptive BDF2, fraction of L per step).
-    pub error_tolerance: f64,
+    /// Chosen fixed step (s), implicit Euler; absent for adaptive BDF2.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// Chosen error tolerance (adaptive BDF2, fraction of L per step); absent for implicit
+    /// Euler.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_tolerance: Option<f64>,
     /// Estimated relative error of `v_s/v_m` from the time stepping at the chosen model.
     pub time_error: f64,
+    /// The mesh the time error was measured on (the chosen one unless the refinement rounds
+    /// ran out).
+    pub time_error_elements: usize,
     /// Estimated relative error of `v_s/v_m` from the mesh at the chosen model.
     pub mesh_error: f64,
     /// `time_error + mesh_error`.
@@ -114,8 +126,12 @@ pub struct AccuracyReport {
 pub struct AccuracyRun {
     /// Elements.
     pub elements: usize,
-    /// Error tolerance.
-    pub error_tolerance: f64,
+    /// Fixed step (s), implicit Euler.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// Error tolerance, adaptive BDF2.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_tolerance: Option<f64>,
     /// `v_s/v_m` (NaN when the run failed).
     pub v_s_over_v_m: f64,
     /// Accepted steps.

@@ -74,6 +74,14 @@ pub(super) fn pad(r: Option<(f64, f64)>, frac: f64) -> (f64, f64) {
 }
 
 /// Padded range on a log axis (positive values only), widened by `frac` decades... in log space.
+/// Whether a positive data range contains two powers of ten. plotters labels a log axis only
+/// at the powers of ten inside its range (over less than two decades it adds no labels in
+/// between), so an axis with fewer would carry one number or none; such an axis is drawn
+/// linear ([`super::xy`]).
+pub(super) fn spans_decades(r: Option<(f64, f64)>) -> bool {
+    r.is_none_or(|(a, b)| a.log10().ceil() + 1.0 <= b.log10().floor())
+}
+
 pub(super) fn pad_log(r: Option<(f64, f64)>, frac: f64) -> (f64, f64) {
     match r {
         None => (1.0, 10.0),
@@ -247,6 +255,17 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A log axis needs two powers of ten inside the data (plotters' only labels there).
+    #[test]
+    fn log_axes_need_two_powers_of_ten() {
+        assert!(!spans_decades(Some((1.09, 3.03))));
+        assert!(!spans_decades(Some((0.9, 3.0))));
+        assert!(!spans_decades(Some((2.0, 25.0))));
+        assert!(spans_decades(Some((1.0, 10.0))));
+        assert!(spans_decades(Some((6.5e-4, 4.5e-2))));
+        assert!(spans_decades(None));
+    }
 
     #[test]
     fn number_format() {

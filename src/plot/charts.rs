@@ -3,7 +3,7 @@
 
 use super::axes::{
     best_corner, canvas, canvas_on, finite_range, finite_runs, fmt_num, frame_plot, legend, pad,
-    pad_log, tick_label,
+    pad_log, spans_decades, tick_label,
 };
 use super::{colormap, draw_err, PlotError, DESC_PX, FONT, SIZE, TICK_PX};
 use plotters::coord::ranged1d::{Ranged, ValueFormatter};
@@ -74,8 +74,9 @@ pub fn series(
 /// Scatter/line chart: each named series of (x, y) points is drawn as markers joined by a thin
 /// line in the given order (sort the points if the line should be monotone in x), with a legend,
 /// axis labels `x_label` and `y_label` (include units) and title `title` (may be empty).
-/// `log_x` / `log_y` select base-10 logarithmic axes; points with a non-positive coordinate on a
-/// log axis, and non-finite points, are skipped. Writes a 1000x700 px PNG, or SVG when `path`
+/// `log_x` / `log_y` select base-10 logarithmic axes (drawn linear when the data on that axis
+/// contain fewer than two powers of ten, where a log axis would carry one tick label or none); points with a
+/// non-positive coordinate on a log axis, and non-finite points, are skipped. Writes a 1000x700 px PNG, or SVG when `path`
 /// ends in `.svg`.
 ///
 /// Errors: [`PlotError::Invalid`] if no plottable point remains.
@@ -112,6 +113,8 @@ pub fn xy(
             "xy: no plottable point (finite, and positive on log axes)".into(),
         ));
     }
+    let log_x = log_x && spans_decades(finite_range(pts().map(|p| p.0)));
+    let log_y = log_y && spans_decades(finite_range(pts().map(|p| p.1)));
     let xr = if log_x {
         pad_log(finite_range(pts().map(|p| p.0)), 0.05)
     } else {

@@ -103,7 +103,7 @@ pub struct SolverSpec {
 }
 
 /// `[solver] integrator`.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum IntegratorKind {
     /// Variational implicit Euler (Newton), the production integrator.
