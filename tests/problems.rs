@@ -193,7 +193,10 @@ fn s_start_newton_and_contact_statistics_are_pinned() {
 /// the conic program when detected and the fallen-back iterations counted, 6 and 4.33; with
 /// `tolerance` 5e-6, 6 and 4.43; with the coupled direction by GMRES, vanished slips stuck
 /// before the assembly and stalls detected, 6 and 3.95 (three runs with friction perturbed by
-/// 1e-6: 3.95 to 3.96; the bound leaves 4 % for rounding differences between machines).
+/// 1e-6: 3.95 to 3.96); with slip fronts slid together (`contact::active`, six converged
+/// points in a row with a contact leaving the cone), 5 to 8 and 3.72 to 3.77 over four runs
+/// (the bound leaves 3 % for rounding differences between machines, and fails without the
+/// front rule).
 #[test]
 fn s_start_at_100_elements_has_no_fallback_storm() {
     let mut p = problem::load(Path::new("problems/s_start.toml")).unwrap();
@@ -201,7 +204,7 @@ fn s_start_at_100_elements_has_no_fallback_storm() {
     p.time.dt = Some(1e-3);
     let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
-    assert!(per_step <= 4.1, "{per_step} Newton iterations per step");
+    assert!(per_step <= 3.88, "{per_step} Newton iterations per step");
     // Most of its fallbacks are stick-slide cycles caught by the exact-repeat test (5 of 6),
     // not 40-iteration failures.
     assert!(
