@@ -25,7 +25,7 @@
 //!    choosing that mesh or a finer one (at most [`MAX_ROUNDS`] rounds), so the time estimate
 //!    is the chosen mesh's own (`time_error_elements` reports where it was measured). On the S-start
 //!    this matters: 50 elements at 5e-4 s look converged in time (0.14 % to 2.5e-4 s) while
-//!    100 elements at 5e-4 s still move 0.46 %.
+//!    100 elements at 5e-4 s still move 0.45 %.
 //! 4. The chosen model's run (already made) is the result; `summary.json` carries the
 //!    estimates, the chosen model and every run ([`crate::output::AccuracyReport`]).
 //!
