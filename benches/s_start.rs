@@ -2,6 +2,7 @@
 //! simulated time (lift-off, the first contact changes and the pulse forming), end to end through
 //! the run loop: assembly, factorisations, active-set and conic contact, frames. Beside it the
 //! same window with BDF2, and the time of one simulated second is printed from the statistics.
+//! A second group runs 200 elements over the first 1.5 s, where slip fronts start.
 use criterion::{criterion_group, criterion_main, Criterion};
 use slither::model::Model;
 use slither::{problem, sim};
@@ -39,5 +40,32 @@ fn bench_s_start(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_s_start);
+/// The S-start at 200 elements and dt 1e-3 over its first 1.5 s, implicit Euler: the window
+/// where slip fronts first run along the body (steps of 30 or more Newton iterations from 1.25
+/// s on, before fronts slid together; `contact::active::FRONT_ROUNDS`).
+fn bench_s_start_200(c: &mut Criterion) {
+    let mut p = problem::load(Path::new("problems/s_start.toml")).expect("bundled problem");
+    p.rod.elements = 200;
+    p.time.dt = Some(1e-3);
+    p.time.duration = Some(1.5);
+    let m = Model::new(&p);
+    let kind = problem::IntegratorKind::Implicit;
+    let o = sim::run_gait(&m, kind, &mut |_| {}, &mut |_| {}).unwrap();
+    let st = &o.stats;
+    println!(
+        "200 elements, 1.5 s: {} steps, {:.2} Newton iterations/step, {} conic solves, {} fallbacks",
+        st.steps,
+        st.newton_iterations as f64 / st.steps as f64,
+        st.conic_solves,
+        st.active_set_fallbacks
+    );
+    let mut g = c.benchmark_group("s_start_200_1.5s");
+    g.sample_size(10);
+    g.bench_function("implicit_euler", |b| {
+        b.iter(|| sim::run_gait(&m, kind, &mut |_| {}, &mut |_| {}).unwrap())
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench_s_start, bench_s_start_200);
 criterion_main!(benches);
