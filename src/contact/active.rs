@@ -72,6 +72,10 @@ const FRONT_ROUNDS: usize = 6;
 /// Sticking contacts within this fraction of the friction cone, contiguous with a contact that
 /// left it at a slip front, slide with it. 0.01, 0.02, 0.03, 0.05 at 200 elements (2 rounds):
 /// 5.78, 5.85, 5.87, 5.86 it/step with 133, 104, 114, 142 fallbacks (8.10 and 122 without).
+/// At 6 rounds, two runs each (the file, `mu_forward` + 1e-7): 0.005 gives 6.87 and 6.88 it/step
+/// with 88 and 111 fallbacks, 0.01 6.99 and 6.91 with 96 and 98, 0.02 6.88 and 6.86 with 101
+/// and 133, 0.03 6.91 and 6.87 with 138 and 128: below 0.03 the differences are within the
+/// trajectory's own spread.
 const FRONT_MARGIN: f64 = 0.02;
 
 impl Contacts {
