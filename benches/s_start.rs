@@ -15,6 +15,20 @@ fn model(integrator: problem::IntegratorKind) -> Model {
     Model::new(&p)
 }
 
+/// One run of `m` outside the timing, and its solver statistics on stdout.
+fn print_stats(name: &str, m: &Model, kind: problem::IntegratorKind) {
+    let o = sim::run_gait(m, kind, &mut |_| {}, &mut |_| {}).unwrap();
+    let st = &o.stats;
+    println!(
+        "{name}: {} steps, {:.2} Newton iterations/step, {} conic solves, {} fallbacks, {} halvings",
+        st.steps,
+        st.newton_iterations as f64 / st.steps as f64,
+        st.conic_solves,
+        st.active_set_fallbacks,
+        st.step_halvings
+    );
+}
+
 fn bench_s_start(c: &mut Criterion) {
     let mut g = c.benchmark_group("s_start_0.5s");
     g.sample_size(10);
@@ -23,16 +37,7 @@ fn bench_s_start(c: &mut Criterion) {
         ("bdf2", problem::IntegratorKind::Bdf2),
     ] {
         let m = model(kind);
-        let o = sim::run_gait(&m, kind, &mut |_| {}, &mut |_| {}).unwrap();
-        let st = &o.stats;
-        println!(
-            "{name}: {} steps, {:.2} Newton iterations/step, {} conic solves, {} fallbacks, {} halvings",
-            st.steps,
-            st.newton_iterations as f64 / st.steps as f64,
-            st.conic_solves,
-            st.active_set_fallbacks,
-            st.step_halvings
-        );
+        print_stats(name, &m, kind);
         g.bench_function(name, |b| {
             b.iter(|| sim::run_gait(&m, kind, &mut |_| {}, &mut |_| {}).unwrap())
         });
@@ -50,15 +55,7 @@ fn bench_s_start_200(c: &mut Criterion) {
     p.time.duration = Some(1.5);
     let m = Model::new(&p);
     let kind = problem::IntegratorKind::Implicit;
-    let o = sim::run_gait(&m, kind, &mut |_| {}, &mut |_| {}).unwrap();
-    let st = &o.stats;
-    println!(
-        "200 elements, 1.5 s: {} steps, {:.2} Newton iterations/step, {} conic solves, {} fallbacks",
-        st.steps,
-        st.newton_iterations as f64 / st.steps as f64,
-        st.conic_solves,
-        st.active_set_fallbacks
-    );
+    print_stats("200 elements, 1.5 s", &m, kind);
     let mut g = c.benchmark_group("s_start_200_1.5s");
     g.sample_size(10);
     g.bench_function("implicit_euler", |b| {

@@ -978,9 +978,6 @@ fn refine_summary(r: &design::refine::Refinement, elapsed_s: f64) -> String {
 
 /// The time resolution of an accuracy choice, for messages.
 fn model_label(dt: Option<f64>, tolerance: Option<f64>) -> String {
-    match (dt, tolerance) {
-        (Some(h), _) => format!("implicit Euler at dt {h:.3e} s"),
-        (None, Some(t)) => format!("adaptive BDF2 at tolerance {t:.0e}"),
-        (None, None) => "no time resolution".into(),
-    }
+    slither::chart::accuracy::Resolution::from_parts(dt, tolerance)
+        .map_or("no time resolution".into(), |r| r.to_string())
 }

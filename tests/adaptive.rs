@@ -616,11 +616,8 @@ fn accuracy_selection_reports_consistent_estimates() {
         println!("{}", lines.join("\n"));
         println!("{}", serde_json::to_string_pretty(r).unwrap());
         // The file's integrator decides the time resolution; the chosen model is run with it.
-        let res = match (r.dt, r.error_tolerance) {
-            (Some(h), None) => Resolution::Step(h),
-            (None, Some(t)) => Resolution::Tolerance(t),
-            other => panic!("a step or a tolerance, not {other:?}"),
-        };
+        let res = Resolution::from_parts(r.dt, r.error_tolerance)
+            .unwrap_or_else(|| panic!("a step or a tolerance, not {r:?}"));
         assert_eq!(
             r.integrator,
             if bdf2 { "bdf2-adaptive" } else { "implicit" }

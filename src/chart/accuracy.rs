@@ -72,6 +72,16 @@ impl Resolution {
         }
     }
 
+    /// The resolution recorded as a step or a tolerance (exactly one of them; `None`
+    /// otherwise).
+    pub fn from_parts(dt: Option<f64>, tolerance: Option<f64>) -> Option<Self> {
+        match (dt, tolerance) {
+            (Some(h), None) => Some(Resolution::Step(h)),
+            (None, Some(t)) => Some(Resolution::Tolerance(t)),
+            _ => None,
+        }
+    }
+
     /// The next finer resolution: half the step, a tenth of the tolerance.
     pub fn refined(self) -> Self {
         match self {

@@ -299,6 +299,8 @@ pub struct ActiveSet {
     seen: Vec<(u64, usize)>,
     /// Corrections `max(dx / a, dtheta)` since the last status change (reused storage).
     progress: Vec<f64>,
+    /// Contacts that left the cone at the current converged point (reused storage).
+    slid: Vec<usize>,
 }
 
 impl ActiveSet {
@@ -315,6 +317,7 @@ impl ActiveSet {
             spent: 0,
             seen: Vec::new(),
             progress: Vec::new(),
+            slid: Vec::new(),
         }
     }
 
@@ -335,6 +338,7 @@ impl ActiveSet {
         let reactions = &mut self.reactions;
         let tangential = &mut self.tangential;
         let early = &mut self.early;
+        let slid = &mut self.slid;
         early.clear();
         early.resize(ct.nodes.len(), false);
         let path = Path::ActiveSet;
@@ -352,7 +356,6 @@ impl ActiveSet {
         let cap = m.max_iterations.min(set.active_set_max_iterations);
         let switch_cap = nc + set.active_set_extra_switches;
         let mut switches = 0;
-        let mut slid_now = vec![false; nc];
         let mut conv_slide_rounds = 0usize;
         // Exact (unprojected) Hessians converge quadratically; the projected one is the
         // fallback when the exact one is not positive definite.
@@ -528,6 +531,7 @@ impl ActiveSet {
                 // them changes status (pulling: lifts off; friction outside the cone: slides
                 // in the direction its force dictates) and Newton continues.
                 let mut switched = 0;
+                slid.clear();
                 for c in 0..nc {
                     if ct.mode[c] != Mode::Free && ct.react[c] < -force_tol * scale {
                         log::debug!("  switch conv-lift {c}");
@@ -536,7 +540,7 @@ impl ActiveSet {
                     } else if ct.mode[c] == Mode::Stick && ct.ratio[c] > 1.0 + force_tol {
                         log::debug!("  switch conv-slide {c}");
                         ct.set_mode(m, c, Mode::Slide, q, held);
-                        slid_now[c] = true;
+                        slid.push(c);
                         switched += 1;
                     }
                 }
@@ -545,16 +549,13 @@ impl ActiveSet {
                 // and within FRONT_MARGIN of the cone, slide too (a wrong guess reverses and
                 // sticks again in the next iterate; the exact conditions are still verified at
                 // the converged point).
-                if slid_now.iter().any(|&b| b) {
-                    conv_slide_rounds += 1;
-                } else {
+                if slid.is_empty() {
                     conv_slide_rounds = 0;
+                } else {
+                    conv_slide_rounds += 1;
                 }
                 if conv_slide_rounds >= FRONT_ROUNDS {
-                    for c0 in 0..nc {
-                        if !slid_now[c0] {
-                            continue;
-                        }
+                    for &c0 in slid.iter() {
                         // Walk to either side along neighbouring nodes.
                         for step in [usize::checked_sub, usize::checked_add] {
                             let mut prev = c0;
@@ -573,7 +574,6 @@ impl ActiveSet {
                         }
                     }
                 }
-                slid_now.iter_mut().for_each(|b| *b = false);
                 if switched == 0 {
                     for k in 0..n {
                         q[k] += nw.dq[k];

@@ -62,11 +62,7 @@ impl StudyAccuracy {
     /// The chosen time resolution (a record with neither `dt` nor `error_tolerance` is not
     /// one this version wrote: `None`).
     pub fn resolution(&self) -> Option<Resolution> {
-        match (self.dt, self.error_tolerance) {
-            (Some(h), None) => Some(Resolution::Step(h)),
-            (None, Some(t)) => Some(Resolution::Tolerance(t)),
-            _ => None,
-        }
+        Resolution::from_parts(self.dt, self.error_tolerance)
     }
 
     /// `base` at the chosen model: the chosen mesh and time resolution.

@@ -73,7 +73,6 @@ pub(super) fn pad(r: Option<(f64, f64)>, frac: f64) -> (f64, f64) {
     }
 }
 
-/// Padded range on a log axis (positive values only), widened by `frac` decades... in log space.
 /// Whether a positive data range contains two powers of ten. plotters labels a log axis only
 /// at the powers of ten inside its range (over less than two decades it adds no labels in
 /// between), so an axis with fewer would carry one number or none; such an axis is drawn
@@ -82,6 +81,7 @@ pub(super) fn spans_decades(r: Option<(f64, f64)>) -> bool {
     r.is_none_or(|(a, b)| a.log10().ceil() + 1.0 <= b.log10().floor())
 }
 
+/// Padded range on a log axis (positive values only), widened by `frac` decades... in log space.
 pub(super) fn pad_log(r: Option<(f64, f64)>, frac: f64) -> (f64, f64) {
     match r {
         None => (1.0, 10.0),

@@ -75,9 +75,9 @@ pub fn series(
 /// line in the given order (sort the points if the line should be monotone in x), with a legend,
 /// axis labels `x_label` and `y_label` (include units) and title `title` (may be empty).
 /// `log_x` / `log_y` select base-10 logarithmic axes (drawn linear when the data on that axis
-/// contain fewer than two powers of ten, where a log axis would carry one tick label or none); points with a
-/// non-positive coordinate on a log axis, and non-finite points, are skipped. Writes a 1000x700 px PNG, or SVG when `path`
-/// ends in `.svg`.
+/// contain fewer than two powers of ten, where a log axis would carry one tick label or
+/// none); points with a non-positive coordinate on a log axis, and non-finite points, are
+/// skipped. Writes a 1000x700 px PNG, or SVG when `path` ends in `.svg`.
 ///
 /// Errors: [`PlotError::Invalid`] if no plottable point remains.
 pub fn xy(
@@ -113,17 +113,21 @@ pub fn xy(
             "xy: no plottable point (finite, and positive on log axes)".into(),
         ));
     }
-    let log_x = log_x && spans_decades(finite_range(pts().map(|p| p.0)));
-    let log_y = log_y && spans_decades(finite_range(pts().map(|p| p.1)));
+    let (x_data, y_data) = (
+        finite_range(pts().map(|p| p.0)),
+        finite_range(pts().map(|p| p.1)),
+    );
+    let log_x = log_x && spans_decades(x_data);
+    let log_y = log_y && spans_decades(y_data);
     let xr = if log_x {
-        pad_log(finite_range(pts().map(|p| p.0)), 0.05)
+        pad_log(x_data, 0.05)
     } else {
-        pad(finite_range(pts().map(|p| p.0)), 0.05)
+        pad(x_data, 0.05)
     };
     let yr = if log_y {
-        pad_log(finite_range(pts().map(|p| p.1)), 0.05)
+        pad_log(y_data, 0.05)
     } else {
-        pad(finite_range(pts().map(|p| p.1)), 0.05)
+        pad(y_data, 0.05)
     };
     crate::on_backend!(path, SIZE, |area| {
         let (root, body) = canvas_on(area, title)?;
