@@ -186,3 +186,68 @@ fn energies_are_invariant_under_rigid_motions() {
         }
     }
 }
+
+/// The incremental potential of a dynamic step (every rod term plus the inertia, with some
+/// coordinates at the implicit Euler weight as BDF2 gives its contact normals at an event)
+/// against finite differences.
+#[test]
+fn incremental_potential_matches_finite_differences() {
+    use slither::newton::{Inertia, Objective, Potential};
+    let terms = energy::rod_terms();
+    for seed in 1..=4 {
+        let (m, s, q, kappa0, m0) = random_setup(seed);
+        let mut r = Rng(seed | 1);
+        let qhat: Vec<f64> = q.iter().map(|x| x + 1e-3 * r.sym()).collect();
+        let euler = [dof::node(1) + 2, dof::node(4) + 2, dof::edge(2)];
+        let obj = Potential {
+            model: &m,
+            terms: &terms,
+            frames: &s.frames,
+            kappa0: &kappa0,
+            m0: &m0,
+            gravity: [0.0, 0.0, -9.81],
+            inertia: Some(Inertia {
+                weight: 2.25e6,
+                qhat: &qhat,
+                euler: &euler,
+                euler_weight: 1e6,
+            }),
+        };
+        let mut asm = Assembly::new(m.ndof);
+        let f = obj.assemble(&q, &mut asm, false);
+        assert!((f - obj.value(&q)).abs() <= 1e-12 * f.abs());
+        let g_fd = fd::gradient(&mut |x: &[f64]| obj.value(x), &q, 1e-6);
+        let err_g = fd::rel_error(&asm.grad, &g_fd, 1e-12);
+        assert!(err_g < 1e-6, "gradient: relative error {err_g:e} (seed {seed})");
+        let mut grad = |x: &[f64]| {
+            let mut a = Assembly::new(m.ndof);
+            obj.assemble(x, &mut a, false);
+            a.grad
+        };
+        let h_fd = fd::jacobian(&mut grad, &q, 1e-6);
+        let n = m.ndof;
+        let h_an: Vec<f64> = (0..n * n).map(|k| asm.h(k / n, k % n)).collect();
+        let h_num: Vec<f64> = h_fd.iter().flatten().copied().collect();
+        let err_h = fd::rel_error(&h_an, &h_num, 1e-12);
+        assert!(err_h < 1e-6, "Hessian: relative error {err_h:e} (seed {seed})");
+        // The Euler coordinates carry their own weight: the diagonal differs from the others'.
+        let k = euler[0];
+        let diag_energy = {
+            let mut a = Assembly::new(m.ndof);
+            energy::total(&terms, &obj_ctx(&obj), &q, Some(&mut a), false);
+            a.h(k, k)
+        };
+        let inertia = asm.h(k, k) - diag_energy;
+        assert!((inertia / (1e6 * m.mass[k]) - 1.0).abs() < 1e-9, "{inertia}");
+    }
+}
+
+fn obj_ctx<'a>(p: &'a slither::newton::Potential<'a>) -> Ctx<'a> {
+    Ctx {
+        model: p.model,
+        frames: p.frames,
+        kappa0: p.kappa0,
+        m0: p.m0,
+        gravity: p.gravity,
+    }
+}

@@ -78,6 +78,11 @@ pub trait Scheme: Send {
     fn predictor(&mut self, m: &Model, s: &State, h: f64, qhat: &mut [f64]);
     /// The inertia weight `w` of a step of size `h` (1/s^2).
     fn inertia_weight(&self, h: f64) -> f64;
+    /// Coordinates that take an implicit Euler step in this step (weight `1/h^2`; their
+    /// `qhat` is `q_n + h v_n`), set by [`Scheme::predictor`]. Default: none.
+    fn euler_coordinates(&self) -> &[usize] {
+        &[]
+    }
     /// Where contact slip is measured from: the velocity at the solution is
     /// `(x - x_origin) / (w^{-1/2})`, so friction dissipation is `N mu |x - x_origin|`.
     /// `q_prev`: coordinates at the step's start.
@@ -370,6 +375,8 @@ impl<'m> Integrator<'m> {
             inertia: Some(Inertia {
                 weight: self.scheme.inertia_weight(h),
                 qhat: &self.qhat,
+                euler: self.scheme.euler_coordinates(),
+                euler_weight: 1.0 / (h * h),
             }),
         };
         let q = &mut s.q;

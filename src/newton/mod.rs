@@ -224,13 +224,19 @@ pub trait Objective {
     fn accepted(&mut self, _q: &[f64]) {}
 }
 
-/// The inertial part of an incremental potential: `w/2 |q - qhat|_M^2`.
+/// The inertial part of an incremental potential: `w/2 |q - qhat|_M^2`, with the weight
+/// `w` on every coordinate except those listed in `euler`, which carry `w_e`.
 #[derive(Clone, Copy)]
 pub struct Inertia<'a> {
     /// Weight `w` (1/s^2; `1/h^2` for implicit Euler).
     pub weight: f64,
     /// Predictor `qhat`.
     pub qhat: &'a [f64],
+    /// Coordinates that take an implicit Euler step inside a multistep one (BDF2's contact
+    /// normals, [`crate::integrator::bdf2`]).
+    pub euler: &'a [usize],
+    /// Their weight `w_e = 1/h^2`.
+    pub euler_weight: f64,
 }
 
 /// The rod's energy at the step's rest strains, plus the inertial term in a dynamic step.
@@ -272,6 +278,10 @@ impl Objective for Potential<'_> {
             for k in 0..q.len() {
                 f += w * self.model.mass[k] * (q[k] - inertia.qhat[k]).powi(2);
             }
+            let dw = 0.5 * (inertia.euler_weight - inertia.weight);
+            for &k in inertia.euler {
+                f += dw * self.model.mass[k] * (q[k] - inertia.qhat[k]).powi(2);
+            }
         }
         f
     }
@@ -287,6 +297,13 @@ impl Objective for Potential<'_> {
                 f += 0.5 * w * m.mass[k] * d * d;
                 asm.grad[k] += w * m.mass[k] * d;
                 asm.add_h(k, k, w * m.mass[k]);
+            }
+            let dw = inertia.euler_weight - w;
+            for &k in inertia.euler {
+                let d = q[k] - inertia.qhat[k];
+                f += 0.5 * dw * m.mass[k] * d * d;
+                asm.grad[k] += dw * m.mass[k] * d;
+                asm.add_h(k, k, dw * m.mass[k]);
             }
         }
         f
