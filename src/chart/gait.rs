@@ -33,7 +33,8 @@ pub struct GaitPrecisionOptions {
     pub euler_dt: Vec<f64>,
     /// Fixed steps of BDF2 (s). Default 8e-3, 4e-3, 2e-3, 1e-3, 5e-4.
     pub bdf2_dt: Vec<f64>,
-    /// Tolerances of adaptive BDF2 (fraction of L per step). Default 1e-3 ... 1e-5.
+    /// Tolerances of adaptive BDF2 (fraction of L per step). Default 1e-3, 1e-4, 3e-5, 1e-5 and
+    /// 5e-6 (the default of `[time] error_tolerance`).
     pub tolerances: Vec<f64>,
     /// First step of adaptive runs (s). Default 2e-3.
     pub adaptive_first_dt: f64,
@@ -57,7 +58,7 @@ impl Default for GaitPrecisionOptions {
         GaitPrecisionOptions {
             euler_dt: vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4],
             bdf2_dt: vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4],
-            tolerances: vec![1e-3, 3e-4, 1e-4, 3e-5, 1e-5],
+            tolerances: vec![1e-3, 1e-4, 3e-5, 1e-5, 5e-6],
             adaptive_first_dt: 2e-3,
             reference_integrator: IntegratorKind::Implicit,
             reference_dt: 2.5e-4,
