@@ -218,7 +218,10 @@ fn incremental_potential_matches_finite_differences() {
         assert!((f - obj.value(&q)).abs() <= 1e-12 * f.abs());
         let g_fd = fd::gradient(&mut |x: &[f64]| obj.value(x), &q, 1e-6);
         let err_g = fd::rel_error(&asm.grad, &g_fd, 1e-12);
-        assert!(err_g < 1e-6, "gradient: relative error {err_g:e} (seed {seed})");
+        assert!(
+            err_g < 1e-6,
+            "gradient: relative error {err_g:e} (seed {seed})"
+        );
         let mut grad = |x: &[f64]| {
             let mut a = Assembly::new(m.ndof);
             obj.assemble(x, &mut a, false);
@@ -229,7 +232,10 @@ fn incremental_potential_matches_finite_differences() {
         let h_an: Vec<f64> = (0..n * n).map(|k| asm.h(k / n, k % n)).collect();
         let h_num: Vec<f64> = h_fd.iter().flatten().copied().collect();
         let err_h = fd::rel_error(&h_an, &h_num, 1e-12);
-        assert!(err_h < 1e-6, "Hessian: relative error {err_h:e} (seed {seed})");
+        assert!(
+            err_h < 1e-6,
+            "Hessian: relative error {err_h:e} (seed {seed})"
+        );
         // The Euler coordinates carry their own weight: the diagonal differs from the others'.
         let k = euler[0];
         let diag_energy = {
@@ -238,7 +244,10 @@ fn incremental_potential_matches_finite_differences() {
             a.h(k, k)
         };
         let inertia = asm.h(k, k) - diag_energy;
-        assert!((inertia / (1e6 * m.mass[k]) - 1.0).abs() < 1e-9, "{inertia}");
+        assert!(
+            (inertia / (1e6 * m.mass[k]) - 1.0).abs() < 1e-9,
+            "{inertia}"
+        );
     }
 }
 
