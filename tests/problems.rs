@@ -235,10 +235,16 @@ fn adaptive_bdf2_s_start_at_the_default_tolerance_is_pinned() {
     let mut p = problem::load(Path::new("problems/s_start.toml")).unwrap();
     p.solver.integrator = problem::IntegratorKind::Bdf2;
     p.time.adaptive = true;
-    assert!(p.time.error_tolerance.is_none(), "the file sets no tolerance");
+    assert!(
+        p.time.error_tolerance.is_none(),
+        "the file sets no tolerance"
+    );
     let (o, per_step, v) = whole_run(&p);
     let steps = &o.steps;
-    println!("{} accepted, {} rejected, v_s/v_m {v}", steps.accepted, steps.rejected);
+    println!(
+        "{} accepted, {} rejected, v_s/v_m {v}",
+        steps.accepted, steps.rejected
+    );
     assert!((v / 0.30829 - 1.0).abs() < 0.01, "v_s/v_m {v}");
     assert!(
         (3500..=4100).contains(&steps.accepted),
