@@ -29,7 +29,7 @@
 //! at a node held on the ground after falling at speed `V` is up to `+V/2`, and the predictor
 //! of the next step carries it on, so the node bounced off the ground with no restitution in
 //! the model (a rod dropped from one diameter onto the ground rose 1.62 diameters at
-//! `dt = 2e-3`, 0.20 at `5e-4`: `tests/bdf2.rs`). On the S-start this made 4x the landings and
+//! `dt = 2e-3`, 0.20 at `5e-4`: `tests/contact.rs`). On the S-start this made 4x the landings and
 //! lift-offs of implicit Euler, and at 200 elements it held `v_s/v_m` 1.05 % below the
 //! implicit Euler limit at both 1e-3 and 5e-4 s (0.3167, 0.3168 against 0.3202). So the normal
 //! coordinate `z` of a node whose BDF2 predictor goes below the ground (it may land this
@@ -70,7 +70,8 @@ pub struct Bdf2 {
     /// `a0` of the current step when it uses BDF2, `None` for an implicit Euler step.
     a0: Option<f64>,
     origin: Vec<f64>,
-    /// Contact normals that take an implicit Euler step in the current step.
+    /// Contact normals that take an implicit Euler step in the current step (empty when the
+    /// whole step is one).
     euler: Vec<usize>,
 }
 
@@ -92,6 +93,7 @@ impl Scheme for Bdf2 {
     fn predictor(&mut self, m: &Model, s: &State, h: f64, qhat: &mut [f64]) {
         self.origin.resize(m.ndof, 0.0);
         self.a0 = None;
+        self.euler.clear();
         match (&self.history, self.ratio(h)) {
             (Some((q1, v1, _)), Some(w)) => {
                 let (a0, a1, a2) = coefficients(w);
@@ -107,7 +109,6 @@ impl Scheme for Bdf2 {
                     };
                 }
                 // Contact normals at an event take an implicit Euler step (module doc).
-                self.euler.clear();
                 if m.ground.is_some() {
                     let floor = 0.5 * m.diameter;
                     let eps = m.solver.contact_tolerance * m.diameter;
@@ -138,11 +139,7 @@ impl Scheme for Bdf2 {
     }
 
     fn euler_coordinates(&self) -> &[usize] {
-        if self.a0.is_some() {
-            &self.euler
-        } else {
-            &[]
-        }
+        &self.euler
     }
 
     fn inertia_weight(&self, h: f64) -> f64 {
@@ -205,13 +202,11 @@ impl Scheme for Bdf2 {
             }
             None => self.history = Some((q_prev.to_vec(), v_prev.to_vec(), h)),
         }
-        if self.a0.is_some() {
-            // Uniform motion before an Euler coordinate's step: the next BDF2 step extrapolates
-            // no velocity jump across the contact event.
-            let (_, v1, _) = self.history.as_mut().expect("set above");
-            for &k in &self.euler {
-                v1[k] = s.v[k];
-            }
+        // Uniform motion before an Euler coordinate's step: the next BDF2 step extrapolates no
+        // velocity jump across the contact event.
+        let (_, v1, _) = self.history.as_mut().expect("set above");
+        for &k in &self.euler {
+            v1[k] = s.v[k];
         }
     }
 }
