@@ -8,7 +8,7 @@
 //!           subject to z_i - a/2 >= 0,          qhat = q_n + h v_n,  v_{n+1} = (q_{n+1} - q_n)/h
 //! ```
 //!
-//! by Newton's method on faer's sparse Cholesky, with anisotropic Coulomb friction `D` as a
+//! by Newton's method on a band Cholesky (checked against faer's sparse one), with anisotropic Coulomb friction `D` as a
 //! second-order-cone program (Clarabel) or, when the contact modes are settled, as an
 //! active-set Newton iteration checked against the Coulomb conditions.
 //!
@@ -23,7 +23,7 @@
 //!    [`state`] (positions, velocities, reference frames).
 //! 3. Physics: [`energy`] (stretch, bend, twist, gravity; the per-node stencil and its
 //!    derivatives), [`gait`] (muscles as time-dependent rest strains: [`gait::Actuation`]).
-//! 4. [`newton`]: Newton's method on an objective (assembly, faer Cholesky, line search,
+//! 4. [`newton`]: Newton's method on an objective (assembly, band Cholesky, line search,
 //!    statistics, typed failures), and the incremental potential of a step.
 //! 5. [`contact`]: contact models behind [`contact::ContactModel`] (conic program by Clarabel,
 //!    active set), solving a step's problem with Newton's building blocks.

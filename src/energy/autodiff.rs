@@ -24,8 +24,7 @@ pub fn add_local(
     if project {
         project_psd(&mut h);
     }
-    let (gx, hx) = to_nodes(&g, &h);
-    asm.add_local(&crate::rod::dof::stencil(i), &gx, &hx);
+    asm.add_node_stencil(i, &g, &h);
     v
 }
 

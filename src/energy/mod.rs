@@ -134,6 +134,10 @@ impl Assembly {
             node_edges: Vec::new(),
         }
     }
+    /// Half-bandwidth of the pattern.
+    pub fn half_bandwidth(&self) -> usize {
+        self.w
+    }
     /// Dimension.
     pub fn n(&self) -> usize {
         self.grad.len()
@@ -195,6 +199,54 @@ impl Assembly {
             0.0
         } else {
             self.values[self.pos(i, j)]
+        }
+    }
+    /// Add interior node `i`'s stencil gradient and Hessian, given in its intrinsic
+    /// coordinates `(e^{i-1}, e^i, theta^{i-1}, theta^i)`, at the node coordinates: the chain
+    /// rule of [`autodiff::to_nodes`] written straight into the band. The stencil's 11
+    /// coordinates are the band's `dof::node(i - 1) ..= dof::node(i + 1) + 2` in the order
+    /// `x_{i-1}, theta^{i-1}, x_i, theta^i, x_{i+1}`, so column `b` of the node Hessian adds its
+    /// upper part to one contiguous slice of column `first + b`.
+    pub fn add_node_stencil(
+        &mut self,
+        i: usize,
+        g: &nalgebra::SVector<f64, 8>,
+        h: &nalgebra::SMatrix<f64, 8, 8>,
+    ) {
+        /// `y J` in band order for a row `y` over the intrinsic coordinates.
+        #[inline(always)]
+        fn band_row(y: [f64; 8]) -> [f64; 11] {
+            [
+                -y[0],
+                -y[1],
+                -y[2],
+                y[6],
+                y[0] - y[3],
+                y[1] - y[4],
+                y[2] - y[5],
+                y[7],
+                y[3],
+                y[4],
+                y[5],
+            ]
+        }
+        let first = dof::node(i - 1);
+        debug_assert_eq!(dof::node(i + 1) + 2 - first, self.w);
+        let gx = band_row(std::array::from_fn(|k| g[k]));
+        for (d, x) in self.grad[first..=first + self.w].iter_mut().zip(gx) {
+            *d += x;
+        }
+        // M = H J (8 x 11, H symmetric so its columns are its rows), then column b of
+        // J^T M is band_row of column b of M.
+        let m: [[f64; 11]; 8] =
+            std::array::from_fn(|k| band_row(std::array::from_fn(|l| h[(l, k)])));
+        for b in 0..11 {
+            let col = band_row(std::array::from_fn(|k| m[k][b]));
+            let j = first + b;
+            let start = self.col_ptr[j] + first - j.saturating_sub(self.w);
+            for (v, x) in self.values[start..=start + b].iter_mut().zip(&col) {
+                *v += x;
+            }
         }
     }
     /// Add a local gradient and a full local Hessian (row-major `m x m`) at `idx`.
@@ -306,5 +358,35 @@ mod tests {
         }
         assert_eq!(fast.grad, slow.grad);
         assert_eq!(fast.values, slow.values);
+    }
+
+    /// A node stencil in intrinsic coordinates added straight into the band equals its chain
+    /// rule to the 11 node coordinates ([`autodiff::to_nodes`]) added entry by entry.
+    #[test]
+    fn node_stencil_scatter_equals_chain_rule_then_entrywise() {
+        let n = dof::count(7);
+        let (mut fast, mut slow) = (Assembly::new(n), Assembly::new(n));
+        for i in 1..6 {
+            let g = nalgebra::SVector::<f64, 8>::from_fn(|k, _| ((k + 3 * i) as f64).cos());
+            let b = nalgebra::SMatrix::<f64, 8, 8>::from_fn(|a, c| ((a * 8 + c + i) as f64).sin());
+            let h = b + b.transpose();
+            fast.add_node_stencil(i, &g, &h);
+            let (gx, hx) = autodiff::to_nodes(&g, &h);
+            let idx = dof::stencil(i);
+            for a in 0..11 {
+                slow.grad[idx[a]] += gx[a];
+                for c in 0..11 {
+                    if idx[a] <= idx[c] {
+                        slow.add_h(idx[a], idx[c], hx[a * 11 + c]);
+                    }
+                }
+            }
+        }
+        for k in 0..n {
+            assert!((fast.grad[k] - slow.grad[k]).abs() < 1e-14, "gradient {k}");
+        }
+        for (p, (x, y)) in fast.values.iter().zip(&slow.values).enumerate() {
+            assert!((x - y).abs() < 1e-13, "Hessian entry {p}: {x} vs {y}");
+        }
     }
 }

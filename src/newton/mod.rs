@@ -2,8 +2,8 @@
 //!
 //! An [`Objective`] gives its value and assembles its gradient and Hessian (every stencil
 //! projected to positive semi-definite on request) into the fixed banded pattern of an
-//! [`Assembly`]; [`Newton`] owns that assembly, the sparse Cholesky factorisation
-//! ([`linsolve`], faer), the correction and trial vectors and the [`Stats`]. One iteration:
+//! [`Assembly`]; [`Newton`] owns that assembly, the band Cholesky factorisation
+//! ([`linsolve`]), the correction and trial vectors and the [`Stats`]. One iteration:
 //! assemble (the exact Hessian; once one is found indefinite, every stencil projected for the
 //! rest of the solve), hold the fixed coordinates, factorise (shifting the diagonal if the
 //! matrix is only semi-definite), solve `H dq = -g`, backtrack on the objective (Armijo),
