@@ -8,9 +8,10 @@
 //!           subject to z_i - a/2 >= 0,          qhat = q_n + h v_n,  v_{n+1} = (q_{n+1} - q_n)/h
 //! ```
 //!
-//! by Newton's method on a band Cholesky (checked against faer's sparse one), with anisotropic Coulomb friction `D` as a
-//! second-order-cone program (Clarabel) or, when the contact modes are settled, as an
-//! active-set Newton iteration checked against the Coulomb conditions.
+//! by Newton's method on a band Cholesky (checked against faer's sparse one), with
+//! anisotropic Coulomb friction `D` as a second-order-cone program (Clarabel) or, when the
+//! contact modes are settled, as an active-set Newton iteration checked against the Coulomb
+//! conditions.
 //!
 //! Module map, in layers: a module uses only modules of its own or lower layers, so the
 //! top-level modules import each other without cycles (`shared/tools/modcycles.py src`).
