@@ -168,8 +168,10 @@ fn bench_stencil(c: &mut Criterion) {
                 .map(|&i| {
                     let frame = &s.frames[i - 1];
                     let y = intrinsic(black_box(&q), i);
-                    let e0 = EdgeFrame::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0]);
-                    let e1 = EdgeFrame::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1]);
+                    let e0 =
+                        EdgeFrame::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0], y[6]);
+                    let e1 =
+                        EdgeFrame::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1], y[7]);
                     let st = NodeStencil {
                         frame,
                         kappa0: kappa0[i],
@@ -177,7 +179,7 @@ fn bench_stencil(c: &mut Criterion) {
                         m0: m0[i],
                         twist: m.twist / (2.0 * m.voronoi[i]),
                     };
-                    let l = node_local(&st, [&e0, &e1], [y[6], y[7]]);
+                    let l = node_local(&st, [&e0, &e1]);
                     l.0 + l.2[(3, 4)] + l.2[(1, 2)]
                 })
                 .sum::<f64>()
@@ -193,7 +195,7 @@ fn bench_stencil(c: &mut Criterion) {
                     let (fr, k) = (&s.frames[j.saturating_sub(1)], usize::from(j > 0));
                     let (a, b) = (dof::node(j), dof::node(j + 1));
                     let e = [q[b] - q[a], q[b + 1] - q[a + 1], q[b + 2] - q[a + 2]];
-                    EdgeFrame::new(e, fr.t_old[k], fr.a1_old[k])
+                    EdgeFrame::new(e, fr.t_old[k], fr.a1_old[k], q[dof::edge(j)])
                 })
                 .collect();
             nodes
@@ -206,8 +208,7 @@ fn bench_stencil(c: &mut Criterion) {
                         m0: m0[i],
                         twist: m.twist / (2.0 * m.voronoi[i]),
                     };
-                    let theta = [q[dof::edge(i - 1)], q[dof::edge(i)]];
-                    let l = node_local(&st, [&edges[i - 1], &edges[i]], theta);
+                    let l = node_local(&st, [&edges[i - 1], &edges[i]]);
                     l.0 + l.2[(3, 4)] + l.2[(1, 2)]
                 })
                 .sum::<f64>()

@@ -93,6 +93,13 @@ pub struct EdgeFrame {
     ja1: M3,
     /// `d a2 / d t`.
     ja2: M3,
+    /// The edge's twist angle `theta`, its cosine and sine.
+    theta: f64,
+    cos: f64,
+    sin: f64,
+    /// Material directors `d1 = cos a1 + sin a2`, `d2 = cos a2 - sin a1`.
+    d1: [f64; 3],
+    d2: [f64; 3],
     /// Frozen tangent.
     to: [f64; 3],
     /// `ao x to`.
@@ -102,8 +109,10 @@ pub struct EdgeFrame {
 }
 
 impl EdgeFrame {
-    /// The frame of edge vector `e` with frozen tangent `t_old` and director `a1_old`.
-    pub fn new(e: [f64; 3], t_old: [f64; 3], a1_old: [f64; 3]) -> Self {
+    /// The frame of edge vector `e` with frozen tangent `t_old` and director `a1_old`, and its
+    /// material directors at twist angle `theta` (computed once per edge, shared by the edge's
+    /// two nodes).
+    pub fn new(e: [f64; 3], t_old: [f64; 3], a1_old: [f64; 3], theta: f64) -> Self {
         let len = f::norm(e);
         let t = f::scale(e, 1.0 / len);
         let (to, ao) = (t_old, a1_old);
@@ -127,6 +136,7 @@ impl EdgeFrame {
         });
         // d(t x a1) = [t]x Ja1 - [a1]x.
         let ja2 = lin(1.0, &mul(&skew(t), &ja1), -1.0, &skew(a1));
+        let (sin, cos) = theta.sin_cos();
         EdgeFrame {
             len,
             t,
@@ -134,6 +144,11 @@ impl EdgeFrame {
             a2,
             ja1,
             ja2,
+            theta,
+            cos,
+            sin,
+            d1: f::add(f::scale(a1, cos), f::scale(a2, sin)),
+            d2: f::sub(f::scale(a2, cos), f::scale(a1, sin)),
             to,
             m,
             r,
@@ -157,11 +172,23 @@ impl EdgeFrame {
     }
 
     /// Hessian in `t` of `w . a2(t) = a1(t) . (w x t)` for a fixed `w`.
-    #[inline(always)]
+    #[cfg(test)]
     fn hess_a2(&self, w: [f64; 3]) -> M3 {
-        let h = self.hess_a1(f::cross(w, self.t));
+        self.hess_comb(w, 0.0, 1.0)
+    }
+
+    /// Hessian in `t` of `w . (alpha a1(t) + beta a2(t))` for a fixed `w`. With
+    /// `w . a2 = a1 . (w x t)` this is the Hessian of `a1` contracted with
+    /// `alpha w + beta w x t` (linear in the contracting vector: one [`EdgeFrame::hess_a1`])
+    /// plus `beta (X + X^T)`, `X = Ja1^T [w]x`.
+    #[inline(always)]
+    fn hess_comb(&self, w: [f64; 3], alpha: f64, beta: f64) -> M3 {
+        let h = self.hess_a1(f::add(
+            f::scale(w, alpha),
+            f::scale(f::cross(w, self.t), beta),
+        ));
         let x = mul(&transpose(&self.ja1), &skew(w));
-        std::array::from_fn(|i| std::array::from_fn(|j| h[i][j] + x[i][j] + x[j][i]))
+        std::array::from_fn(|i| std::array::from_fn(|j| h[i][j] + beta * (x[i][j] + x[j][i])))
     }
 }
 
@@ -199,19 +226,14 @@ impl<'a> NodeStencil<'a> {
 }
 
 /// Value, gradient and Hessian of node `st`'s bending plus twist in its intrinsic
-/// coordinates, with its two edges' frames and twist angles `theta`.
-pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> Local {
+/// coordinates, with its two edges' frames (their twist angles `theta` included).
+pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2]) -> Local {
     let [e0, e1] = edges;
     let (t0, t1) = (e0.t, e1.t);
-    let (s0, c0) = theta[0].sin_cos();
-    let (s1, c1) = theta[1].sin_cos();
-    let rot = |e: &EdgeFrame, c: f64, s: f64| {
-        let d1 = f::add(f::scale(e.a1, c), f::scale(e.a2, s));
-        let d2 = f::sub(f::scale(e.a2, c), f::scale(e.a1, s));
-        (d1, d2)
-    };
-    let (d10, d20) = rot(e0, c0, s0);
-    let (d11, d21) = rot(e1, c1, s1);
+    let (s0, c0) = (e0.sin, e0.cos);
+    let (s1, c1) = (e1.sin, e1.cos);
+    let (d10, d20) = (e0.d1, e0.d2);
+    let (d11, d21) = (e1.d1, e1.d2);
     // The frames' Jacobians contracted with the other edge's tangent: `Ja^T t`.
     let (ja0, jb0) = (mul_t(&e0.ja1, t1), mul_t(&e0.ja2, t1));
     let (ja1, jb1) = (mul_t(&e1.ja1, t0), mul_t(&e1.ja2, t0));
@@ -261,8 +283,8 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> 
     let (u1, u1p) = (comb(e1, al1, be1), comb(e1, al1p, be1p));
     let ju0 = lin(al0, &e0.ja1, be0, &e0.ja2);
     let ju1 = lin(al1, &e1.ja1, be1, &e1.ja2);
-    let h00 = lin(al0, &e0.hess_a1(t1), be0, &e0.hess_a2(t1));
-    let h11 = lin(al1, &e1.hess_a1(t0), be1, &e1.hess_a2(t0));
+    let h00 = e0.hess_comb(t1, al0, be0);
+    let h11 = e1.hess_comb(t0, al1, be1);
     let t0_th0 = mix(al0p, ja0, be0p, jb0);
     let t1_th1 = mix(al1p, ja1, be1p, jb1);
     // hpsi = Hess Psi - K Hess chi (K = sum_a delta_a kappa_a; Hess chi is the identity in
@@ -292,7 +314,7 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> 
     // Twist: m = theta1 - theta0 + r(t0, t1).
     let r = ref_twist_value([t0, t1], [e0.a1, e1.a1], st.frame.ref_twist_prev);
     let (gr, hr) = ref_twist_tangent_derivatives(t0, t1, st.frame.t_old[0], st.frame.t_old[1]);
-    let dm = theta[1] - theta[0] + r - st.m0;
+    let dm = e1.theta - e0.theta + r - st.m0;
     let gm = [gr[0], gr[1], gr[2], gr[3], gr[4], gr[5], -1.0, 1.0];
 
     // Sum in x.
@@ -317,59 +339,78 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2], theta: [f64; 2]) -> 
 
 /// Chain rule through `t^j = e^j / |e^j|` for the two edges, the twist angles passing
 /// through: gradient and Hessian in `(e0, e1, theta0, theta1)` from those in
-/// `(t0, t1, theta0, theta1)`. With `J_j = P_j / |e_j|`, `P_j = I - t_j t_j^T`:
-/// `H_e = J^T H_t J` plus, on each edge's diagonal block, the tangent's second derivative
-/// contracted with the gradient, `-(p t^T + t p^T + (g.t) P) / |e|^2`, `p = P g`.
+/// `(t0, t1, theta0, theta1)`. With `J_j = P_j / |e_j|`, `P_j = I - t_j t_j^T`, block by block:
+/// `P_j H P_k = H - u t_k^T - t_j v^T + (t_j . u) t_j t_k^T` with `u = H t_k`, `v = H^T t_j`,
+/// plus, on each edge's diagonal block, the tangent's second derivative contracted with the
+/// gradient, `-(p t^T + t p^T + (g.t) P) / |e|^2`, `p = P g`.
 fn tangents_to_edges_8(
     edges: [&EdgeFrame; 2],
     gx: &[f64; 8],
     hx: &[[f64; 8]; 8],
 ) -> (SVector<f64, 8>, SMatrix<f64, 8, 8>) {
-    // Rows of J: for variable k (< 6) of edge j, column map M[k] = row k of P_j / len_j.
-    let mut jm = [[0.0; 3]; 6];
-    for j in 0..2 {
-        let (t, l) = (edges[j].t, edges[j].len);
-        for a in 0..3 {
-            for b in 0..3 {
-                jm[3 * j + a][b] = ((if a == b { 1.0 } else { 0.0 }) - t[a] * t[b]) / l;
-            }
-        }
-    }
-    // Apply J (block diagonal, symmetric blocks) to a vector over the first 6 entries.
-    let apply = |v: &[f64; 8]| -> [f64; 8] {
-        let mut o = *v;
-        for j in 0..2 {
-            for a in 0..3 {
-                o[3 * j + a] = (0..3).map(|b| jm[3 * j + a][b] * v[3 * j + b]).sum();
-            }
-        }
-        o
+    let t = [edges[0].t, edges[1].t];
+    let il = [1.0 / edges[0].len, 1.0 / edges[1].len];
+    // `J_j x` for a 3-vector `x` of edge j.
+    let proj = |j: usize, x: [f64; 3]| -> [f64; 3] {
+        let d = f::dot(t[j], x);
+        std::array::from_fn(|a| (x[a] - t[j][a] * d) * il[j])
     };
-    let ge = apply(gx);
-    // M = H J (apply J to each row), then J^T M (apply J to each column).
-    let rows: [[f64; 8]; 8] = std::array::from_fn(|i| apply(&hx[i]));
     let mut he = SMatrix::<f64, 8, 8>::zeros();
-    for c in 0..8 {
-        let col: [f64; 8] = std::array::from_fn(|i| rows[i][c]);
-        let out = apply(&col);
-        for i in 0..8 {
-            he[(i, c)] = out[i];
+    let mut ge = SVector::<f64, 8>::zeros();
+    for j in 0..2 {
+        let g = proj(j, [gx[3 * j], gx[3 * j + 1], gx[3 * j + 2]]);
+        for a in 0..3 {
+            ge[3 * j + a] = g[a];
         }
     }
-    for j in 0..2 {
-        let (t, l) = (edges[j].t, edges[j].len);
-        let g = [gx[3 * j], gx[3 * j + 1], gx[3 * j + 2]];
-        let gt = f::dot(g, t);
-        let p = f::sub(g, f::scale(t, gt));
-        let w = 1.0 / (l * l);
+    ge[6] = gx[6];
+    ge[7] = gx[7];
+    // Position blocks (j, k), k >= j.
+    for (j, k) in [(0, 0), (0, 1), (1, 1)] {
+        let h: M3 = std::array::from_fn(|a| std::array::from_fn(|b| hx[3 * j + a][3 * k + b]));
+        let (tj, tk) = (t[j], t[k]);
+        let u: [f64; 3] = std::array::from_fn(|a| f::dot(h[a], tk));
+        let v = mul_t(&h, tj);
+        let s = f::dot(tj, u);
+        let w = il[j] * il[k];
         for a in 0..3 {
-            for b in 0..3 {
-                let pab = (if a == b { 1.0 } else { 0.0 }) - t[a] * t[b];
-                he[(3 * j + a, 3 * j + b)] -= w * (p[a] * t[b] + t[a] * p[b] + gt * pab);
+            // Diagonal blocks: the upper triangle, mirrored (exactly symmetric).
+            for b in if j == k { a } else { 0 }..3 {
+                let x = (h[a][b] - u[a] * tk[b] - tj[a] * v[b] + s * tj[a] * tk[b]) * w;
+                he[(3 * j + a, 3 * k + b)] = x;
+                he[(3 * k + b, 3 * j + a)] = x;
             }
         }
     }
-    (SVector::from(ge), he)
+    // Position-angle columns and the angle block.
+    for c in 6..8 {
+        for j in 0..2 {
+            let col = proj(j, [hx[3 * j][c], hx[3 * j + 1][c], hx[3 * j + 2][c]]);
+            for a in 0..3 {
+                he[(3 * j + a, c)] = col[a];
+                he[(c, 3 * j + a)] = col[a];
+            }
+        }
+        for d in 6..8 {
+            he[(c, d)] = hx[c][d];
+        }
+    }
+    for j in 0..2 {
+        let tj = t[j];
+        let g = [gx[3 * j], gx[3 * j + 1], gx[3 * j + 2]];
+        let gt = f::dot(g, tj);
+        let p = f::sub(g, f::scale(tj, gt));
+        let w = il[j] * il[j];
+        for a in 0..3 {
+            for b in a..3 {
+                let pab = (if a == b { 1.0 } else { 0.0 }) - tj[a] * tj[b];
+                let x = he[(3 * j + a, 3 * j + b)] - w * (p[a] * tj[b] + tj[a] * p[b] + gt * pab);
+                he[(3 * j + a, 3 * j + b)] = x;
+                he[(3 * j + b, 3 * j + a)] = x;
+            }
+        }
+    }
+    (ge, he)
 }
 
 /// Bending and twist as one term, each node's stencil by [`node_local`] and scattered once;
@@ -395,12 +436,11 @@ impl Term for BendTwist {
         edges.clear();
         edges.extend((0..nodes - 1).map(|j| {
             let (e, t_old, a1_old) = super::edge_at(ctx, q, j);
-            EdgeFrame::new(e, t_old, a1_old)
+            EdgeFrame::new(e, t_old, a1_old, q[dof::edge(j)])
         }));
         let mut e = 0.0;
         for i in 1..nodes - 1 {
-            let theta = [q[dof::edge(i - 1)], q[dof::edge(i)]];
-            let local = node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]], theta);
+            let local = node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]]);
             e += autodiff::add_local(asm, i, local, project);
         }
         asm.node_edges = edges;
@@ -457,14 +497,14 @@ mod tests {
                 twist: 1.0 + r.sym(),
             };
             let edges = [
-                EdgeFrame::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0]),
-                EdgeFrame::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1]),
+                EdgeFrame::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0], y[6]),
+                EdgeFrame::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1], y[7]),
             ];
             let (b, t) = split(&st);
             let (vb, gb, hb) = b.derivatives(y);
             let (vt, gt, ht) = t.derivatives(y);
             assert_matches(
-                node_local(&st, [&edges[0], &edges[1]], [y[6], y[7]]),
+                node_local(&st, [&edges[0], &edges[1]]),
                 (vb + vt, gb + gt, hb + ht),
                 seed,
             );
@@ -482,11 +522,11 @@ mod tests {
         let ao = unit(f::cross(to, [0.3, 0.1, 0.8]));
         let t = unit([0.5, -0.6, 0.7]);
         let w = [0.3, -1.1, 0.6];
-        let fr = EdgeFrame::new(t, to, ao);
+        let fr = EdgeFrame::new(t, to, ao, 0.0);
         let (h1, h2) = (fr.hess_a1(w), fr.hess_a2(w));
         let (g1, g2) = (mul_t(&fr.ja1, w), mul_t(&fr.ja2, w));
         let val = |x: [f64; 3]| {
-            let fr = EdgeFrame::new(x, to, ao);
+            let fr = EdgeFrame::new(x, to, ao, 0.0);
             [f::dot(w, fr.a1), f::dot(w, fr.a2)]
         };
         let u = unit(f::cross(t, [1.0, 0.0, 0.0]));

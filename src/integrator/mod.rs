@@ -441,6 +441,7 @@ impl<'m> Integrator<'m> {
                         }
                     }
                     let err = adaptive::error_norm(m, &s.q, &self.pred, c, tol, &self.events);
+                    log::debug!("adaptive try t {} h {h:.4e} err {err:.4e} it {it}", s.t);
                     if err <= 1.0 {
                         self.commit(s, h);
                         self.newton.stats.steps += 1;
