@@ -91,7 +91,21 @@ fn heavy_adult_cannot_s_start() {
 
 #[test]
 fn periodic_s_starts_sidewind() {
-    let (_, ob, _) = run("problems/sidewinding.toml");
+    let (_, ob, o) = run("problems/sidewinding.toml");
+    // This run is the bundled scene where the active set's line search backtracks (once):
+    // its sufficient-decrease test is deferred to the next assembly, and on failure the step
+    // is backtracked from the saved iterate. The run must land where the immediate test took
+    // it: v_s = 0.02355980099372444 m/s with the line search before the deferral (commit
+    // 4fc56e1, bitwise equal since).
+    assert!(
+        o.stats.backtracks >= 1,
+        "no backtrack: the deferred path is not exercised"
+    );
+    assert!(
+        (ob.v_s - 0.02355980099372444).abs() < 1e-9 * 0.0236,
+        "v_s {} m/s",
+        ob.v_s
+    );
     assert!(
         ob.displacement_angle_deg >= 60.0,
         "moved {} degrees off the body axis",

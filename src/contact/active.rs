@@ -301,6 +301,66 @@ pub struct ActiveSet {
     progress: Vec<f64>,
     /// Contacts that left the cone at the current converged point (reused storage).
     slid: Vec<usize>,
+    /// The iterate and direction of a full step whose sufficient decrease is checked at the
+    /// next assembly ([`Deferred`]; reused storage).
+    saved: Saved,
+}
+
+/// Iterate and direction saved for a [`Deferred`] test.
+#[derive(Default)]
+struct Saved {
+    q: Vec<f64>,
+    dq: Vec<f64>,
+}
+
+impl Saved {
+    fn save(&mut self, q: &[f64], dq: &[f64]) {
+        self.q.clear();
+        self.q.extend_from_slice(q);
+        self.dq.clear();
+        self.dq.extend_from_slice(dq);
+    }
+
+    /// A deferred full step failed its sufficient-decrease test (or could not be tested):
+    /// back to the saved iterate and direction, and the backtracking line search from there,
+    /// with its accepted point in `q`.
+    fn backtrack(
+        &self,
+        nw: &mut Newton,
+        m: &Model,
+        q: &mut [f64],
+        d: Deferred,
+        iteration: usize,
+        merit: &dyn Fn(&[f64]) -> f64,
+    ) -> Result<(), Failure> {
+        nw.dq.copy_from_slice(&self.dq);
+        let alpha = nw.backtrack(m, &self.q, d.f0, d.slope, false, merit);
+        let Some(alpha) = alpha else {
+            return Err(Failure::LineSearch {
+                path: Path::ActiveSet,
+                iteration,
+                slope: d.slope,
+            });
+        };
+        if alpha < 1.0 {
+            nw.stats.residuals.push(-1.0);
+        }
+        q.copy_from_slice(&nw.trial);
+        Ok(())
+    }
+}
+
+/// A full Newton step taken before its sufficient-decrease (Armijo) test: the merit at the
+/// new iterate comes with that iterate's assembly (its objective value, plus the sliding
+/// dissipation with the normal forces the step was computed with), so the test costs no
+/// separate energy evaluation. If it fails, the step is backtracked from the saved iterate
+/// exactly as an immediate test would have, and that assembly is redone.
+#[derive(Clone, Copy)]
+struct Deferred {
+    /// Merit at the saved iterate.
+    f0: f64,
+    /// Directional derivative of the merit along the saved direction.
+    slope: f64,
 }
 
 impl ActiveSet {
@@ -318,6 +378,7 @@ impl ActiveSet {
             seen: Vec::new(),
             progress: Vec::new(),
             slid: Vec::new(),
+            saved: Saved::default(),
         }
     }
 
@@ -339,6 +400,8 @@ impl ActiveSet {
         let tangential = &mut self.tangential;
         let early = &mut self.early;
         let slid = &mut self.slid;
+        let saved = &mut self.saved;
+        let mut deferred: Option<Deferred> = None;
         early.clear();
         early.resize(ct.nodes.len(), false);
         let path = Path::ActiveSet;
@@ -378,6 +441,23 @@ impl ActiveSet {
         while it < cap {
             it += 1;
             self.spent = it;
+            // A pending step's merit needs this iterate's statuses: resolve it now if a
+            // zero-slip stick below would change them.
+            if let Some(d) = deferred {
+                let zero_slip = (0..nc).any(|c| {
+                    ct.mode[c] == Mode::Slide && {
+                        let s = ct.slip(c, q);
+                        s[0].hypot(s[1]) <= set.contact_tolerance * a
+                    }
+                });
+                if zero_slip {
+                    deferred = None;
+                    let ct: &Contacts = ct;
+                    saved.backtrack(nw, m, q, d, it, &|x| {
+                        obj.value(x) + ct.dissipation(ground, x)
+                    })?;
+                }
+            }
             // A sliding contact whose slip vanished sticks (before the assembly it changes).
             let mut switched = 0;
             for c in 0..nc {
@@ -413,6 +493,20 @@ impl ActiveSet {
             let mut f0 = obj.assemble(q, &mut nw.asm, project);
             if project {
                 nw.stats.projected_iterations += 1;
+            }
+            if let Some(d) = deferred.take() {
+                // The merit here, with the normal forces of the step's direction (not yet
+                // updated from this assembly).
+                let ft = f0 + ct.dissipation(ground, q);
+                let noise = set.line_search_noise * d.f0.abs().max(1e-300);
+                if !(ft.is_finite() && ft <= d.f0 + set.armijo * d.slope + noise) {
+                    let ct: &Contacts = ct;
+                    saved.backtrack(nw, m, q, d, it, &|x| {
+                        obj.value(x) + ct.dissipation(ground, x)
+                    })?;
+                    nw.stats.assembly_s += t0.elapsed().as_secs_f64();
+                    continue;
+                }
             }
             if !f0.is_finite() || nw.asm.grad.iter().any(|g| !g.is_finite()) {
                 return Err(Failure::NonFiniteObjective {
@@ -684,7 +778,12 @@ impl ActiveSet {
                 // the predicted force change.
                 let near = dx <= 100.0 * m.tolerance * a && dth <= 100.0 * m.tolerance;
                 let full = small || (krylov > 0 && krylov < UNCOUPLED && near);
-                nw.backtrack(m, q, f0, slope, full, &|x| {
+                if !full && slope < 0.0 {
+                    // The full step now, its test at the next assembly.
+                    deferred = Some(Deferred { f0, slope });
+                    saved.save(q, &nw.dq);
+                }
+                nw.backtrack(m, q, f0, slope, full || deferred.is_some(), &|x| {
                     obj.value(x) + ct.dissipation(ground, x)
                 })
             };
