@@ -394,6 +394,14 @@ pub mod jet {
         /// `atan2(self, x)`.
         #[inline(always)]
         pub fn atan2(&self, x: &Self) -> Self {
+            let mut r = self.atan2_derivatives(x);
+            r.v = self.v.atan2(x.v);
+            r
+        }
+        /// The gradient and Hessian of `atan2(self, x)` only (value left at 0: no `atan2`
+        /// call), for a caller that takes the angle's value elsewhere.
+        #[inline(always)]
+        pub fn atan2_derivatives(&self, x: &Self) -> Self {
             let (yv, xv) = (self.v, x.v);
             let rho = 1.0 / (xv * xv + yv * yv);
             let fy = xv * rho;
@@ -401,7 +409,7 @@ pub mod jet {
             let fyy = -2.0 * xv * yv * rho * rho;
             let fxx = -fyy;
             let fxy = (yv * yv - xv * xv) * rho * rho;
-            let mut r = Self::cst(yv.atan2(xv));
+            let mut r = Self::cst(0.0);
             for i in 0..N {
                 r.g[i] = fy * self.g[i] + fx * x.g[i];
             }

@@ -64,14 +64,14 @@ pub fn ref_twist_tangent_derivatives(
         d1.h[i][3 + i] = 1.0;
         d1.h[3 + i][i] = 1.0;
     }
-    let w1 = n1.atan2(&d1);
+    let w1 = n1.atan2_derivatives(&d1);
     // +Omega(tb0, tb1, t1): n = (tb0 x tb1) . t1, d = 1 + tb0.tb1 + tb1.t1 + t1.tb0, over t1.
     let c = f::cross(tb0, tb1);
     let mut n2 = Jet::<3>::cst(f::dot(c, t1));
     let mut d2 = Jet::<3>::cst(1.0 + f::dot(tb0, tb1) + f::dot(tb1, t1) + f::dot(t1, tb0));
     n2.g = c;
     d2.g = f::add(tb1, tb0);
-    let w2 = n2.atan2(&d2);
+    let w2 = n2.atan2_derivatives(&d2);
     let mut g = w1.g.map(|x| -2.0 * x);
     let mut h = w1.h.map(|row| row.map(|x| -2.0 * x));
     for i in 0..3 {

@@ -183,14 +183,17 @@ impl LinSolver {
         y[..W].fill(0.0);
         y[W..].copy_from_slice(b);
         // L y = b, row by row: row j holds columns j - W..=j, i.e. y[j..j + W] padded.
+        // The previous row's unknown enters last, so each row waits on it for one
+        // multiply-add only.
         for j in 0..n {
             let row = &self.rows[j];
             let win: &[f64; W] = (&y[j..j + W]).try_into().unwrap();
             let mut acc = [0.0; 2];
-            for t in 0..W {
+            for t in 0..W - 1 {
                 acc[t % 2] += row[t] * win[t];
             }
-            y[j + W] = (y[j + W] - acc[0] - acc[1]) * self.inv_diag[j];
+            let rest = y[j + W] - (acc[0] + acc[1]);
+            y[j + W] = (rest - row[W - 1] * win[W - 1]) * self.inv_diag[j];
         }
         // L^T x = y: once x_j is known, subtract column j of L^T (row j of L).
         for j in (0..n).rev() {
