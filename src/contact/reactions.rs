@@ -64,18 +64,6 @@ pub struct Reactions {
     y: Vec<f64>,
 }
 
-fn row_of(asm: &Assembly, k: usize) -> Row {
-    let n = asm.n();
-    std::array::from_fn(|r| {
-        let j = (k + r).wrapping_sub(W);
-        if j < n {
-            asm.h(k, j)
-        } else {
-            0.0
-        }
-    })
-}
-
 fn row_dot(row: &Row, k: usize, dq: &[f64]) -> f64 {
     let n = dq.len();
     let mut s = 0.0;
@@ -114,10 +102,10 @@ impl Reactions {
                 Mode::Free => {}
                 Mode::Stick => {
                     for r in 0..3 {
-                        self.rows[c][r] = row_of(asm, k + r);
+                        asm.row(k + r, &mut self.rows[c][r]);
                     }
                 }
-                Mode::Slide => self.rows[c][2] = row_of(asm, k + 2),
+                Mode::Slide => asm.row(k + 2, &mut self.rows[c][2]),
             }
         }
     }

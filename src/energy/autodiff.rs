@@ -14,6 +14,7 @@ pub trait StencilEnergy {
 /// Add node `i`'s stencil value, gradient and Hessian in intrinsic coordinates (`local`),
 /// the Hessian projected to positive semi-definite when `project`, to `asm` at the node
 /// coordinates. Returns the value.
+#[inline(always)]
 pub fn add_local(
     asm: &mut crate::energy::Assembly,
     i: usize,

@@ -33,6 +33,7 @@ pub struct Closed;
 
 /// The reference twist's gradient and Hessian in the tangents `(t0, t1)` (6 variables), with
 /// the frozen tangents `tb0`, `tb1`.
+#[inline(always)]
 pub fn ref_twist_tangent_derivatives(
     t0: [f64; 3],
     t1: [f64; 3],

@@ -291,9 +291,33 @@ impl Assembly {
     pub fn fix(&mut self, k: usize) {
         self.grad[k] = 0.0;
         let n = self.n();
-        for j in k.saturating_sub(self.w)..=(k + self.w).min(n - 1) {
-            let p = self.pos(k, j);
-            self.values[p] = if j == k { 1.0 } else { 0.0 };
+        // Column k's upper part is contiguous (rows k - w ..= k); the rest of row k lies one
+        // entry in each later column.
+        let diag = self.col_ptr[k + 1] - 1;
+        self.values[self.col_ptr[k]..diag].fill(0.0);
+        self.values[diag] = 1.0;
+        for j in k + 1..=(k + self.w).min(n - 1) {
+            self.values[self.col_ptr[j] + k - j.saturating_sub(self.w)] = 0.0;
+        }
+    }
+
+    /// Row `k` of the symmetric matrix over columns `k - w ..= k + w` into `out` (zero outside
+    /// the matrix).
+    pub fn row(&self, k: usize, out: &mut [f64]) {
+        let w = self.w;
+        debug_assert_eq!(out.len(), 2 * w + 1);
+        let n = self.n();
+        // Columns k - w ..= k: column k's upper part, right-aligned at out[w].
+        let col = &self.values[self.col_ptr[k]..self.col_ptr[k + 1]];
+        out[..w + 1 - col.len()].fill(0.0);
+        out[w + 1 - col.len()..=w].copy_from_slice(col);
+        for r in w + 1..=2 * w {
+            let j = k + r - w;
+            out[r] = if j < n {
+                self.values[self.col_ptr[j] + k - j.saturating_sub(w)]
+            } else {
+                0.0
+            };
         }
     }
     /// `y = H x` for the symmetric matrix.
@@ -358,6 +382,46 @@ mod tests {
         }
         assert_eq!(fast.grad, slow.grad);
         assert_eq!(fast.values, slow.values);
+    }
+
+    /// `row` and `fix` address the band as `h` and `add_h` do.
+    #[test]
+    fn row_and_fix_match_entrywise_access() {
+        let n = dof::count(6);
+        let mut asm = Assembly::new(n);
+        let w = asm.half_bandwidth();
+        for j in 0..n {
+            for i in j.saturating_sub(w)..=j {
+                asm.add_h(i, j, ((i * 31 + j * 7) as f64).sin());
+            }
+        }
+        let mut row = vec![0.0; 2 * w + 1];
+        for k in 0..n {
+            asm.row(k, &mut row);
+            for (r, &x) in row.iter().enumerate() {
+                let j = (k + r).wrapping_sub(w);
+                let want = if j < n { asm.h(k, j) } else { 0.0 };
+                assert_eq!(x, want, "row {k}, column {j}");
+            }
+        }
+        for k in [0, 5, 12, n - 1] {
+            let mut fixed = asm.clone();
+            fixed.fix(k);
+            for i in 0..n {
+                for j in 0..n {
+                    let want = if i == k || j == k {
+                        if i == j {
+                            1.0
+                        } else {
+                            0.0
+                        }
+                    } else {
+                        asm.h(i, j)
+                    };
+                    assert_eq!(fixed.h(i, j), want, "fix {k}: ({i}, {j})");
+                }
+            }
+        }
     }
 
     /// A node stencil in intrinsic coordinates added straight into the band equals its chain

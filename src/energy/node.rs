@@ -227,6 +227,7 @@ impl<'a> NodeStencil<'a> {
 
 /// Value, gradient and Hessian of node `st`'s bending plus twist in its intrinsic
 /// coordinates, with its two edges' frames (their twist angles `theta` included).
+#[inline(always)]
 pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2]) -> Local {
     let [e0, e1] = edges;
     let (t0, t1) = (e0.t, e1.t);
@@ -343,6 +344,7 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2]) -> Local {
 /// `P_j H P_k = H - u t_k^T - t_j v^T + (t_j . u) t_j t_k^T` with `u = H t_k`, `v = H^T t_j`,
 /// plus, on each edge's diagonal block, the tangent's second derivative contracted with the
 /// gradient, `-(p t^T + t p^T + (g.t) P) / |e|^2`, `p = P g`.
+#[inline(always)]
 fn tangents_to_edges_8(
     edges: [&EdgeFrame; 2],
     gx: &[f64; 8],
