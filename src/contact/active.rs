@@ -86,6 +86,14 @@ impl Contacts {
         [f::dot(dx, self.forward[c]), f::dot(dx, self.side[c])]
     }
 
+    /// Whether contact `c` slides with a slip that vanished (at most `tol`, m): it sticks.
+    fn slip_vanished(&self, c: usize, q: &[f64], tol: f64) -> bool {
+        self.mode[c] == Mode::Slide && {
+            let s = self.slip(c, q);
+            s[0].hypot(s[1]) <= tol
+        }
+    }
+
     /// Classify every contact from a converged step at `q` (after a conic solve).
     pub fn classify(&mut self, m: &Model, q: &[f64]) {
         let a = m.diameter;
@@ -444,13 +452,7 @@ impl ActiveSet {
             // A pending step's merit needs this iterate's statuses: resolve it now if a
             // zero-slip stick below would change them.
             if let Some(d) = deferred {
-                let zero_slip = (0..nc).any(|c| {
-                    ct.mode[c] == Mode::Slide && {
-                        let s = ct.slip(c, q);
-                        s[0].hypot(s[1]) <= set.contact_tolerance * a
-                    }
-                });
-                if zero_slip {
+                if (0..nc).any(|c| ct.slip_vanished(c, q, set.contact_tolerance * a)) {
                     deferred = None;
                     let ct: &Contacts = ct;
                     saved.backtrack(nw, m, q, d, it, &|x| {
@@ -461,14 +463,10 @@ impl ActiveSet {
             // A sliding contact whose slip vanished sticks (before the assembly it changes).
             let mut switched = 0;
             for c in 0..nc {
-                if ct.mode[c] == Mode::Slide {
-                    let s = ct.slip(c, q);
-                    let len = s[0].hypot(s[1]);
-                    if len <= set.contact_tolerance * a {
-                        log::debug!("  switch zero-slip {c}");
-                        ct.set_mode(m, c, Mode::Stick, q, held);
-                        switched += 1;
-                    }
+                if ct.slip_vanished(c, q, set.contact_tolerance * a) {
+                    log::debug!("  switch zero-slip {c}");
+                    ct.set_mode(m, c, Mode::Stick, q, held);
+                    switched += 1;
                 }
             }
             if switched > 0 {

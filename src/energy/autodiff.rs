@@ -296,7 +296,11 @@ pub fn sym_eigen8(a: &[[f64; 8]; 8]) -> Option<([f64; 8], [[f64; 8]; 8])> {
 /// Chain rule from intrinsic to node coordinates: `e0 = x_i - x_{i-1}`, `e1 = x_{i+1} - x_i`,
 /// so `g_x = J^T g` and `H_x = J^T H J` with the constant 8x11 Jacobian `J` (entries 0, +-1).
 /// Returns the 11-gradient and the row-major 11x11 Hessian. Written out per block (`M = H J`,
-/// then `J^T M`), without multiplying by the zeros of `J`.
+/// then `J^T M`), without multiplying by the zeros of `J`, in the order of [`dof::stencil`]:
+/// the reference that [`crate::energy::Assembly::add_node_stencil`] (the same chain rule written
+/// straight into the band) is tested against.
+///
+/// [`dof::stencil`]: crate::rod::dof::stencil
 pub fn to_nodes(g: &SVector<f64, 8>, h: &SMatrix<f64, 8, 8>) -> ([f64; 11], [f64; 121]) {
     // Column b of `y J` for a row y of 8 intrinsic values.
     let cols = |y: &dyn Fn(usize) -> f64| -> [f64; 11] {

@@ -249,44 +249,6 @@ impl Assembly {
             }
         }
     }
-    /// Add a local gradient and a full local Hessian (row-major `m x m`) at `idx`.
-    pub fn add_local(&mut self, idx: &[usize], g: &[f64], h: &[f64]) {
-        let m = idx.len();
-        let first = idx.iter().copied().min().unwrap_or(0);
-        let last = idx.iter().copied().max().unwrap_or(0);
-        let mask = idx.iter().fold(0u32, |k, &i| {
-            k | 1u32.checked_shl((i - first) as u32).unwrap_or(0)
-        });
-        if m <= 11 && last - first <= self.w && mask == (1u32 << m) - 1 {
-            // The coordinates are a permutation of `first..=last` (a node stencil): reorder
-            // into a dense column-major block and add each column's upper part, contiguous in
-            // the banded storage, as one slice.
-            let mut blk = [0.0; 121];
-            for a in 0..m {
-                let ra = idx[a] - first;
-                self.grad[idx[a]] += g[a];
-                for b in 0..m {
-                    blk[(idx[b] - first) * m + ra] = h[a * m + b];
-                }
-            }
-            for c in 0..m {
-                let j = first + c;
-                let start = self.col_ptr[j] + first - j.saturating_sub(self.w);
-                for (v, x) in self.values[start..=start + c].iter_mut().zip(&blk[c * m..]) {
-                    *v += x;
-                }
-            }
-            return;
-        }
-        for a in 0..m {
-            self.grad[idx[a]] += g[a];
-            for b in 0..m {
-                if idx[a] <= idx[b] {
-                    self.add_h(idx[a], idx[b], h[a * m + b]);
-                }
-            }
-        }
-    }
     /// Hold coordinate `k` fixed: zero its gradient, row and column, and put 1 on the diagonal.
     pub fn fix(&mut self, k: usize) {
         self.grad[k] = 0.0;
@@ -354,35 +316,6 @@ pub fn total(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A node stencil's block added through the contiguous-column path equals the entries
-    /// added one by one.
-    #[test]
-    fn add_local_block_equals_entrywise() {
-        let n = dof::count(6);
-        let (mut fast, mut slow) = (Assembly::new(n), Assembly::new(n));
-        for i in 1..5 {
-            let idx = dof::stencil(i);
-            let g: Vec<f64> = (0..11).map(|k| (k + i) as f64 * 0.1).collect();
-            let h: Vec<f64> = (0..121)
-                .map(|k| {
-                    let (a, b) = (k / 11, k % 11);
-                    ((a * b + a + b + i) as f64).sin()
-                })
-                .collect();
-            fast.add_local(&idx, &g, &h);
-            for a in 0..11 {
-                slow.grad[idx[a]] += g[a];
-                for b in 0..11 {
-                    if idx[a] <= idx[b] {
-                        slow.add_h(idx[a], idx[b], h[a * 11 + b]);
-                    }
-                }
-            }
-        }
-        assert_eq!(fast.grad, slow.grad);
-        assert_eq!(fast.values, slow.values);
-    }
 
     /// `row` and `fix` address the band as `h` and `add_h` do.
     #[test]

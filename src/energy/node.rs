@@ -357,12 +357,16 @@ fn tangents_to_edges_8(
         let d = f::dot(t[j], x);
         std::array::from_fn(|a| (x[a] - t[j][a] * d) * il[j])
     };
+    // Each edge's tangent gradient `g`, `g . t` and `p = P g` (the edge gradient is `p / |e|`).
+    let gt: [f64; 2] =
+        std::array::from_fn(|j| f::dot([gx[3 * j], gx[3 * j + 1], gx[3 * j + 2]], t[j]));
+    let p: [[f64; 3]; 2] =
+        std::array::from_fn(|j| std::array::from_fn(|a| gx[3 * j + a] - t[j][a] * gt[j]));
     let mut he = SMatrix::<f64, 8, 8>::zeros();
     let mut ge = SVector::<f64, 8>::zeros();
     for j in 0..2 {
-        let g = proj(j, [gx[3 * j], gx[3 * j + 1], gx[3 * j + 2]]);
         for a in 0..3 {
-            ge[3 * j + a] = g[a];
+            ge[3 * j + a] = p[j][a] * il[j];
         }
     }
     ge[6] = gx[6];
@@ -398,10 +402,7 @@ fn tangents_to_edges_8(
         }
     }
     for j in 0..2 {
-        let tj = t[j];
-        let g = [gx[3 * j], gx[3 * j + 1], gx[3 * j + 2]];
-        let gt = f::dot(g, tj);
-        let p = f::sub(g, f::scale(tj, gt));
+        let (tj, p, gt) = (t[j], p[j], gt[j]);
         let w = il[j] * il[j];
         for a in 0..3 {
             for b in a..3 {

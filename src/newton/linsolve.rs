@@ -94,9 +94,10 @@ const W: usize = crate::rod::dof::HALF_BANDWIDTH;
 const W1: usize = W + 1;
 
 /// Band Cholesky `A = L L^T` of matrices with the [`Assembly`] pattern (half-bandwidth
-/// [`W`]). `L` is stored by rows, each padded to `W + 1` entries: `rows[i][W - (i - k)]` is
-/// `L[i][k]` for `i - W <= k <= i`, with zeros where `k < 0`, and `W` spare rows after the last
-/// so that every column takes the same fixed-size steps (which the compiler unrolls).
+/// `W` = [`crate::rod::dof::HALF_BANDWIDTH`]). `L` is stored by rows, each padded to `W + 1`
+/// entries: `rows[i][W - (i - k)]` is `L[i][k]` for `i - W <= k <= i`, with zeros where
+/// `k < 0`, and `W` spare rows after the last so that every column takes the same fixed-size
+/// steps (which the compiler unrolls).
 #[derive(Clone, Debug)]
 pub struct LinSolver {
     rows: Vec<[f64; W1]>,
