@@ -63,12 +63,12 @@ fn bench(c: &mut Criterion) {
                 if active_set { "active set" } else { "conic only" },
                 1e3 * wall / st.steps as f64,
                 st.newton_iterations as f64 / st.steps as f64,
-                st.conic_solves as f64 / st.steps as f64,
-                st.active_set_steps,
-                st.active_set_fallbacks,
-                st.conic_iterations as f64 / st.conic_solves.max(1) as f64,
-                100.0 * st.conic_s / wall,
-                100.0 * st.assembly_s / wall
+                st.contact.conic_solves as f64 / st.steps as f64,
+                st.contact.active_set_steps,
+                st.contact.active_set_fallbacks,
+                st.contact.conic_iterations as f64 / st.contact.conic_solves.max(1) as f64,
+                100.0 * st.contact.conic_s / wall,
+                100.0 * st.newton.assembly_s / wall
             );
         }
     }

@@ -23,8 +23,8 @@ fn print_stats(name: &str, m: &Model, kind: problem::IntegratorKind) {
         "{name}: {} steps, {:.2} Newton iterations/step, {} conic solves, {} fallbacks, {} halvings",
         st.steps,
         st.newton_iterations as f64 / st.steps as f64,
-        st.conic_solves,
-        st.active_set_fallbacks,
+        st.contact.conic_solves,
+        st.contact.active_set_fallbacks,
         st.step_halvings
     );
 }

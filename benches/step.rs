@@ -56,10 +56,10 @@ fn bench_step(c: &mut Criterion) {
         println!(
             "{n} elements: {:.2} Newton iterations/step; per iteration: assembly {:.1} us, factorization {:.1} us, solve {:.1} us, line search {:.1} us",
             it / st.steps as f64,
-            1e6 * st.assembly_s / it,
-            1e6 * st.factor_s / it,
-            1e6 * st.solve_s / it,
-            1e6 * st.line_search_s / it
+            1e6 * st.newton.assembly_s / it,
+            1e6 * st.newton.factor_s / it,
+            1e6 * st.newton.solve_s / it,
+            1e6 * st.newton.line_search_s / it
         );
     }
     g.finish();

@@ -57,8 +57,8 @@ fn run(p: &problem::Problem) -> Result<Run, String> {
         what,
         wall: o.wall_time_s,
         newton_mean: st.newton_iterations as f64 / st.steps.max(1) as f64,
-        conic: st.conic_solves,
-        fallbacks: st.active_set_fallbacks,
+        conic: st.contact.conic_solves,
+        fallbacks: st.contact.active_set_fallbacks,
         halvings: st.step_halvings,
     })
 }

@@ -100,7 +100,7 @@ fn rod_at_rest_stays_put_and_carries_its_weight() {
     assert!(drift < 1e-9);
     assert!((n / weight - 1.0).abs() < 1e-6);
     assert!(worst_pen < 1e-6 * a);
-    assert!(integ.stats().conic_solves as f64 / integ.stats().steps as f64 <= 1.5);
+    assert!(integ.stats().contact.conic_solves as f64 / integ.stats().steps as f64 <= 1.5);
 }
 
 fn stop_distance(heading: f64, v: [f64; 3], mu: f64) {
@@ -129,7 +129,7 @@ fn stop_distance_with(heading: f64, v: [f64; 3], mu: f64, active: bool, integrat
     let d = f::norm(f::sub(s.centroid(&m), c0));
     let expected = f::dot(v, v) / (2.0 * mu * G);
     let speed = f::norm(s.node_velocity(m.real.start));
-    println!("heading {heading}: stopped after {d:.6} m (analytic {expected:.6} m), final speed {speed:e}, {:.2} conic solves/step", integ.stats().conic_solves as f64 / integ.stats().steps as f64);
+    println!("heading {heading}: stopped after {d:.6} m (analytic {expected:.6} m), final speed {speed:e}, {:.2} conic solves/step", integ.stats().contact.conic_solves as f64 / integ.stats().steps as f64);
     assert!((d / expected - 1.0).abs() < 0.01);
     assert!(speed < 1e-9, "still moving at {speed}");
 }
@@ -308,7 +308,7 @@ fn s_start_residuals(coupling: bool) -> Vec<Vec<f64>> {
     let mut out = Vec::new();
     for _ in 0..(m.duration / m.dt).round() as usize {
         integ.step(&mut s, m.dt).unwrap();
-        out.push(integ.stats().residuals.clone());
+        out.push(integ.stats().contact.residuals.clone());
     }
     out
 }

@@ -98,7 +98,7 @@ fn periodic_s_starts_sidewind() {
     // it: v_s = 0.02355980099372444 m/s with the line search before the deferral (commit
     // 4fc56e1, bitwise equal since).
     assert!(
-        o.stats.backtracks >= 1,
+        o.stats.newton.backtracks >= 1,
         "no backtrack: the deferred path is not exercised"
     );
     assert!(

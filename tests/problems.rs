@@ -44,7 +44,7 @@ fn every_bundled_problem_runs_over_a_short_horizon() {
             o.max_strain
         );
         let newton = o.stats.newton_iterations as f64 / o.stats.steps as f64;
-        let conic = o.stats.conic_solves as f64 / o.stats.steps as f64;
+        let conic = o.stats.contact.conic_solves as f64 / o.stats.steps as f64;
         println!(
             "{}: {} steps, {newton:.2} Newton it/step, {conic:.2} conic solves/step, {} halvings",
             path.display(),
@@ -87,9 +87,12 @@ fn s_start_lift_off_stays_on_the_active_set_path() {
     let o = s_start_until(0.3);
     println!(
         "{} steps, {} active-set steps, {} fallbacks, {} conic solves",
-        o.stats.steps, o.stats.active_set_steps, o.stats.active_set_fallbacks, o.stats.conic_solves
+        o.stats.steps,
+        o.stats.contact.active_set_steps,
+        o.stats.contact.active_set_fallbacks,
+        o.stats.contact.conic_solves
     );
-    assert_eq!(o.stats.active_set_fallbacks, 0);
+    assert_eq!(o.stats.contact.active_set_fallbacks, 0);
 }
 
 /// Pinned: a step that leaves the active-set path (here a contact on the friction cone's
@@ -110,14 +113,17 @@ fn s_start_lift_off_stays_on_the_active_set_path() {
 #[test]
 fn s_start_fallbacks_start_the_conic_path_near_the_solution() {
     let o = s_start_until(2.5);
-    let (fb, conic) = (o.stats.active_set_fallbacks, o.stats.conic_solves);
+    let (fb, conic) = (
+        o.stats.contact.active_set_fallbacks,
+        o.stats.contact.conic_solves,
+    );
     println!(
         "{fb} fallbacks, {conic} conic solves, {} halvings",
         o.stats.step_halvings
     );
     assert!(fb >= 5, "the scene must exercise the fallback: {fb}");
     assert!(conic <= 5 * fb, "{conic} conic solves for {fb} fallbacks");
-    assert_eq!(o.stats.warm_conic_restarts, 0);
+    assert_eq!(o.stats.contact.warm_conic_restarts, 0);
     assert_eq!(o.stats.step_halvings, 0);
 }
 
@@ -141,7 +147,7 @@ fn whole_run(p: &problem::Problem) -> (sim::Outcome, f64, f64) {
     let per_step = st.newton_iterations as f64 / st.steps as f64;
     println!(
         "{} steps, {per_step:.3} Newton it/step, {} conic solves, {} fallbacks, {} halvings",
-        st.steps, st.conic_solves, st.active_set_fallbacks, st.step_halvings
+        st.steps, st.contact.conic_solves, st.contact.active_set_fallbacks, st.step_halvings
     );
     let fields = slither::observe::fields(&m, &o.frames);
     let v = slither::observe::observe(&m, &o.frames, &fields).v_s_over_v_m;
@@ -172,16 +178,24 @@ fn s_start_newton_and_contact_statistics_are_pinned() {
     let st = &o.stats;
     assert_eq!(st.steps, 1786);
     assert!(per_step <= 4.0, "{per_step} Newton iterations per step");
-    assert!(st.conic_solves <= 30, "{} conic solves", st.conic_solves);
     assert!(
-        st.active_set_fallbacks as f64 <= 0.006 * st.steps as f64,
+        st.contact.conic_solves <= 30,
+        "{} conic solves",
+        st.contact.conic_solves
+    );
+    assert!(
+        st.contact.active_set_fallbacks as f64 <= 0.006 * st.steps as f64,
         "{} fallbacks",
-        st.active_set_fallbacks
+        st.contact.active_set_fallbacks
     );
     assert_eq!(st.step_halvings, 0);
     // The stall test sends the crawling steps (contraction 0.75 to 0.93 per iteration) to the
     // conic program before the 40-iteration cap.
-    assert!(st.active_set_stalls >= 1, "{} stalls", st.active_set_stalls);
+    assert!(
+        st.contact.active_set_stalls >= 1,
+        "{} stalls",
+        st.contact.active_set_stalls
+    );
     assert!((v / 0.30309 - 1.0).abs() < 1e-4, "v_s/v_m {v}");
 }
 
@@ -208,15 +222,16 @@ fn s_start_at_100_elements_has_no_fallback_storm() {
     // Most of its fallbacks are stick-slide cycles caught by the exact-repeat test (5 of 6),
     // not 40-iteration failures.
     assert!(
-        st.contact_cycles >= 1 && st.contact_cycles <= st.active_set_fallbacks,
+        st.contact.contact_cycles >= 1
+            && st.contact.contact_cycles <= st.contact.active_set_fallbacks,
         "{} cycles of {} fallbacks",
-        st.contact_cycles,
-        st.active_set_fallbacks
+        st.contact.contact_cycles,
+        st.contact.active_set_fallbacks
     );
     assert!(
-        st.active_set_fallbacks as f64 <= 0.005 * st.steps as f64,
+        st.contact.active_set_fallbacks as f64 <= 0.005 * st.steps as f64,
         "{} fallbacks",
-        st.active_set_fallbacks
+        st.contact.active_set_fallbacks
     );
     assert_eq!(st.step_halvings, 0);
     // Within 1 % of the value the fast-Newton issue recorded (0.3149).

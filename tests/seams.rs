@@ -9,7 +9,7 @@ use common::model;
 use slither::contact::ContactModel;
 use slither::integrator::{Integrator, Natural, Scheme, Stepper};
 use slither::model::Model;
-use slither::newton::{Failure, Newton, Objective, Potential};
+use slither::newton::{Newton, Objective, Potential};
 use slither::rod::dof;
 use slither::sim::{drive, Schedule};
 use slither::state::State;
@@ -143,7 +143,7 @@ impl ContactModel for Frictionless {
         newton: &mut Newton,
         obj: &Potential,
         q: &mut Vec<f64>,
-    ) -> Result<usize, Failure> {
+    ) -> Result<usize, slither::contact::ContactFailure> {
         let m = obj.model;
         let mut o = *obj;
         let it = newton.minimize(m, &mut o, q, &self.held, m.max_iterations)?;

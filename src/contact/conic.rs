@@ -1,10 +1,19 @@
 //! The conic contact model: one second-order-cone program (Clarabel) per Newton iterate, its
 //! duals the lagged normal forces of the next iterate (see the module doc of
 //! [`crate::contact`]). Also the certified fallback of the active-set model.
+//!
+//! [`Contacts::conic_program`] formulates and solves the program of one iterate;
+//! [`Conic::iterate`] runs the Newton iterations around it.
 
-use super::{ContactModel, Contacts};
+use super::{ContactFailure, ContactModel, ContactStats, Contacts, Ground};
+use crate::energy::Assembly;
 use crate::model::Model;
 use crate::newton::{Failure, Newton, Objective, Path, Potential};
+use crate::rod::{dof, vec3::f};
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{
+    DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+};
 use std::time::Instant;
 
 /// A conic step whose predicted decrease is below this fraction of the objective is an
@@ -15,6 +24,8 @@ const NEGLIGIBLE_DECREASE: f64 = 1e-12;
 pub struct Conic {
     /// Contact data and normal forces.
     pub ct: Contacts,
+    /// Statistics (also those of an active-set model that owns this one).
+    pub stats: ContactStats,
     normal_saved: Vec<f64>,
     pred_grad: Vec<f64>,
     h: f64,
@@ -25,6 +36,7 @@ impl Conic {
     pub fn new(m: &Model) -> Self {
         Conic {
             ct: Contacts::new(m, &m.q0),
+            stats: ContactStats::default(),
             normal_saved: Vec::new(),
             pred_grad: vec![0.0; m.ndof],
             h: 0.0,
@@ -46,7 +58,7 @@ impl Conic {
         obj: &Potential,
         q: &mut Vec<f64>,
         cap: usize,
-    ) -> Result<usize, Failure> {
+    ) -> Result<usize, ContactFailure> {
         let m = obj.model;
         let n = m.ndof;
         let a = m.diameter;
@@ -65,7 +77,8 @@ impl Conic {
                 return Err(Failure::NonFiniteObjective {
                     path,
                     iteration: it,
-                });
+                }
+                .into());
             }
             if have_pred {
                 // The conic model was exact up to the tolerance: the true gradient at the new
@@ -91,16 +104,17 @@ impl Conic {
                 .ct
                 .conic_program(m, ground, &nw.asm, q, self.h, &mut nw.dq)
                 .map_err(|e| e.at(it))?;
-            nw.stats.conic_solves += 1;
-            nw.stats.conic_iterations += self.ct.last_iterations as usize;
+            self.stats.conic_solves += 1;
+            self.stats.conic_iterations += self.ct.last_iterations as usize;
             let t2 = Instant::now();
-            nw.stats.conic_s += (t2 - t1).as_secs_f64();
+            self.stats.conic_s += (t2 - t1).as_secs_f64();
             let t3 = Instant::now();
             if nw.dq.iter().any(|d| !d.is_finite()) {
                 return Err(Failure::NonFiniteStep {
                     path,
                     iteration: it,
-                });
+                }
+                .into());
             }
             // Merit: the step objective plus friction dissipation with the lagged normal
             // forces; the model decrease is the conic optimum's.
@@ -120,7 +134,8 @@ impl Conic {
                     path,
                     iteration: it,
                     slope,
-                });
+                }
+                .into());
             };
             std::mem::swap(q, &mut nw.trial);
             std::mem::swap(&mut self.ct.normal, &mut self.ct.pending);
@@ -140,7 +155,8 @@ impl Conic {
         Err(Failure::NotConverged {
             path,
             iterations: cap,
-        })
+        }
+        .into())
     }
 }
 
@@ -166,13 +182,11 @@ impl ContactModel for Conic {
         nw: &mut Newton,
         obj: &Potential,
         q: &mut Vec<f64>,
-    ) -> Result<usize, Failure> {
+    ) -> Result<usize, ContactFailure> {
         self.iterate(nw, obj, q, obj.model.max_iterations)
     }
 
-    fn accept(&mut self, m: &Model, q: &[f64]) {
-        self.ct.classify(m, q);
-    }
+    fn accept(&mut self, _m: &Model, _q: &[f64]) {}
 
     fn reject(&mut self) {
         self.restore_normals();
@@ -180,5 +194,217 @@ impl ContactModel for Conic {
 
     fn normal_forces(&self, m: &Model, out: &mut [f64]) {
         self.ct.normal_forces(m, out);
+    }
+
+    fn stats(&self) -> &ContactStats {
+        &self.stats
+    }
+}
+
+/// Why a conic program was not solved.
+#[derive(Clone, Debug)]
+pub enum ConicError {
+    /// Clarabel refused the settings or the problem.
+    Setup(String),
+    /// Clarabel ended with another status than `Solved`.
+    Status {
+        /// The status.
+        status: String,
+        /// Interior-point iterations.
+        iterations: u32,
+    },
+}
+
+impl ConicError {
+    /// As a contact failure at Newton iteration `it`.
+    pub fn at(self, it: usize) -> ContactFailure {
+        match self {
+            ConicError::Setup(message) => ContactFailure::ConicSetup {
+                message,
+                iteration: it,
+            },
+            ConicError::Status { status, iterations } => ContactFailure::Conic {
+                status,
+                conic_iterations: iterations,
+                iteration: it,
+            },
+        }
+    }
+}
+
+/// Outcome of one conic solve.
+pub struct ConicStep {
+    /// Largest change of a normal force between the lagged and new value (N).
+    pub max_normal_change: f64,
+    /// Optimal value of the conic model minus its value at `dq = 0` (J, <= 0).
+    pub predicted_decrease: f64,
+}
+
+impl Contacts {
+    /// Solve the conic subproblem at the iterate `q`: writes the step into `dq` and the new
+    /// normal forces into `pending`.
+    pub fn conic_program(
+        &mut self,
+        m: &Model,
+        g: &Ground,
+        asm: &Assembly,
+        q: &[f64],
+        h: f64,
+        dq: &mut [f64],
+    ) -> Result<ConicStep, ConicError> {
+        let n = asm.n();
+        let nc = self.nodes.len();
+        let nv = n + 4 * nc;
+        let var = |c: usize, k: usize| n + 4 * c + k; // u, w, y, sigma
+                                                      // Scaling (the interior-point tolerances are absolute): displacements in units of
+                                                      // `ls`, the larger of this step's largest node displacement and `g h^2`; slip variables
+                                                      // as displacements (`h u / ls`, ...); the objective multiplied by `k` so that the
+                                                      // Hessian's mean diagonal is one.
+        let mut disp: f64 = 0.0;
+        for c in 0..nc {
+            let kk = dof::node(self.nodes[c]);
+            disp = disp.max(f::norm(f::sub(
+                [q[kk], q[kk + 1], q[kk + 2]],
+                self.x_start[c],
+            )));
+        }
+        let ls = disp.max(h * h * f::norm(m.gravity)).max(1e-9 * m.diameter);
+        let mean_diag = (0..n).map(|k| asm.h(k, k)).sum::<f64>() / n as f64;
+        let ks = 1.0 / (ls * ls * mean_diag);
+        // Jacobi scaling of the coordinates, `dq_k = d_k x_k`, so that every scaled Hessian
+        // diagonal is one (twist angles and positions differ by orders of magnitude).
+        let d: Vec<f64> = (0..n)
+            .map(|k| ls * (mean_diag / asm.h(k, k).max(1e-300 * mean_diag)).sqrt())
+            .collect();
+        // P: the Hessian's upper triangle, then empty columns.
+        let mut colptr = asm.col_ptr.clone();
+        let nnz = *colptr.last().unwrap();
+        colptr.extend(std::iter::repeat_n(nnz, 4 * nc));
+        let mut pv = asm.values.clone();
+        for j in 0..n {
+            for idx in asm.col_ptr[j]..asm.col_ptr[j + 1] {
+                pv[idx] *= ks * d[asm.row_idx[idx]] * d[j];
+            }
+        }
+        let p = CscMatrix::new(nv, nv, colptr, asm.row_idx.clone(), pv);
+        let mut lin = vec![0.0; nv];
+        for k in 0..n {
+            lin[k] = asm.grad[k] * ks * d[k];
+        }
+        for c in 0..nc {
+            // A tiny cost on sigma, u and w keeps the optimal set bounded where a contact
+            // carries no load (otherwise sigma and u = w could grow freely, which stalls the
+            // interior-point method); it changes forces by ~1e-9 of the scaled units.
+            lin[var(c, 3)] = ks * ls * self.normal[c] + 1e-9;
+            lin[var(c, 0)] = 1e-9;
+            lin[var(c, 1)] = 1e-9;
+        }
+        // Constraints A x + s = b.
+        let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
+        let mut b = Vec::new();
+        let mut row = 0;
+        let push = |r: usize,
+                    c: usize,
+                    v: f64,
+                    ri: &mut Vec<usize>,
+                    ci: &mut Vec<usize>,
+                    vv: &mut Vec<f64>| {
+            ri.push(r);
+            ci.push(c);
+            vv.push(v);
+        };
+        // Zero cone: slip definitions (displacement units, scaled by `ls`).
+        for c in 0..nc {
+            let k = dof::node(self.nodes[c]);
+            let x = [q[k], q[k + 1], q[k + 2]];
+            let d0 = f::sub(x, self.x_start[c]);
+            for (dir, sign_var) in [(self.forward[c], 0usize), (self.side[c], 2usize)] {
+                for a in 0..2 {
+                    if dir[a] != 0.0 {
+                        push(
+                            row,
+                            k + a,
+                            dir[a] * d[k + a] / ls,
+                            &mut ri,
+                            &mut ci,
+                            &mut vv,
+                        );
+                    }
+                }
+                if sign_var == 0 {
+                    push(row, var(c, 0), -1.0, &mut ri, &mut ci, &mut vv);
+                    push(row, var(c, 1), 1.0, &mut ri, &mut ci, &mut vv);
+                } else {
+                    push(row, var(c, 2), -1.0, &mut ri, &mut ci, &mut vv);
+                }
+                b.push(-f::dot(d0, dir) / ls);
+                row += 1;
+            }
+        }
+        let n_zero = row;
+        // Nonnegative: gaps, then u, w >= 0.
+        for c in 0..nc {
+            let k = dof::node(self.nodes[c]);
+            push(row, k + 2, -d[k + 2] / ls, &mut ri, &mut ci, &mut vv);
+            b.push((q[k + 2] - 0.5 * m.diameter) / ls);
+            row += 1;
+        }
+        for c in 0..nc {
+            for kk in 0..2 {
+                push(row, var(c, kk), -1.0, &mut ri, &mut ci, &mut vv);
+                b.push(0.0);
+                row += 1;
+            }
+        }
+        let n_nonneg = row - n_zero;
+        // Second-order cones (sigma, mu_f u, mu_b w, mu_s y).
+        for c in 0..nc {
+            for (kk, coef) in [(3usize, 1.0), (0, g.mu_f), (1, g.mu_b), (2, g.mu_s)] {
+                push(row, var(c, kk), -coef, &mut ri, &mut ci, &mut vv);
+                b.push(0.0);
+                row += 1;
+            }
+        }
+        let a = CscMatrix::new_from_triplets(row, nv, ri, ci, vv);
+        let mut cones = vec![
+            SupportedConeT::ZeroConeT(n_zero),
+            SupportedConeT::NonnegativeConeT(n_nonneg),
+        ];
+        cones.extend(std::iter::repeat_n(SupportedConeT::SecondOrderConeT(4), nc));
+        let settings = DefaultSettingsBuilder::default()
+            .verbose(false)
+            .tol_gap_abs(self.conic_tolerance)
+            .tol_gap_rel(self.conic_tolerance)
+            .tol_feas(self.conic_tolerance)
+            .max_iter(self.conic_max_iterations)
+            .direct_solve_method(self.direct_method.clone())
+            .build()
+            .map_err(|e| ConicError::Setup(format!("Clarabel settings: {e:?}")))?;
+        let mut solver = DefaultSolver::new(&p, &lin, &a, &b, &cones, settings)
+            .map_err(|e| ConicError::Setup(format!("Clarabel setup: {e:?}")))?;
+        solver.solve();
+        let sol = &solver.solution;
+        self.last_iterations = sol.iterations;
+        self.last_time = sol.solve_time;
+        if sol.status != SolverStatus::Solved {
+            return Err(ConicError::Status {
+                status: format!("{:?}", sol.status),
+                iterations: sol.iterations,
+            });
+        }
+        for k in 0..n {
+            dq[k] = sol.x[k] * d[k];
+        }
+        let mut change: f64 = 0.0;
+        for c in 0..nc {
+            let lam = (sol.z[n_zero + c] / (ks * ls)).max(0.0);
+            change = change.max((lam - self.normal[c]).abs());
+            self.pending[c] = lam;
+        }
+        let predicted_decrease = sol.obj_val / ks - self.dissipation(g, q);
+        Ok(ConicStep {
+            max_normal_change: change,
+            predicted_decrease,
+        })
     }
 }

@@ -20,28 +20,30 @@
 //! forces, converged together with Newton), so at convergence the contact forces satisfy
 //! exact Coulomb complementarity: stiction inside the cone, sliding on its boundary.
 //!
-//! The integrator solves most steps without this program: [`active`] keeps every contact's
-//! status (free, sticking, sliding) and solves the then smooth step problem by Newton,
-//! changing statuses that violate the Coulomb conditions and verifying them at convergence;
-//! the conic program runs only when that fails (and its solution resets the statuses).
+//! The program of one iterate is formulated in [`conic`]. The integrator solves most steps
+//! without it: [`active`] keeps every contact's status (free, sticking, sliding) and solves
+//! the then smooth step problem by Newton, changing statuses that violate the Coulomb
+//! conditions and verifying them at convergence; the conic program runs only when that fails
+//! (and its solution resets the statuses).
+//!
+//! A contact model owns its outcomes: its statistics ([`ContactStats`]) and its failures
+//! ([`ContactFailure`], which wraps Newton's own).
 
 pub mod active;
 pub mod conic;
+mod deferred;
 pub mod reactions;
+pub mod status;
 
-pub use active::{ActiveSet, Mode};
-pub use conic::Conic;
+pub use active::ActiveSet;
+pub use conic::{Conic, ConicError, ConicStep};
+pub use status::{Mode, Statuses};
 
 pub use crate::model::Ground;
 
-use crate::energy::Assembly;
 use crate::model::Model;
-use crate::newton::{Failure, Newton, Potential};
+use crate::newton::{self, Newton, Potential};
 use crate::rod::{dof, vec3::f};
-use clarabel::algebra::CscMatrix;
-use clarabel::solver::{
-    DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
-};
 
 /// A contact model: what a time step needs of ground contact. The integrator calls
 /// [`ContactModel::begin_step`] once per step, [`ContactModel::solve`] to solve the step problem
@@ -69,13 +71,110 @@ pub trait ContactModel: Send {
         newton: &mut Newton,
         obj: &Potential,
         q: &mut Vec<f64>,
-    ) -> Result<usize, Failure>;
+    ) -> Result<usize, ContactFailure>;
     /// The step's solution `q` was accepted.
     fn accept(&mut self, m: &Model, q: &[f64]);
     /// The step was rejected: restore what `begin_step` saved.
     fn reject(&mut self);
     /// Normal force on every real node (N; zero off the ground), into `out`.
     fn normal_forces(&self, m: &Model, out: &mut [f64]);
+    /// The model's statistics so far (none by default).
+    fn stats(&self) -> &ContactStats {
+        &NO_STATS
+    }
+}
+
+/// Cumulative statistics of a contact model (written to `summary.json` beside Newton's).
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct ContactStats {
+    /// Active-set fallbacks that were stalls ([`ContactFailure::Stalled`]).
+    pub active_set_stalls: usize,
+    /// Conic (Clarabel) solves.
+    pub conic_solves: usize,
+    /// Clarabel interior-point iterations over all solves.
+    pub conic_iterations: usize,
+    /// Seconds in Clarabel (set-up and solve).
+    pub conic_s: f64,
+    /// Contact steps solved by the active-set path (no conic solve).
+    pub active_set_steps: usize,
+    /// Contact steps where the active-set path failed its checks and the conic path ran.
+    pub active_set_fallbacks: usize,
+    /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
+    /// from the step's start.
+    pub warm_conic_restarts: usize,
+    /// Fallbacks because the active-set iterates cycled (an exact repeat of iterate and
+    /// statuses), sent to the conic path before the iteration cap.
+    pub contact_cycles: usize,
+    /// The last active-set solve's residual at each iterate (largest force on a free
+    /// position coordinate, or torque on a free angle over `a`, relative to the mean weight
+    /// per contact; NaN marks a change of contact statuses, -1 a step that was not a full
+    /// step of the exact linearisation: damped, projected or with unconverged coupling), for
+    /// convergence tests; not written to `summary.json`.
+    #[serde(skip)]
+    pub residuals: Vec<f64>,
+}
+
+static NO_STATS: ContactStats = ContactStats {
+    active_set_stalls: 0,
+    conic_solves: 0,
+    conic_iterations: 0,
+    conic_s: 0.0,
+    active_set_steps: 0,
+    active_set_fallbacks: 0,
+    warm_conic_restarts: 0,
+    contact_cycles: 0,
+    residuals: Vec::new(),
+};
+
+/// Why a contact model's step solve failed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ContactFailure {
+    /// One of Newton's own failures (its building blocks inside the contact iteration).
+    #[error(transparent)]
+    Newton(#[from] newton::Failure),
+    /// The active set kept changing.
+    #[error("too many contact status changes (active-set iteration {iteration})")]
+    ContactSwitches {
+        /// 1-based iteration.
+        iteration: usize,
+    },
+    /// The active-set iteration stopped converging: with the statuses unchanged for
+    /// [`active::STALL_WINDOW`] iterations, the correction did not fall tenfold.
+    #[error("active-set Newton stalls (iteration {iteration}: correction {now:.3e}, {} iterations earlier {before:.3e})", active::STALL_WINDOW)]
+    Stalled {
+        /// 1-based iteration.
+        iteration: usize,
+        /// The correction now and `STALL_WINDOW` iterations earlier (scaled).
+        now: f64,
+        /// See `now`.
+        before: f64,
+    },
+    /// The active set returned to an earlier iterate with the same statuses: it would cycle.
+    #[error("contact statuses cycle (active-set iteration {iteration} repeats iteration {first})")]
+    ContactCycle {
+        /// 1-based iteration.
+        iteration: usize,
+        /// The earlier iteration it repeats.
+        first: usize,
+    },
+    /// The conic program could not be set up.
+    #[error("{message} (Newton iteration {iteration})")]
+    ConicSetup {
+        /// Clarabel's message.
+        message: String,
+        /// 1-based Newton iteration.
+        iteration: usize,
+    },
+    /// The conic program ended unsolved.
+    #[error("conic solve ended with status {status} after {conic_iterations} iterations (Newton iteration {iteration})")]
+    Conic {
+        /// Clarabel's status.
+        status: String,
+        /// Interior-point iterations.
+        conic_iterations: u32,
+        /// 1-based Newton iteration.
+        iteration: usize,
+    },
 }
 
 /// The contact model a problem asks for (`[solver] contact`).
@@ -85,37 +184,6 @@ pub fn model_for(m: &Model) -> Option<Box<dyn ContactModel>> {
         crate::problem::ContactKind::ActiveSet => Box::new(ActiveSet::new(m)),
         crate::problem::ContactKind::Conic => Box::new(Conic::new(m)),
     })
-}
-
-/// Why a conic program was not solved.
-#[derive(Clone, Debug)]
-pub enum ConicError {
-    /// Clarabel refused the settings or the problem.
-    Setup(String),
-    /// Clarabel ended with another status than `Solved`.
-    Status {
-        /// The status.
-        status: String,
-        /// Interior-point iterations.
-        iterations: u32,
-    },
-}
-
-impl ConicError {
-    /// As a Newton failure at iteration `it`.
-    pub fn at(self, it: usize) -> Failure {
-        match self {
-            ConicError::Setup(message) => Failure::ConicSetup {
-                message,
-                iteration: it,
-            },
-            ConicError::Status { status, iterations } => Failure::Conic {
-                status,
-                conic_iterations: iterations,
-                iteration: it,
-            },
-        }
-    }
 }
 
 /// Per-step contact data and the normal-force fixed point.
@@ -136,21 +204,6 @@ pub struct Contacts {
     direct_method: String,
     conic_tolerance: f64,
     conic_max_iterations: u32,
-    /// Status of every contact for the active-set path (valid after a conic solve).
-    pub mode: Vec<Mode>,
-    /// Whether `mode` holds a status from a converged step.
-    pub modes_valid: bool,
-    pub(crate) react: Vec<f64>,
-    pub(crate) ratio: Vec<f64>,
-    pub(crate) slip_dir: Vec<[f64; 2]>,
-}
-
-/// Outcome of one conic solve.
-pub struct ConicStep {
-    /// Largest change of a normal force between the lagged and new value (N).
-    pub max_normal_change: f64,
-    /// Optimal value of the conic model minus its value at `dq = 0` (J, <= 0).
-    pub predicted_decrease: f64,
 }
 
 impl Contacts {
@@ -187,11 +240,6 @@ impl Contacts {
             direct_method: m.solver.clarabel_method.clone(),
             conic_tolerance: m.solver.conic_tolerance,
             conic_max_iterations: m.solver.conic_max_iterations,
-            mode: vec![Mode::Free; nc],
-            modes_valid: false,
-            react: vec![0.0; nc],
-            ratio: vec![0.0; nc],
-            slip_dir: vec![[0.0; 2]; nc],
         }
     }
 
@@ -252,172 +300,5 @@ impl Contacts {
         for (c, &i) in self.nodes.iter().enumerate() {
             out[i - m.real.start] = self.normal[c];
         }
-    }
-
-    /// Solve the conic subproblem at the iterate `q`: writes the step into `dq` and the new
-    /// normal forces into `pending`.
-    pub fn conic_program(
-        &mut self,
-        m: &Model,
-        g: &Ground,
-        asm: &Assembly,
-        q: &[f64],
-        h: f64,
-        dq: &mut [f64],
-    ) -> Result<ConicStep, ConicError> {
-        let n = asm.n();
-        let nc = self.nodes.len();
-        let nv = n + 4 * nc;
-        let var = |c: usize, k: usize| n + 4 * c + k; // u, w, y, sigma
-                                                      // Scaling (the interior-point tolerances are absolute): displacements in units of
-                                                      // `ls`, the larger of this step's largest node displacement and `g h^2`; slip variables
-                                                      // as displacements (`h u / ls`, ...); the objective multiplied by `k` so that the
-                                                      // Hessian's mean diagonal is one.
-        let mut disp: f64 = 0.0;
-        for c in 0..nc {
-            let kk = dof::node(self.nodes[c]);
-            disp = disp.max(f::norm(f::sub(
-                [q[kk], q[kk + 1], q[kk + 2]],
-                self.x_start[c],
-            )));
-        }
-        let ls = disp.max(h * h * f::norm(m.gravity)).max(1e-9 * m.diameter);
-        let mean_diag = (0..n).map(|k| asm.h(k, k)).sum::<f64>() / n as f64;
-        let ks = 1.0 / (ls * ls * mean_diag);
-        // Jacobi scaling of the coordinates, `dq_k = d_k x_k`, so that every scaled Hessian
-        // diagonal is one (twist angles and positions differ by orders of magnitude).
-        let d: Vec<f64> = (0..n)
-            .map(|k| ls * (mean_diag / asm.h(k, k).max(1e-300 * mean_diag)).sqrt())
-            .collect();
-        // P: the Hessian's upper triangle, then empty columns.
-        let mut colptr = asm.col_ptr.clone();
-        let nnz = *colptr.last().unwrap();
-        colptr.extend(std::iter::repeat_n(nnz, 4 * nc));
-        let mut pv = asm.values.clone();
-        for j in 0..n {
-            for idx in asm.col_ptr[j]..asm.col_ptr[j + 1] {
-                pv[idx] *= ks * d[asm.row_idx[idx]] * d[j];
-            }
-        }
-        let p = CscMatrix::new(nv, nv, colptr, asm.row_idx.clone(), pv);
-        let mut lin = vec![0.0; nv];
-        for k in 0..n {
-            lin[k] = asm.grad[k] * ks * d[k];
-        }
-        for c in 0..nc {
-            // A tiny cost on sigma, u and w keeps the optimal set bounded where a contact
-            // carries no load (otherwise sigma and u = w could grow freely, which stalls the
-            // interior-point method); it changes forces by ~1e-9 of the scaled units.
-            lin[var(c, 3)] = ks * ls * self.normal[c] + 1e-9;
-            lin[var(c, 0)] = 1e-9;
-            lin[var(c, 1)] = 1e-9;
-        }
-        // Constraints A x + s = b.
-        let (mut ri, mut ci, mut vv) = (Vec::new(), Vec::new(), Vec::new());
-        let mut b = Vec::new();
-        let mut row = 0;
-        let push = |r: usize,
-                    c: usize,
-                    v: f64,
-                    ri: &mut Vec<usize>,
-                    ci: &mut Vec<usize>,
-                    vv: &mut Vec<f64>| {
-            ri.push(r);
-            ci.push(c);
-            vv.push(v);
-        };
-        // Zero cone: slip definitions (displacement units, scaled by `ls`).
-        for c in 0..nc {
-            let k = dof::node(self.nodes[c]);
-            let x = [q[k], q[k + 1], q[k + 2]];
-            let d0 = f::sub(x, self.x_start[c]);
-            for (dir, sign_var) in [(self.forward[c], 0usize), (self.side[c], 2usize)] {
-                for a in 0..2 {
-                    if dir[a] != 0.0 {
-                        push(
-                            row,
-                            k + a,
-                            dir[a] * d[k + a] / ls,
-                            &mut ri,
-                            &mut ci,
-                            &mut vv,
-                        );
-                    }
-                }
-                if sign_var == 0 {
-                    push(row, var(c, 0), -1.0, &mut ri, &mut ci, &mut vv);
-                    push(row, var(c, 1), 1.0, &mut ri, &mut ci, &mut vv);
-                } else {
-                    push(row, var(c, 2), -1.0, &mut ri, &mut ci, &mut vv);
-                }
-                b.push(-f::dot(d0, dir) / ls);
-                row += 1;
-            }
-        }
-        let n_zero = row;
-        // Nonnegative: gaps, then u, w >= 0.
-        for c in 0..nc {
-            let k = dof::node(self.nodes[c]);
-            push(row, k + 2, -d[k + 2] / ls, &mut ri, &mut ci, &mut vv);
-            b.push((q[k + 2] - 0.5 * m.diameter) / ls);
-            row += 1;
-        }
-        for c in 0..nc {
-            for kk in 0..2 {
-                push(row, var(c, kk), -1.0, &mut ri, &mut ci, &mut vv);
-                b.push(0.0);
-                row += 1;
-            }
-        }
-        let n_nonneg = row - n_zero;
-        // Second-order cones (sigma, mu_f u, mu_b w, mu_s y).
-        for c in 0..nc {
-            for (kk, coef) in [(3usize, 1.0), (0, g.mu_f), (1, g.mu_b), (2, g.mu_s)] {
-                push(row, var(c, kk), -coef, &mut ri, &mut ci, &mut vv);
-                b.push(0.0);
-                row += 1;
-            }
-        }
-        let a = CscMatrix::new_from_triplets(row, nv, ri, ci, vv);
-        let mut cones = vec![
-            SupportedConeT::ZeroConeT(n_zero),
-            SupportedConeT::NonnegativeConeT(n_nonneg),
-        ];
-        cones.extend(std::iter::repeat_n(SupportedConeT::SecondOrderConeT(4), nc));
-        let settings = DefaultSettingsBuilder::default()
-            .verbose(false)
-            .tol_gap_abs(self.conic_tolerance)
-            .tol_gap_rel(self.conic_tolerance)
-            .tol_feas(self.conic_tolerance)
-            .max_iter(self.conic_max_iterations)
-            .direct_solve_method(self.direct_method.clone())
-            .build()
-            .map_err(|e| ConicError::Setup(format!("Clarabel settings: {e:?}")))?;
-        let mut solver = DefaultSolver::new(&p, &lin, &a, &b, &cones, settings)
-            .map_err(|e| ConicError::Setup(format!("Clarabel setup: {e:?}")))?;
-        solver.solve();
-        let sol = &solver.solution;
-        self.last_iterations = sol.iterations;
-        self.last_time = sol.solve_time;
-        if sol.status != SolverStatus::Solved {
-            return Err(ConicError::Status {
-                status: format!("{:?}", sol.status),
-                iterations: sol.iterations,
-            });
-        }
-        for k in 0..n {
-            dq[k] = sol.x[k] * d[k];
-        }
-        let mut change: f64 = 0.0;
-        for c in 0..nc {
-            let lam = (sol.z[n_zero + c] / (ks * ls)).max(0.0);
-            change = change.max((lam - self.normal[c]).abs());
-            self.pending[c] = lam;
-        }
-        let predicted_decrease = sol.obj_val / ks - self.dissipation(g, q);
-        Ok(ConicStep {
-            max_normal_change: change,
-            predicted_decrease,
-        })
     }
 }

@@ -94,11 +94,11 @@ impl Reactions {
     }
 
     /// Capture the rows of the assembled Hessian `asm` (before the held coordinates are
-    /// fixed) at the held coordinates of the statuses of `ct`.
-    pub fn capture(&mut self, ct: &Contacts, asm: &Assembly) {
+    /// fixed) at the held coordinates of the contacts of `ct` with statuses `mode`.
+    pub fn capture(&mut self, ct: &Contacts, mode: &[Mode], asm: &Assembly) {
         for c in 0..ct.nodes.len() {
             let k = dof::node(ct.nodes[c]);
-            match ct.mode[c] {
+            match mode[c] {
                 Mode::Free => {}
                 Mode::Stick => {
                     for r in 0..3 {
@@ -110,14 +110,14 @@ impl Reactions {
         }
     }
 
-    /// Predicted change of every touching contact's reactions over the step `dq`, into
+    /// Predicted change of every touching contact's reactions (statuses `mode`) over the step `dq`, into
     /// `change`; returns the largest normal-force change (N).
-    pub fn predict(&mut self, ct: &Contacts, dq: &[f64]) -> f64 {
+    pub fn predict(&mut self, ct: &Contacts, mode: &[Mode], dq: &[f64]) -> f64 {
         let mut worst: f64 = 0.0;
         for c in 0..ct.nodes.len() {
             let k = dof::node(ct.nodes[c]);
             self.change[c] = [0.0; 3];
-            let rows = match ct.mode[c] {
+            let rows = match mode[c] {
                 Mode::Free => 0..0,
                 Mode::Stick => 0..3,
                 Mode::Slide => 2..3,
@@ -282,7 +282,7 @@ mod tests {
         let p = crate::problem::load(std::path::Path::new("problems/s_start.toml")).unwrap();
         let m = Model::new(&p);
         let s = crate::state::State::initial(&m);
-        let mut ct = Contacts::new(&m, &s.q);
+        let ct = Contacts::new(&m, &s.q);
         let n = m.ndof;
         let mut nw = Newton::new(n);
         let mut seed = 12345u64;
@@ -305,10 +305,10 @@ mod tests {
             *g = rnd();
         }
         let nc = ct.nodes.len();
+        let mode = vec![Mode::Slide; nc];
         let mut re = Reactions::default();
         re.begin(nc);
         for c in 0..nc {
-            ct.mode[c] = Mode::Slide;
             // Every fourth contact couples (GMRES is exact after as many iterations as coupled
             // contacts), strongly.
             if c % 4 == 0 {
@@ -316,7 +316,7 @@ mod tests {
             }
         }
         // As in the active-set iteration: rows captured, then the touching heights held.
-        re.capture(&ct, &nw.asm);
+        re.capture(&ct, &mode, &nw.asm);
         let mut held = vec![false; n];
         for &i in &ct.nodes {
             held[dof::node(i) + 2] = true;

@@ -239,7 +239,7 @@ impl<'m> Explicit<'m> {
         self.cached_q.copy_from_slice(&s.q);
         self.cached_t = s.t;
         self.have_grad = true;
-        self.stats.assembly_s += t0.elapsed().as_secs_f64();
+        self.stats.newton.assembly_s += t0.elapsed().as_secs_f64();
     }
 
     /// Energy gradient `dE/dq` at `s` (rest strains at `s.t`), by the gradient-only path.

@@ -29,14 +29,53 @@ pub mod euler;
 pub mod explicit;
 pub mod statics;
 
-use crate::contact::ContactModel;
+use crate::contact::{ContactFailure, ContactModel, ContactStats};
 use crate::energy::{self, Assembly, Ctx, Term};
 use crate::model::Model;
-use crate::newton::{Failure, Inertia, Newton, Potential};
+use crate::newton::{self, Inertia, Newton, Potential};
 use crate::state::State;
 
 pub use crate::gait::{Actuation, Natural};
-pub use crate::newton::Stats;
+
+/// Cumulative statistics of a stepper: its own step counts, Newton's and the contact model's
+/// (written to `summary.json` as one flat object).
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Stats {
+    /// Accepted steps (dynamic) or load increments (static).
+    pub steps: usize,
+    /// Newton iterations over all accepted steps.
+    pub newton_iterations: usize,
+    /// Newton iterations of solved steps that the adaptive error control rejected (work not
+    /// in `newton_iterations`).
+    pub rejected_iterations: usize,
+    /// Step halvings (each failed attempt that was retried with h/2).
+    pub step_halvings: usize,
+    /// Newton's own statistics.
+    #[serde(flatten)]
+    pub newton: newton::Stats,
+    /// The contact model's.
+    #[serde(flatten)]
+    pub contact: ContactStats,
+}
+
+/// Why one attempt at a step (or a static load increment) failed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum Failure {
+    /// Newton failed (no contact model, or static equilibrium).
+    #[error(transparent)]
+    Newton(#[from] newton::Failure),
+    /// The contact model's solve failed.
+    #[error(transparent)]
+    Contact(#[from] ContactFailure),
+    /// A static load increment failed.
+    #[error("static solve at load {load}: {inner}")]
+    Static {
+        /// Load fraction.
+        load: f64,
+        /// The failure.
+        inner: Box<Failure>,
+    },
+}
 
 /// What the run loop needs of a time stepper.
 pub trait Stepper {
@@ -275,6 +314,8 @@ pub struct Integrator<'m> {
     scheme: Box<dyn Scheme>,
     /// Newton's workspace and statistics.
     pub newton: Newton,
+    /// Statistics so far (Newton's and the contact model's copied after every attempt).
+    stats: Stats,
     /// The contact model, when the model has a ground.
     pub contact: Option<Box<dyn ContactModel>>,
     qhat: Vec<f64>,
@@ -311,6 +352,7 @@ impl<'m> Integrator<'m> {
             loads: Loads::new(model, actuation),
             scheme,
             newton: Newton::new(n),
+            stats: Stats::default(),
             contact: crate::contact::model_for(model),
             qhat: vec![0.0; n],
             q_prev: vec![0.0; n],
@@ -329,7 +371,7 @@ impl<'m> Integrator<'m> {
 
     /// Statistics so far.
     pub fn stats(&self) -> &Stats {
-        &self.newton.stats
+        &self.stats
     }
 
     /// Energies of `s` with the rest strains at `s.t`.
@@ -355,6 +397,16 @@ impl<'m> Integrator<'m> {
     /// has changed yet ([`Self::commit`] or [`Self::rollback`] must follow); on failure call
     /// [`Self::rollback`].
     fn attempt(&mut self, s: &mut State, h: f64) -> Result<usize, Failure> {
+        let r = self.solve(s, h);
+        self.stats.newton = self.newton.stats;
+        if let Some(c) = &self.contact {
+            self.stats.contact.clone_from(c.stats());
+        }
+        r
+    }
+
+    /// The solve of [`Self::attempt`].
+    fn solve(&mut self, s: &mut State, h: f64) -> Result<usize, Failure> {
         let m = self.model;
         self.q_prev.copy_from_slice(&s.q);
         self.v_prev.copy_from_slice(&s.v);
@@ -380,12 +432,12 @@ impl<'m> Integrator<'m> {
             }),
         };
         let q = &mut s.q;
-        match self.contact.as_mut() {
-            Some(c) => c.solve(&mut self.newton, &obj, q),
+        Ok(match self.contact.as_mut() {
+            Some(c) => c.solve(&mut self.newton, &obj, q)?,
             None => self
                 .newton
-                .minimize(m, &mut obj, q, &m.fixed, m.max_iterations),
-        }
+                .minimize(m, &mut obj, q, &m.fixed, m.max_iterations)?,
+        })
     }
 
     /// Accept the solved step of [`Self::attempt`]: velocities, frames, time, contact state and
@@ -444,15 +496,15 @@ impl<'m> Integrator<'m> {
                     log::debug!("adaptive try t {} h {h:.4e} err {err:.4e} it {it}", s.t);
                     if err <= 1.0 {
                         self.commit(s, h);
-                        self.newton.stats.steps += 1;
-                        self.newton.stats.newton_iterations += it;
+                        self.stats.steps += 1;
+                        self.stats.newton_iterations += it;
                         out.h = h;
                         out.error = err;
                         out.next = control.next_after_accept(h, err, p);
                         return Ok(out);
                     }
                     self.rollback(s);
-                    self.newton.stats.rejected_iterations += it;
+                    self.stats.rejected_iterations += it;
                     out.rejected_error += 1;
                     h = control.retry_after_reject(h, err, p);
                     format!("local error estimate {err:.3e} x the tolerance")
@@ -461,7 +513,7 @@ impl<'m> Integrator<'m> {
                     self.rollback(s);
                     log::debug!("adaptive step of {h} s at t = {} failed: {reason}", s.t);
                     out.rejected_solve += 1;
-                    self.newton.stats.step_halvings += 1;
+                    self.stats.step_halvings += 1;
                     h *= adaptive::FAILURE_SHRINK;
                     reason.to_string()
                 }
@@ -491,8 +543,8 @@ impl<'m> Integrator<'m> {
     fn step_level(&mut self, s: &mut State, h: f64, level: usize) -> Result<(), StepError> {
         match self.try_step(s, h) {
             Ok(it) => {
-                self.newton.stats.steps += 1;
-                self.newton.stats.newton_iterations += it;
+                self.stats.steps += 1;
+                self.stats.newton_iterations += it;
                 Ok(())
             }
             Err(reason) => {
@@ -505,7 +557,7 @@ impl<'m> Integrator<'m> {
                         reason,
                     });
                 }
-                self.newton.stats.step_halvings += 1;
+                self.stats.step_halvings += 1;
                 self.step_level(s, 0.5 * h, level + 1)?;
                 self.step_level(s, 0.5 * h, level + 1)
             }
@@ -560,6 +612,6 @@ impl Stepper for Integrator<'_> {
         Integrator::energies(self, s)
     }
     fn stats(&self) -> &Stats {
-        &self.newton.stats
+        &self.stats
     }
 }

@@ -2,10 +2,11 @@
 //! by Newton's method ([`crate::newton`]) with the reference frames re-based after every
 //! accepted iterate. The run loop ramps the load over `[time] load_steps` increments.
 
+use super::Failure;
 use super::{Energies, Loads, Stats, StepError};
 use crate::energy::{self, Assembly, Term};
 use crate::model::Model;
-use crate::newton::{Failure, Newton, Objective, Potential};
+use crate::newton::{Newton, Objective, Potential};
 use crate::state::State;
 
 /// The static stepper.
@@ -15,6 +16,7 @@ pub struct Static<'m> {
     terms: Vec<Box<dyn Term>>,
     loads: Loads,
     newton: Newton,
+    stats: Stats,
 }
 
 /// The rod energy with the frames of a state that moves with the iterate.
@@ -60,12 +62,13 @@ impl<'m> Static<'m> {
             terms: energy::rod_terms(),
             loads: Loads::new(model, actuation),
             newton: Newton::new(model.ndof),
+            stats: Stats::default(),
         }
     }
 
     /// Statistics so far.
     pub fn stats(&self) -> &Stats {
-        &self.newton.stats
+        &self.stats
     }
 
     /// Static equilibrium at load fraction `load`, from `s`. Returns the Newton iterations.
@@ -85,10 +88,11 @@ impl<'m> Static<'m> {
                 .minimize(m, &mut obj, &mut q, &m.fixed, m.max_iterations)
         };
         self.loads.load = 1.0;
+        self.stats.newton = self.newton.stats;
         match r {
             Ok(it) => {
-                self.newton.stats.steps += 1;
-                self.newton.stats.newton_iterations += it;
+                self.stats.steps += 1;
+                self.stats.newton_iterations += it;
                 s.v.fill(0.0);
                 Ok(it)
             }
@@ -98,7 +102,7 @@ impl<'m> Static<'m> {
                 halvings: 0,
                 reason: Failure::Static {
                     load,
-                    inner: Box::new(reason),
+                    inner: Box::new(reason.into()),
                 },
             }),
         }

@@ -30,20 +30,10 @@ use crate::rod::frames::StencilFrame;
 use linsolve::LinSolver;
 use std::time::Instant;
 
-/// Cumulative solver statistics.
-#[derive(Clone, Debug, Default, serde::Serialize)]
+/// Newton's own cumulative statistics (the time integrator counts steps and iterations, the
+/// contact model its own outcomes: [`crate::contact::ContactStats`]).
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
 pub struct Stats {
-    /// Accepted steps (dynamic) or load increments (static).
-    pub steps: usize,
-    /// Newton iterations over all accepted steps.
-    pub newton_iterations: usize,
-    /// Active-set fallbacks that were stalls ([`Failure::Stalled`]).
-    pub active_set_stalls: usize,
-    /// Newton iterations of solved steps that the adaptive error control rejected (work not
-    /// in `newton_iterations`).
-    pub rejected_iterations: usize,
-    /// Step halvings (each failed attempt that was retried with h/2).
-    pub step_halvings: usize,
     /// Line-search backtracks.
     pub backtracks: usize,
     /// Times a factorisation needed a diagonal shift.
@@ -56,32 +46,9 @@ pub struct Stats {
     pub solve_s: f64,
     /// Seconds in line-search energy evaluations.
     pub line_search_s: f64,
-    /// Conic (Clarabel) solves.
-    pub conic_solves: usize,
-    /// Clarabel interior-point iterations over all solves.
-    pub conic_iterations: usize,
-    /// Seconds in Clarabel (set-up and solve).
-    pub conic_s: f64,
-    /// Contact steps solved by the active-set path (no conic solve).
-    pub active_set_steps: usize,
-    /// Contact steps where the active-set path failed its checks and the conic path ran.
-    pub active_set_fallbacks: usize,
-    /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
-    /// from the step's start.
-    pub warm_conic_restarts: usize,
-    /// Fallbacks because the active-set iterates cycled (an exact repeat of iterate and
-    /// statuses), sent to the conic path before the iteration cap.
-    pub contact_cycles: usize,
-    /// Newton iterations (plain and active-set) assembled with every stencil's Hessian
+    /// Newton iterations (plain and contact) assembled with every stencil's Hessian
     /// projected to positive semi-definite, after the exact Hessian was found indefinite.
     pub projected_iterations: usize,
-    /// The last active-set solve's residual at each iterate (largest force on a free
-    /// position coordinate, or torque on a free angle over `a`, relative to the mean weight
-    /// per contact; NaN marks a change of contact statuses, -1 a step that was not a full
-    /// step of the exact linearisation: damped, projected or with unconverged coupling), for
-    /// convergence tests; not written to `summary.json`.
-    #[serde(skip)]
-    pub residuals: Vec<f64>,
 }
 
 /// Which iteration failed (for messages).
@@ -108,16 +75,7 @@ impl Path {
     }
 }
 
-/// Iterations with unchanged contact statuses over which the active-set correction must fall
-/// tenfold ([`Failure::Stalled`]). On the S-start, the iterations that ran into the 40-iteration
-/// cap did so either crawling (contraction 0.93 per iteration) or nearly cycling (period 3,
-/// not bitwise exact); converging stretches contract by 0.3 or better. A window of 8 sent too
-/// many slow but converging iterations to the (expensive) conic program at 200 elements: 8.84
-/// and 8.27 iterations per step, 21 to 27 s, against 8.10 and 7.96, 18 to 21 s with 16 (two
-/// runs, friction perturbed by 1e-6); at 50 and 100 elements the two do the same.
-pub const STALL_WINDOW: usize = 16;
-
-/// Why a step's solve failed.
+/// Why a Newton solve failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum Failure {
     /// The objective or its gradient was not finite.
@@ -159,57 +117,6 @@ pub enum Failure {
     NotPositiveDefinite {
         /// 1-based iteration.
         iteration: usize,
-    },
-    /// The active set kept changing.
-    #[error("too many contact status changes (active-set iteration {iteration})")]
-    ContactSwitches {
-        /// 1-based iteration.
-        iteration: usize,
-    },
-    /// The active-set iteration stopped converging: with the statuses unchanged for
-    /// [`STALL_WINDOW`] iterations, the correction did not fall tenfold.
-    #[error("active-set Newton stalls (iteration {iteration}: correction {now:.3e}, {STALL_WINDOW} iterations earlier {before:.3e})")]
-    Stalled {
-        /// 1-based iteration.
-        iteration: usize,
-        /// The correction now and `STALL_WINDOW` iterations earlier (scaled).
-        now: f64,
-        /// See `now`.
-        before: f64,
-    },
-    /// The active set returned to an earlier iterate with the same statuses: it would cycle.
-    #[error("contact statuses cycle (active-set iteration {iteration} repeats iteration {first})")]
-    ContactCycle {
-        /// 1-based iteration.
-        iteration: usize,
-        /// The earlier iteration it repeats.
-        first: usize,
-    },
-    /// The conic program could not be set up.
-    #[error("{message} (Newton iteration {iteration})")]
-    ConicSetup {
-        /// Clarabel's message.
-        message: String,
-        /// 1-based Newton iteration.
-        iteration: usize,
-    },
-    /// The conic program ended unsolved.
-    #[error("conic solve ended with status {status} after {conic_iterations} iterations (Newton iteration {iteration})")]
-    Conic {
-        /// Clarabel's status.
-        status: String,
-        /// Interior-point iterations.
-        conic_iterations: u32,
-        /// 1-based Newton iteration.
-        iteration: usize,
-    },
-    /// A static load increment failed.
-    #[error("static solve at load {load}: {inner}")]
-    Static {
-        /// Load fraction.
-        load: f64,
-        /// The failure.
-        inner: Box<Failure>,
     },
 }
 

@@ -166,9 +166,10 @@ impl Summary {
             centroid_displacement: centroid_displacement(&o.frames),
             slip_speed_max: o.slip_speed_max,
             normal_force_final: o.frames.last().map_or(0.0, |f| f.normal.iter().sum()),
-            conic_iterations_mean: o.stats.conic_iterations as f64
-                / o.stats.conic_solves.max(1) as f64,
-            conic_solves_per_step: o.stats.conic_solves as f64 / o.stats.steps.max(1) as f64,
+            conic_iterations_mean: o.stats.contact.conic_iterations as f64
+                / o.stats.contact.conic_solves.max(1) as f64,
+            conic_solves_per_step: o.stats.contact.conic_solves as f64
+                / o.stats.steps.max(1) as f64,
             observables: None,
             head_final: s.node(m.real.start),
             tail_final: s.node(m.real.end - 1),
