@@ -1,0 +1,273 @@
+//! `run`: one simulation, as `slither run` does it, kept in memory until `save`.
+use crate::convert::Problem;
+use crate::{detached, Watch};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use slither::model::Model;
+use slither::observe::Fields;
+use slither::output::{self, Summary};
+use slither::sim::Outcome;
+use slither::{observe, problem, sim};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// A finished (or failed) run: the model, the outcome, the post-processed fields and the
+/// summary, everything `slither run` writes.
+#[pyclass(frozen, module = "slither_gait")]
+pub struct NativeRun {
+    model: Model,
+    outcome: Outcome,
+    fields: Fields,
+    summary: Summary,
+}
+
+/// A progress line on Python's `sys.stderr` at most every half second after the first second,
+/// or calls of a Python callable: at the first step, then at most every [`CALL_EVERY`], and at
+/// the last step (so its first and last calls bracket the simulation).
+struct Progress {
+    show: Option<PyObject>,
+    start: Instant,
+    last: Option<Instant>,
+    label: &'static str,
+    callable: bool,
+}
+
+/// Shortest time between two calls of a progress callable.
+const CALL_EVERY: Duration = Duration::from_millis(200);
+
+impl Progress {
+    fn new(show: Option<PyObject>, label: &'static str) -> Self {
+        let callable = show
+            .as_ref()
+            .is_some_and(|s| Python::with_gil(|py| s.bind(py).is_callable()));
+        Progress {
+            show,
+            callable,
+            start: Instant::now(),
+            last: None,
+            label,
+        }
+    }
+
+    fn update(&mut self, watch: &Watch, frac: f64) {
+        watch.poll();
+        let Some(show) = &self.show else { return };
+        let due = match (self.last, self.callable) {
+            (None, true) => true,
+            (Some(t), true) => t.elapsed() >= CALL_EVERY || frac >= 1.0,
+            (None, false) => self.start.elapsed() > Duration::from_secs(1),
+            // The line ends with the last step once it has been shown.
+            (Some(t), false) => t.elapsed() > Duration::from_millis(500) || frac >= 1.0,
+        };
+        if !due {
+            return;
+        }
+        self.last = Some(Instant::now());
+        let r = Python::with_gil(|py| -> PyResult<()> {
+            let show = show.bind(py);
+            if self.callable {
+                show.call1((frac,))?;
+            } else {
+                let end = if frac >= 1.0 { "\n" } else { "" };
+                let line = format!(
+                    "\r{:7.1} s {:5.1}% {}{end}",
+                    self.start.elapsed().as_secs_f64(),
+                    100.0 * frac,
+                    self.label
+                );
+                let err = py.import("sys")?.getattr("stderr")?;
+                err.call_method1("write", (line,))?;
+                err.call_method0("flush")?;
+            }
+            Ok(())
+        });
+        if let Err(e) = r {
+            watch.fail(e);
+        }
+    }
+}
+
+/// Simulate `problem` as `slither run` does; see `slither_gait.run`.
+#[pyfunction]
+#[pyo3(signature = (problem, accuracy = None, progress = None, force = false))]
+pub fn run(
+    py: Python<'_>,
+    problem: &Problem,
+    accuracy: Option<f64>,
+    progress: Option<PyObject>,
+    force: bool,
+) -> PyResult<NativeRun> {
+    let path = problem.path.clone();
+    let p = problem.parsed.clone();
+    if !force {
+        problem::limits::check_run_size(&p, &problem.text, &path)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    }
+    if let Some(a) = accuracy {
+        if !(a.is_finite() && (1e-4..=0.5).contains(&a)) {
+            return Err(PyValueError::new_err(format!(
+                "accuracy {a} is not allowed: must be in [1e-4, 0.5] (relative error of v_s/v_m)"
+            )));
+        }
+        if p.time.mode != problem::Mode::Dynamic
+            || p.ground.is_none()
+            || p.gait.kind == problem::Kind::None
+        {
+            return Err(PyValueError::new_err(format!(
+                "{}: accuracy needs a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)",
+                path.display()
+            )));
+        }
+    }
+    let target = accuracy
+        .map(|t| (t, p.accuracy.as_ref().map_or(400, |a| a.max_elements)))
+        .or(p.accuracy.as_ref().map(|a| (a.target, a.max_elements)));
+    let quiet = progress.is_none();
+    detached(py, move |watch| {
+        let mut bar = Progress::new(progress, "simulated");
+        let (model, o, report) = if let Some((target, max_elements)) = target {
+            let mut log = |line: &str| {
+                watch.now();
+                if !quiet {
+                    eprintln!("{line}")
+                }
+            };
+            let sel = slither::chart::accuracy::select(&p, target, max_elements, &mut log);
+            (sel.model, sel.outcome, Some(sel.report))
+        } else {
+            let model = Model::new(&p);
+            let o = sim::run_gait(
+                &model,
+                p.solver.integrator,
+                &mut |f| bar.update(watch, f),
+                &mut |_| {},
+            )
+            .map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))?;
+            (model, o, None)
+        };
+        let mut summary = Summary::new(&path, &model, &o);
+        summary.accuracy = report;
+        // The post-processing shows a line but does not call a callable (its fractions would
+        // start again from 0).
+        let line = bar.show.take().filter(|_| !bar.callable);
+        let mut post = Progress::new(line, "post-processing (topology of every frame)");
+        let fields =
+            observe::fields_with_progress(&model, &o.frames, &mut |f| post.update(watch, f));
+        summary.observables = Some(observe::observe(&model, &o.frames, &fields));
+        Ok(NativeRun {
+            model,
+            outcome: o,
+            fields,
+            summary,
+        })
+    })?
+}
+
+/// `data` as a numpy array of `shape`.
+fn array<'py>(py: Python<'py>, data: Vec<f64>, shape: &[usize]) -> PyResult<Bound<'py, PyAny>> {
+    Ok(PyArray1::from_vec(py, data).reshape(shape)?.into_any())
+}
+
+#[pymethods]
+impl NativeRun {
+    /// The text of `summary.json`.
+    fn summary_json(&self) -> String {
+        output::summary_json(&self.summary)
+    }
+
+    /// The failure that stopped the run, if any (as `slither run` reports it).
+    fn error(&self) -> Option<String> {
+        self.outcome.error.as_ref().map(|e| {
+            format!(
+                "{}: {e}; results up to t = {} s",
+                self.summary.problem, self.outcome.state.t
+            )
+        })
+    }
+
+    /// The arrays of `trajectory.npz`, by name (`lambda` included), as numpy arrays.
+    fn arrays<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let (m, fr, fl) = (&self.model, &self.outcome.frames, &self.fields);
+        let (nf, nn) = (fr.len(), m.real.len());
+        let d = PyDict::new(py);
+        let flat = |f: &dyn Fn(&sim::Frame) -> Vec<f64>| fr.iter().flat_map(f).collect::<Vec<_>>();
+        d.set_item("t", array(py, flat(&|f| vec![f.t]), &[nf])?)?;
+        d.set_item(
+            "s",
+            array(py, m.real.clone().map(|i| m.arc_length(i)).collect(), &[nn])?,
+        )?;
+        d.set_item("x", array(py, flat(&|f| f.x.concat()), &[nf, nn, 3])?)?;
+        d.set_item("v", array(py, flat(&|f| f.v.concat()), &[nf, nn, 3])?)?;
+        d.set_item(
+            "theta",
+            array(py, flat(&|f| f.theta.clone()), &[nf, nn - 1])?,
+        )?;
+        d.set_item(
+            "normal_force",
+            array(py, flat(&|f| f.normal.clone()), &[nf, nn])?,
+        )?;
+        let slip = flat(&|f| {
+            f.v.iter()
+                .zip(&f.normal)
+                .flat_map(|(v, n)| {
+                    if m.in_contact(*n) {
+                        [v[0], v[1], 0.0]
+                    } else {
+                        [0.0; 3]
+                    }
+                })
+                .collect()
+        });
+        d.set_item("slip_velocity", array(py, slip, &[nf, nn, 3])?)?;
+        for (name, data) in [
+            ("elevation", &fl.elevation),
+            ("slip_speed", &fl.slip),
+            ("lambda", &fl.lambda),
+        ] {
+            let k = data.first().map_or(0, |r| r.len());
+            d.set_item(name, array(py, data.concat(), &[data.len(), k])?)?;
+        }
+        Ok(d)
+    }
+
+    /// Write the files `slither run` writes into `out_dir` (created if absent; a previous
+    /// run's outputs there are removed first); `plots=False` skips the figures and the
+    /// ParaView export, as `--no-plots`.
+    #[pyo3(signature = (out_dir, plots = true))]
+    fn save(&self, py: Python<'_>, out_dir: PathBuf, plots: bool) -> PyResult<()> {
+        let r = py.allow_threads(|| self.write(&out_dir, plots));
+        r.map_err(PyOSError::new_err)
+    }
+}
+
+impl NativeRun {
+    /// The CLI's writing sequence; `Err` is its message.
+    fn write(&self, out: &Path, plots: bool) -> Result<(), String> {
+        std::fs::create_dir_all(out)
+            .map_err(|e| format!("{}: cannot create output directory: {e}", out.display()))?;
+        let _lock = output::lock::OutLock::acquire(out).map_err(|e| e.to_string())?;
+        output::remove_previous(out).map_err(|e| {
+            format!(
+                "{}: cannot remove the previous run's outputs: {e}",
+                out.display()
+            )
+        })?;
+        let (m, o, fl) = (&self.model, &self.outcome, &self.fields);
+        let extra = [
+            ("elevation", fl.elevation.clone()),
+            ("slip_speed", fl.slip.clone()),
+            ("lambda", fl.lambda.clone()),
+        ];
+        output::write_final_csv(out, m, o)
+            .and_then(|_| output::write_trajectory(out, m, &o.frames, &extra))
+            .and_then(|_| output::write_summary(out, &self.summary))
+            .map_err(|e| format!("{}: cannot write results: {e}", out.display()))?;
+        if plots {
+            output::write_figures(out, m, &o.frames, fl)
+                .map_err(|e| format!("{}: cannot write figures: {e}", out.display()))?;
+        }
+        Ok(())
+    }
+}
