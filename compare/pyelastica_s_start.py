@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """PyElastica's own S-start scene, for the back-to-back timing against slither.
 
-The scene is the first one of ../shared/reference/pyelastica/README.md ("sstart_forward_n50"):
+The scene is PyElastica's recorded S-start reference run "sstart_forward_n50":
 W = 300, G = 15, sigma = 0.04 L, couple centres 0.2/0.3/0.4 L from the head, v_m = 0.25 m/s,
 kinetic friction forward : backward : sideways = 0.22 : 0.28 : 0.40, penalty ground (1 % of the
 radius under self-weight, half-critical damping), rod damping 0.02, run for T = L / v_m.

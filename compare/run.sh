@@ -16,10 +16,16 @@
 #    (PyElastica dt 1e-5, slither dt 1.25e-4), whose own error is bounded by its change from
 #    the next coarser run (printed). Time-step error only: neither code is mesh-converged at
 #    50 elements.
+#
+# Every run is kept as a dated record, docs/results/<date>-pyelastica-compare.md (machine,
+# build, load, the whole output), by scripts/record.sh; SLITHER_NO_RECORD=1 skips it.
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(dirname "$here")"
+if [ -z "${SLITHER_RECORDING:-}" ] && [ -z "${SLITHER_NO_RECORD:-}" ]; then
+    exec "$repo/scripts/record.sh" pyelastica-compare "$here/run.sh" "$@"
+fi
 cd "$repo"
 venv="$here/.venv"
 out="$here/out"
@@ -50,7 +56,7 @@ for dt in 1e-3 5e-4 1.25e-4; do
     grep -q "^dt = $dt" "$out/slither_dt$dt.toml"
     "$slither" run "$out/slither_dt$dt.toml" --out "$out/slither_dt$dt" --no-plots --quiet
 done
-# Adaptive BDF2 at its default error tolerance (issue 11): on PyElastica's scene and on the
+# Adaptive BDF2 at its default error tolerance: on PyElastica's scene and on the
 # bundled S-start (problems/s_start.toml), each as the file with integrator and adaptive set.
 for name in pyelastica_s_start s_start; do
     echo "== slither, BDF2 adaptive, problems/$name.toml"

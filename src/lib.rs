@@ -14,7 +14,7 @@
 //! conditions.
 //!
 //! Module map, in layers: a module uses only modules of its own or lower layers, so the
-//! top-level modules import each other without cycles (`shared/tools/modcycles.py src`).
+//! top-level modules import each other without cycles.
 //!
 //! 0. [`rod`] (dof layout, vectors, frames) and [`fd`] (the finite-difference checker of the
 //!    tests): leaves.

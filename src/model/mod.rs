@@ -245,7 +245,7 @@ impl Model {
             dt,
             duration,
             adaptive: crate::problem::Adaptive::of(p),
-            output_interval: p.output.interval.unwrap_or(duration / 100.0).max(0.0),
+            output_interval: p.output.interval_for(duration).max(0.0),
             load_steps: p.time.load_steps,
             tolerance: p.solver.tolerance,
             max_iterations,

@@ -7,9 +7,11 @@
 //! and renamed over its final name only when complete, so a full disk or a crash never leaves
 //! a truncated file under a result's name; an I/O error names the file. [`lock`] keeps two
 //! runs out of one output directory, and [`remove_previous`] clears a previous run's outputs
-//! ([`RUN_OUTPUTS`]) before a new run writes its own.
+//! ([`RUN_OUTPUTS`]) before a new run writes its own. [`schema`] lists every key of
+//! `summary.json` and every column of the studies' CSV files with its unit and meaning.
 
 pub mod lock;
+pub mod schema;
 pub mod vtk;
 
 use crate::model::Model;

@@ -1,6 +1,7 @@
 //! `[gait]`: the muscle activation pattern as written in a problem file (SI units; positions
 //! as fractions of L). Compiled into [`crate::model::Gait`]; the physics is in [`crate::gait`].
 
+use super::keys;
 use serde::Deserialize;
 
 /// Gait kinds.
@@ -18,65 +19,69 @@ pub enum Kind {
     Serpenoid,
 }
 
-/// `[gait]`: muscle activation pattern (SI units; positions as fractions of L).
+/// `[gait]`: muscle activation pattern (SI units; positions as fractions of L). Defaults and
+/// ranges of every field: the `GAIT_*` keys of [`keys`].
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GaitSpec {
     /// "none" (default), "s-start", "sidewinding" or "serpenoid".
     #[serde(default)]
     pub kind: Kind,
-    /// Peak muscular stress `Gamma` (Pa); couple magnitude `Gamma a^3`. Default 0, >= 0.
-    #[serde(default)]
+    /// Peak muscular stress `Gamma` (Pa); couple magnitude `Gamma a^3` ([`keys::GAIT_STRESS`]).
+    #[serde(default = "d_stress")]
     pub stress: f64,
-    /// Gaussian width `sigma` as a fraction of L. Default 0.05, in (0, 1].
+    /// Gaussian width `sigma` as a fraction of L ([`keys::GAIT_SIGMA`]).
     #[serde(default = "d_sigma")]
     pub sigma: f64,
-    /// Travelling speed `v_m` (m/s), head to tail relative to the body. Default 0.5, > 0.
+    /// Travelling speed `v_m` (m/s), head to tail relative to the body ([`keys::GAIT_SPEED`]).
     #[serde(default = "d_speed")]
     pub speed: f64,
-    /// Initial positions `s0` of the couples a, b, c as fractions of L. Default [0.15, 0.25, 0.35].
+    /// Initial positions `s0` of the couples a, b, c as fractions of L ([`keys::GAIT_CENTERS`]).
     #[serde(default = "d_centers")]
     pub centers: [f64; 3],
     /// Multipliers of `Gamma a^3` for a, b, c (sign included; a positive b presses the middle
-    /// down). Default [1, 1, 1].
+    /// down) ([`keys::GAIT_SCALES`]).
     #[serde(default = "d_scales")]
     pub scales: [f64; 3],
-    /// Sidewinding: seconds between launched triplets. Default 0.5, > 0.
+    /// Sidewinding: seconds between launched triplets ([`keys::GAIT_PERIOD`]).
     #[serde(default = "d_period")]
     pub period: f64,
-    /// Linear ramp-in of every couple over `ramp * T`, `T = L / v_m`. Default 0.05, in [0, 1].
+    /// Linear ramp-in of every couple over `ramp * T`, `T = L / v_m` ([`keys::GAIT_RAMP`]).
     #[serde(default = "d_ramp")]
     pub ramp: f64,
-    /// Serpenoid wavelength as a fraction of L. Default 0.5, > 0.
+    /// Serpenoid wavelength as a fraction of L ([`keys::GAIT_WAVELENGTH`]).
     #[serde(default = "d_wavelength")]
     pub wavelength: f64,
 }
+fn d_stress() -> f64 {
+    keys::GAIT_STRESS.real()
+}
 fn d_sigma() -> f64 {
-    0.05
+    keys::GAIT_SIGMA.real()
 }
 fn d_speed() -> f64 {
-    0.5
+    keys::GAIT_SPEED.real()
 }
 fn d_centers() -> [f64; 3] {
-    [0.15, 0.25, 0.35]
+    keys::GAIT_CENTERS.reals3()
 }
 fn d_scales() -> [f64; 3] {
-    [1.0, 1.0, 1.0]
+    keys::GAIT_SCALES.reals3()
 }
 fn d_period() -> f64 {
-    0.5
+    keys::GAIT_PERIOD.real()
 }
 fn d_ramp() -> f64 {
-    0.05
+    keys::GAIT_RAMP.real()
 }
 fn d_wavelength() -> f64 {
-    0.5
+    keys::GAIT_WAVELENGTH.real()
 }
 impl Default for GaitSpec {
     fn default() -> Self {
         GaitSpec {
             kind: Kind::None,
-            stress: 0.0,
+            stress: d_stress(),
             sigma: d_sigma(),
             speed: d_speed(),
             centers: d_centers(),

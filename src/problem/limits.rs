@@ -50,7 +50,7 @@ pub fn run_size(p: &Problem) -> RunSize {
             let dt = p.time.dt.unwrap_or(f64::NAN);
             let d = p.time.duration.unwrap_or(f64::NAN);
             let steps = (d / dt * (1.0 - 1e-12)).ceil().max(1.0);
-            let interval = p.output.interval.unwrap_or(d / 100.0);
+            let interval = p.output.interval_for(d);
             let every = (interval / dt).round().max(1.0);
             // The first frame, one every `every` steps, and the last step's.
             let last = if steps % every == 0.0 { 0.0 } else { 1.0 };

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# The counts, boundary slopes and Fig. 3 numbers of a finished `slither phase` directory
+# (scripts/phase_summary.py), kept as a dated record docs/results/<date>-phase-NAME.md, NAME
+# the directory's name.
+#
+#   scripts/phase_report.sh OUT_DIR
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+[ $# -eq 1 ] || { echo "usage: scripts/phase_report.sh OUT_DIR" >&2; exit 2; }
+name="phase-$(basename "$1" | tr -c 'A-Za-z0-9_\n-' '-')"
+exec scripts/record.sh "$name" python3 scripts/phase_summary.py "$1"

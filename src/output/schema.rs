@@ -1,0 +1,316 @@
+//! What runs and studies write, defined once: every key of `summary.json` and every column of
+//! `phase.csv` and `history.csv`, with its unit and meaning.
+//!
+//! The guide's output reference (`docs/book/src/outputs.md`) is [`markdown`], printed by
+//! `slither keys --outputs-markdown`; a test keeps the two equal, another checks that every
+//! key a real run writes into `summary.json` is listed here and every listed key without a
+//! condition is written, and the CSV headers of the studies are compared with the column
+//! lists, so a key added to a record without a line here fails the tests.
+
+/// One key of a JSON record or one column of a CSV file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Field {
+    /// JSON: dotted path (`time_steps.accepted`; `[]` marks the entries of an array, e.g.
+    /// `regime_reason.checks[].value`). CSV: the column name.
+    pub name: &'static str,
+    /// SI unit, "turns" for writhe and link, or "" for dimensionless and non-numeric values.
+    pub unit: &'static str,
+    /// When it is written, if not always (e.g. "with --accuracy").
+    pub when: &'static str,
+    /// What it means.
+    pub meaning: &'static str,
+}
+
+const fn f(name: &'static str, unit: &'static str, meaning: &'static str) -> Field {
+    Field {
+        name,
+        unit,
+        when: "",
+        meaning,
+    }
+}
+
+const fn only(
+    name: &'static str,
+    unit: &'static str,
+    when: &'static str,
+    meaning: &'static str,
+) -> Field {
+    Field {
+        name,
+        unit,
+        when,
+        meaning,
+    }
+}
+
+const ACCURACY: &str = "with --accuracy or [accuracy]";
+
+/// Keys of `summary.json` (`slither run`). A failed run writes every gait observable and
+/// `regime` / `regime_reason` as `null`: it has not measured them.
+pub const SUMMARY: &[Field] = &[
+    f("status", "", "\"completed\" or \"failed\""),
+    f("error", "", "why the run stopped early, or null"),
+    f("problem", "", "the problem file, as given on the command line"),
+    f("mode", "", "\"dynamic\" or \"static\""),
+    f("t_final", "s", "simulated time reached"),
+    f("steps", "", "accepted steps (static: load increments)"),
+    f("wall_time_s", "s", "wall-clock time of the integration"),
+    f("max_strain", "", "largest |edge strain| over the run"),
+    f("energy_final", "J", "total energy at the end: kinetic + elastic + gravitational"),
+    f("energies_final.kinetic", "J", "kinetic energy at the end"),
+    f("energies_final.elastic", "J", "elastic energy (stretch, bend, twist) at the end"),
+    f("energies_final.gravity", "J", "gravitational potential energy at the end"),
+    f("energies_final.total", "J", "their sum"),
+    f("newton_iterations_mean", "", "Newton iterations per accepted step"),
+    f("step_halvings", "", "steps retried with dt/2 after a failed solve"),
+    f("time_steps.adaptive", "", "whether the steps were error controlled"),
+    f("time_steps.accepted", "", "accepted steps"),
+    f("time_steps.rejected", "", "rejected tries: rejected_error + rejected_solve"),
+    f("time_steps.rejected_error", "", "tries whose error estimate exceeded the tolerance"),
+    f("time_steps.rejected_solve", "", "tries whose Newton or contact solve failed"),
+    f("time_steps.dt_min", "s", "smallest accepted step"),
+    f("time_steps.dt_max", "s", "largest accepted step"),
+    f("time_steps.error_max", "", "largest scaled error estimate of an accepted step (adaptive; 0 for fixed steps)"),
+    f("dimensionless.scaled_weight", "", "scaled weight W = rho g a^2 L^3 / B"),
+    f("dimensionless.aspect_ratio", "", "aspect ratio L / a"),
+    f("stats.steps", "", "accepted steps (static: load increments)"),
+    f("stats.newton_iterations", "", "Newton iterations over all accepted steps, including those of active-set attempts that fell back"),
+    f("stats.active_set_stalls", "", "active-set fallbacks that were stalls"),
+    f("stats.rejected_iterations", "", "Newton iterations of solved steps that the adaptive error control rejected"),
+    f("stats.step_halvings", "", "failed attempts retried with dt/2"),
+    f("stats.backtracks", "", "line-search backtracks"),
+    f("stats.shifted_factorizations", "", "factorisations that needed a diagonal shift"),
+    f("stats.assembly_s", "s", "time in energy, gradient and Hessian assembly"),
+    f("stats.factor_s", "s", "time in numeric factorisation"),
+    f("stats.solve_s", "s", "time in triangular solves"),
+    f("stats.line_search_s", "s", "time in line-search energy evaluations"),
+    f("stats.conic_solves", "", "conic (Clarabel) solves"),
+    f("stats.conic_iterations", "", "Clarabel interior-point iterations over all solves"),
+    f("stats.conic_s", "s", "time in Clarabel (set-up and solve)"),
+    f("stats.active_set_steps", "", "contact steps solved by the active set alone"),
+    f("stats.active_set_fallbacks", "", "contact steps where the active set failed its checks and the conic path ran"),
+    f("stats.warm_conic_restarts", "", "fallbacks whose warm-started conic path failed and was rerun from the step's start"),
+    f("stats.contact_cycles", "", "fallbacks because the active-set iterates repeated exactly (a cycle)"),
+    f("stats.projected_iterations", "", "Newton iterations assembled with projected (positive semi-definite) stencil Hessians"),
+    f("max_penetration", "m", "largest penetration below z = a/2 (0 without a ground)"),
+    f("centroid_displacement", "m", "centroid displacement [x, y, z] from the first to the last frame"),
+    f("slip_speed_max", "m/s", "fastest slip of a node in contact over every accepted step (0 when nothing touches)"),
+    f("normal_force_final", "N", "summed normal force at the end"),
+    f("conic_iterations_mean", "", "Clarabel iterations per conic solve"),
+    f("conic_solves_per_step", "", "conic solves per accepted step"),
+    f("v_s", "m/s", "mean forward speed of the centroid along the initial tail-to-head direction"),
+    f("v_s_over_v_m", "", "v_s over the muscles' travelling speed v_m (NaN without a gait)"),
+    f("displacement", "m", "centroid displacement [forward along the initial head direction, lateral]"),
+    f("displacement_angle_deg", "degrees", "angle of the net displacement from the initial head direction (0 to 180)"),
+    f("writhe_max", "turns", "largest |writhe| over the frames"),
+    f("writhe_snapshot", "turns", "signed writhe at the frame nearest to writhe_snapshot_t (NaN without a gait)"),
+    f("writhe_snapshot_t", "s", "time of that frame: nearest to (L/2 - s_b0) / v_m, when couple b passes mid-body"),
+    f("writhe_mean", "turns", "mean writhe over the frames"),
+    f("link_max", "turns", "largest |link| over the frames"),
+    f("lambda_pulse_speed", "m/s", "speed of the link-density (lambda) peak along the body, from a linear fit"),
+    f("lambda_pulse_speed_over_v_m", "", "lambda_pulse_speed / v_m"),
+    f("lambda_pulse_r2", "", "R^2 of that fit"),
+    f("lambda_amplitude_variation", "", "(max - min) / max of the peak |lambda| over the fitted frames"),
+    f("max_elevation_over_a", "", "largest elevation of a node over the diameter a"),
+    f("max_elevation_over_length", "", "largest elevation over L"),
+    f("lifted_arcs_max", "", "most separate arcs lifted at least a/2 at one instant"),
+    f("two_arc_lift_over_a", "", "height over a of the lower of two arcs on either side of a ground contact, at the instant that maximises it"),
+    f("middle_slip_over_v_m", "", "median over the pulse frames of the middle contact's mean slip speed (between couples a and c), over v_m"),
+    f("middle_static_fraction", "", "fraction of the pulse frames in which the middle contact exists and slips below 0.1 v_m"),
+    f("two_patch_fraction", "", "fraction of frames with at least two separate contact patches"),
+    f("contact_slip_over_v_m", "", "median slip speed of contact nodes over v_m"),
+    f("regime", "", "locomotion regime: \"S\", \"M\", \"F\", \"N\" or \"U\" (guide: Regimes)"),
+    f("regime_reason.text", "", "the deciding comparisons in one line"),
+    f("regime_reason.not_s", "", "for M: the S criteria it missed (heading, two_arcs, pulse_fit, pulse_speed)"),
+    f("regime_reason.checks[].quantity", "", "a quantity the classification compared, e.g. v_s_over_v_m"),
+    f("regime_reason.checks[].value", "", "its value"),
+    f("regime_reason.checks[].op", "", "the comparison: <, <=, > or >="),
+    f("regime_reason.checks[].threshold", "", "the threshold it was compared with"),
+    f("regime_reason.checks[].holds", "", "whether the comparison holds (false for NaN)"),
+    f("head_final", "m", "head (s = 0) position at the end"),
+    f("tail_final", "m", "tail position at the end"),
+    only("accuracy.target", "", ACCURACY, "allowed relative error of v_s/v_m"),
+    only("accuracy.integrator", "", ACCURACY, "how time was refined: \"implicit\" (fixed steps halved) or \"bdf2-adaptive\" (tolerance divided by ten)"),
+    only("accuracy.elements", "", ACCURACY, "chosen mesh"),
+    only("accuracy.dt", "s", ACCURACY, "chosen fixed step (implicit Euler only)"),
+    only("accuracy.error_tolerance", "", ACCURACY, "chosen error tolerance, fraction of L per step (adaptive BDF2 only)"),
+    only("accuracy.time_error", "", ACCURACY, "estimated relative error of v_s/v_m from the time stepping"),
+    only("accuracy.time_error_elements", "", ACCURACY, "the mesh the time error was measured on"),
+    only("accuracy.mesh_error", "", ACCURACY, "estimated relative error of v_s/v_m from the mesh"),
+    only("accuracy.estimated_error", "", ACCURACY, "time_error + mesh_error"),
+    only("accuracy.met", "", ACCURACY, "whether the estimate is below the target"),
+    only("accuracy.v_s_over_v_m_extrapolated", "", ACCURACY, "Richardson extrapolation of v_s/v_m"),
+    only("accuracy.runs[].elements", "", ACCURACY, "a selection run's mesh"),
+    only("accuracy.runs[].dt", "s", ACCURACY, "its fixed step (implicit Euler)"),
+    only("accuracy.runs[].error_tolerance", "", ACCURACY, "its error tolerance (adaptive BDF2)"),
+    only("accuracy.runs[].v_s_over_v_m", "", ACCURACY, "its v_s/v_m (NaN when it failed)"),
+    only("accuracy.runs[].steps", "", ACCURACY, "its accepted steps"),
+    only("accuracy.runs[].wall_time_s", "s", ACCURACY, "its wall time"),
+    only("accuracy.runs[].status", "", ACCURACY, "\"ok\" or the failure"),
+    only("accuracy.wall_time_total_s", "s", ACCURACY, "wall time of all selection runs"),
+];
+
+/// Columns of `phase.csv` (`slither phase`, `slither merge`), in order; `refine.csv` has the
+/// same columns. Every value the regime depends on is here, so a study can be relabelled
+/// without simulating again.
+pub const PHASE_CSV: &[Field] = &[
+    f("weight", "", "scaled weight W = rho g a^2 L^3 / B of the cell"),
+    f("torque", "", "scaled torque G = Gamma a^3 L / B of the cell"),
+    f("W_over_G", "", "W / G = rho g L^2 / (Gamma a), weight against muscle"),
+    f("status", "", "\"ok\" or \"failed\""),
+    f("regime", "", "S, M, F, N or U; \"-\" when failed"),
+    f("v_s_over_v_m", "", "forward speed over the muscles' speed"),
+    f("displacement_angle_deg", "degrees", "heading of the net displacement off the initial head direction"),
+    f("max_elevation_over_a", "", "largest elevation over a"),
+    f("lifted_arcs_max", "", "most arcs lifted at least a/2 at one instant"),
+    f("writhe_max", "turns", "largest |writhe|"),
+    f("lambda_pulse_r2", "", "R^2 of the lambda pulse fit"),
+    f("regime_detail", "", "for M: the S criteria it missed, ;-separated; \"-\" otherwise"),
+    f("max_elevation_over_length", "", "largest elevation over L"),
+    f("two_arc_lift_over_a", "", "lower of two arcs around a ground contact, over a"),
+    f("lambda_pulse_speed_over_v_m", "", "speed of the lambda pulse over v_m"),
+    f("writhe_snapshot", "turns", "writhe when couple b is at mid-body"),
+    f("wall_time_s", "s", "wall time of the cell's simulation"),
+    f("base_hash", "", "hash of the base problem file (and chosen model), the resume key"),
+    f("reason", "", "why it failed (empty when ok)"),
+];
+
+/// Columns of `history.csv` (`slither optimize`), in order.
+pub const HISTORY_CSV: &[Field] = &[
+    f("eval", "", "evaluation number"),
+    f("stress", "Pa", "muscle stress Gamma"),
+    f("sigma", "fraction of L", "couple width"),
+    f("speed", "m/s", "travelling speed v_m"),
+    f("duration", "s", "simulated duration"),
+    f("G", "", "scaled torque Gamma a^3 L / B"),
+    f("W", "", "scaled weight rho g a^2 L^3 / B"),
+    f("v_s", "m/s", "forward speed"),
+    f("v_s_over_v_m", "", "v_s / v_m"),
+    f("writhe_max", "turns", "largest |writhe|"),
+    f("writhe_mean", "turns", "mean writhe"),
+    f("displacement_angle_deg", "degrees", "heading off the initial head direction"),
+    f("regime", "", "S, M, F, N or U; \"-\" when failed"),
+    f("status", "", "\"ok\" or \"failed\""),
+    f("wall_time_s", "s", "wall time of the simulation"),
+    f("objective", "m/s", "the cost minimised: -v_s plus penalties (1000 for a failed run)"),
+    f("base_hash", "", "hash of the base problem file (and chosen model), the resume key"),
+    f("reason", "", "why it failed (empty when ok)"),
+];
+
+/// The CSV header of a column list.
+pub fn header(columns: &[Field]) -> String {
+    columns
+        .iter()
+        .map(|c| c.name)
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// The field of `name` in `fields`.
+pub fn find<'a>(fields: &'a [Field], name: &str) -> Option<&'a Field> {
+    fields.iter().find(|f| f.name == name)
+}
+
+/// Whether `path` (from [`json_paths`]) is documented in `fields`: listed, or an empty array
+/// whose entries' keys are listed (`path[].key`).
+pub fn documented(fields: &[Field], path: &str) -> bool {
+    let entries = format!("{path}[].");
+    fields
+        .iter()
+        .any(|f| f.name == path || f.name.starts_with(&entries))
+}
+
+/// Every key path of a JSON value as [`Field::name`] writes them: objects add `.key`, arrays
+/// of objects add `[]` and continue into their entries' keys; scalars and arrays of scalars
+/// are leaves.
+pub fn json_paths(v: &serde_json::Value) -> Vec<String> {
+    fn walk(prefix: &str, v: &serde_json::Value, out: &mut Vec<String>) {
+        match v {
+            serde_json::Value::Object(map) => {
+                for (k, child) in map {
+                    let p = if prefix.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{prefix}.{k}")
+                    };
+                    walk(&p, child, out);
+                }
+            }
+            serde_json::Value::Array(items) if items.iter().any(|i| i.is_object()) => {
+                for item in items {
+                    walk(&format!("{prefix}[]"), item, out);
+                }
+            }
+            _ => {
+                if !out.iter().any(|o| o == prefix) {
+                    out.push(prefix.to_string());
+                }
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk("", v, &mut out);
+    out
+}
+
+fn table(out: &mut String, fields: &[Field], what: &str) {
+    let cell = |s: &str| s.replace('|', "\\|");
+    out.push_str(&format!(
+        "| {what} | unit | meaning |\n|---|---|---|\n"
+    ));
+    for fl in fields {
+        let meaning = if fl.when.is_empty() {
+            cell(fl.meaning)
+        } else {
+            format!("{} ({})", cell(fl.meaning), fl.when)
+        };
+        out.push_str(&format!("| `{}` | {} | {meaning} |\n", fl.name, cell(fl.unit)));
+    }
+}
+
+/// The output reference as Markdown (what `slither keys --outputs-markdown` prints and the
+/// guide's `outputs.md` holds).
+pub fn markdown() -> String {
+    let mut out = String::from(
+        "# Output reference\n\n\
+         <!-- Generated by `slither keys --outputs-markdown` from src/output/schema.rs; do not edit by hand. -->\n\n\
+         ## `summary.json` (`slither run`)\n\n\
+         Keys are dotted paths into the JSON object; `[]` marks the entries of an array. A failed\n\
+         run (`\"status\": \"failed\"`) writes every gait observable and the regime as `null`.\n\n",
+    );
+    table(&mut out, SUMMARY, "key");
+    out.push_str(
+        "\n## `phase.csv` (`slither phase`, `slither merge`)\n\n\
+         One row per cell, in this column order; `refine.csv` has the same columns.\n\n",
+    );
+    table(&mut out, PHASE_CSV, "column");
+    out.push_str("\n## `history.csv` (`slither optimize`)\n\nOne row per evaluation, in this column order.\n\n");
+    table(&mut out, HISTORY_CSV, "column");
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique() {
+        for list in [SUMMARY, PHASE_CSV, HISTORY_CSV] {
+            for (i, fl) in list.iter().enumerate() {
+                assert!(list[..i].iter().all(|o| o.name != fl.name), "{}", fl.name);
+            }
+        }
+    }
+
+    #[test]
+    fn json_paths_descend_objects_and_arrays_of_objects() {
+        let v: serde_json::Value = serde_json::from_str(
+            r#"{"a": 1, "b": {"c": [1, 2], "d": [{"e": 1}, {"e": 2, "f": 3}]}}"#,
+        )
+        .unwrap();
+        let mut p = json_paths(&v);
+        p.sort();
+        assert_eq!(p, ["a", "b.c", "b.d[].e", "b.d[].f"]);
+    }
+}
