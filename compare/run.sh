@@ -17,7 +17,7 @@
 #    the next coarser run (printed). Time-step error only: neither code is mesh-converged at
 #    50 elements.
 #
-# Every run is kept as a dated record, docs/results/<date>-pyelastica-compare.md (machine,
+# Every run is kept as a dated record, docs/results/pyelastica-compare/<date>.md (machine,
 # build, load, the whole output), by scripts/record.sh; SLITHER_NO_RECORD=1 skips it.
 set -euo pipefail
 

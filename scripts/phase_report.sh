@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The counts, boundary slopes and Fig. 3 numbers of a finished `slither phase` directory
-# (scripts/phase_summary.py), kept as a dated record docs/results/<date>-phase-NAME.md, NAME
+# (scripts/phase_summary.py), kept as a dated record docs/results/phase-NAME/<date>.md, NAME
 # the directory's name.
 #
 #   scripts/phase_report.sh OUT_DIR

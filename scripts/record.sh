@@ -3,11 +3,12 @@
 #
 #   scripts/record.sh NAME COMMAND [ARGS...]
 #
-# writes docs/results/<UTC date>-NAME.md (a suffix -2, -3, ... when that exists) holding the
+# writes docs/results/NAME/<UTC date>.md (a suffix -2, -3, ... when that exists) holding the
 # machine (uname -a, nproc, CPU model), the build (git commit, whether the work tree had
 # changes, rustc version), the load average before and after (/proc/loadavg), the command, its
 # exit code and wall time, and everything it printed. The command's output also goes to the
-# terminal. The exit code is the command's. Examples:
+# terminal, and the record is copied to docs/results/NAME/latest.md, the one the guide cites
+# (dated records stay as files). The exit code is the command's. Examples:
 #
 #   scripts/record.sh tolerance-check cargo run --release --example tolerance_check
 #   scripts/record.sh bench-s-start cargo bench --bench s_start
@@ -26,13 +27,13 @@ case "$name" in
 esac
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-dir="$repo/docs/results"
+dir="$repo/docs/results/$name"
 mkdir -p "$dir"
 day="$(date -u +%Y-%m-%d)"
-file="$dir/$day-$name.md"
+file="$dir/$day.md"
 n=2
 while [ -e "$file" ]; do
-    file="$dir/$day-$name-$n.md"
+    file="$dir/$day-$n.md"
     n=$((n + 1))
 done
 
@@ -80,5 +81,6 @@ load_after="$(cat /proc/loadavg 2>/dev/null || echo unknown)"
     cat "$log"
     echo '```'
 } > "$file"
-echo "record: ${file#"$repo"/}" >&2
+cp "$file" "$dir/latest.md"
+echo "record: ${file#"$repo"/} (also $name/latest.md)" >&2
 exit "$code"

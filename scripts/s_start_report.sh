@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The bundled S-start's headline numbers (v_s/v_m, heading, regime, steps, Newton iterations,
 # wall time) from one `slither run problems/s_start.toml`, kept as a dated record
-# docs/results/<date>-s-start.md. About 1 s of simulation after the build.
+# docs/results/s-start/<date>.md. About 1 s of simulation after the build.
 #
 #   scripts/s_start_report.sh [PROBLEM.toml]     # default problems/s_start.toml
 #

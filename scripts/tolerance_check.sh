@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Do the solver's stopping rules decide the answer? Every bundled scene at the default
 # [solver] tolerances and 100x tighter (examples/tolerance_check.rs), kept as a dated record
-# docs/results/<date>-tolerance-check.md. About 15 s of simulation on one core.
+# docs/results/tolerance-check/<date>.md. About 15 s of simulation on one core.
 #
 #   scripts/tolerance_check.sh [SCENE.toml ...]
 set -euo pipefail
