@@ -94,7 +94,10 @@ fn every_summary_key_a_run_writes_is_in_the_schema() {
         .arg(repo("problems/slide.toml"))
         .status()
         .expect("run slither");
-    assert!(status.success(), "slither run problems/slide.toml: {status}");
+    assert!(
+        status.success(),
+        "slither run problems/slide.toml: {status}"
+    );
     let text = std::fs::read_to_string(out.join("summary.json")).expect("summary.json");
     let _ = std::fs::remove_dir_all(&out);
     let v: serde_json::Value = serde_json::from_str(&text).expect("summary.json is JSON");

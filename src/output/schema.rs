@@ -155,24 +155,64 @@ pub const SUMMARY: &[Field] = &[
 /// same columns. Every value the regime depends on is here, so a study can be relabelled
 /// without simulating again.
 pub const PHASE_CSV: &[Field] = &[
-    f("weight", "", "scaled weight W = rho g a^2 L^3 / B of the cell"),
-    f("torque", "", "scaled torque G = Gamma a^3 L / B of the cell"),
-    f("W_over_G", "", "W / G = rho g L^2 / (Gamma a), weight against muscle"),
+    f(
+        "weight",
+        "",
+        "scaled weight W = rho g a^2 L^3 / B of the cell",
+    ),
+    f(
+        "torque",
+        "",
+        "scaled torque G = Gamma a^3 L / B of the cell",
+    ),
+    f(
+        "W_over_G",
+        "",
+        "W / G = rho g L^2 / (Gamma a), weight against muscle",
+    ),
     f("status", "", "\"ok\" or \"failed\""),
     f("regime", "", "S, M, F, N or U; \"-\" when failed"),
     f("v_s_over_v_m", "", "forward speed over the muscles' speed"),
-    f("displacement_angle_deg", "degrees", "heading of the net displacement off the initial head direction"),
+    f(
+        "displacement_angle_deg",
+        "degrees",
+        "heading of the net displacement off the initial head direction",
+    ),
     f("max_elevation_over_a", "", "largest elevation over a"),
-    f("lifted_arcs_max", "", "most arcs lifted at least a/2 at one instant"),
+    f(
+        "lifted_arcs_max",
+        "",
+        "most arcs lifted at least a/2 at one instant",
+    ),
     f("writhe_max", "turns", "largest |writhe|"),
     f("lambda_pulse_r2", "", "R^2 of the lambda pulse fit"),
-    f("regime_detail", "", "for M: the S criteria it missed, ;-separated; \"-\" otherwise"),
+    f(
+        "regime_detail",
+        "",
+        "for M: the S criteria it missed, ;-separated; \"-\" otherwise",
+    ),
     f("max_elevation_over_length", "", "largest elevation over L"),
-    f("two_arc_lift_over_a", "", "lower of two arcs around a ground contact, over a"),
-    f("lambda_pulse_speed_over_v_m", "", "speed of the lambda pulse over v_m"),
-    f("writhe_snapshot", "turns", "writhe when couple b is at mid-body"),
+    f(
+        "two_arc_lift_over_a",
+        "",
+        "lower of two arcs around a ground contact, over a",
+    ),
+    f(
+        "lambda_pulse_speed_over_v_m",
+        "",
+        "speed of the lambda pulse over v_m",
+    ),
+    f(
+        "writhe_snapshot",
+        "turns",
+        "writhe when couple b is at mid-body",
+    ),
     f("wall_time_s", "s", "wall time of the cell's simulation"),
-    f("base_hash", "", "hash of the base problem file (and chosen model), the resume key"),
+    f(
+        "base_hash",
+        "",
+        "hash of the base problem file (and chosen model), the resume key",
+    ),
     f("reason", "", "why it failed (empty when ok)"),
 ];
 
@@ -189,22 +229,30 @@ pub const HISTORY_CSV: &[Field] = &[
     f("v_s_over_v_m", "", "v_s / v_m"),
     f("writhe_max", "turns", "largest |writhe|"),
     f("writhe_mean", "turns", "mean writhe"),
-    f("displacement_angle_deg", "degrees", "heading off the initial head direction"),
+    f(
+        "displacement_angle_deg",
+        "degrees",
+        "heading off the initial head direction",
+    ),
     f("regime", "", "S, M, F, N or U; \"-\" when failed"),
     f("status", "", "\"ok\" or \"failed\""),
     f("wall_time_s", "s", "wall time of the simulation"),
-    f("objective", "m/s", "the cost minimised: -v_s plus penalties (1000 for a failed run)"),
-    f("base_hash", "", "hash of the base problem file (and chosen model), the resume key"),
+    f(
+        "objective",
+        "m/s",
+        "the cost minimised: -v_s plus penalties (1000 for a failed run)",
+    ),
+    f(
+        "base_hash",
+        "",
+        "hash of the base problem file (and chosen model), the resume key",
+    ),
     f("reason", "", "why it failed (empty when ok)"),
 ];
 
 /// The CSV header of a column list.
 pub fn header(columns: &[Field]) -> String {
-    columns
-        .iter()
-        .map(|c| c.name)
-        .collect::<Vec<_>>()
-        .join(",")
+    columns.iter().map(|c| c.name).collect::<Vec<_>>().join(",")
 }
 
 /// The field of `name` in `fields`.
@@ -256,16 +304,18 @@ pub fn json_paths(v: &serde_json::Value) -> Vec<String> {
 
 fn table(out: &mut String, fields: &[Field], what: &str) {
     let cell = |s: &str| s.replace('|', "\\|");
-    out.push_str(&format!(
-        "| {what} | unit | meaning |\n|---|---|---|\n"
-    ));
+    out.push_str(&format!("| {what} | unit | meaning |\n|---|---|---|\n"));
     for fl in fields {
         let meaning = if fl.when.is_empty() {
             cell(fl.meaning)
         } else {
             format!("{} ({})", cell(fl.meaning), fl.when)
         };
-        out.push_str(&format!("| `{}` | {} | {meaning} |\n", fl.name, cell(fl.unit)));
+        out.push_str(&format!(
+            "| `{}` | {} | {meaning} |\n",
+            fl.name,
+            cell(fl.unit)
+        ));
     }
 }
 

@@ -218,7 +218,9 @@ impl Key {
             DefaultValue::Int(v) => v.to_string(),
             DefaultValue::Flag(v) => v.to_string(),
             DefaultValue::Word(w) => format!("\"{w}\""),
-            DefaultValue::Reals3(v) => format!("[{}, {}, {}]", number(v[0]), number(v[1]), number(v[2])),
+            DefaultValue::Reals3(v) => {
+                format!("[{}, {}, {}]", number(v[0]), number(v[1]), number(v[2]))
+            }
             DefaultValue::Rule(r) => r.into(),
         }
     }
@@ -490,11 +492,7 @@ mod tests {
     fn names_are_unique_and_dotted() {
         for (i, k) in KEYS.iter().enumerate() {
             assert!(k.key.split_once('.').is_some(), "{}", k.key);
-            assert!(
-                KEYS[..i].iter().all(|o| o.key != k.key),
-                "{} twice",
-                k.key
-            );
+            assert!(KEYS[..i].iter().all(|o| o.key != k.key), "{} twice", k.key);
         }
     }
 
@@ -532,7 +530,10 @@ mod tests {
             ("solver", vec![]),
         ];
         if accuracy {
-            for (t, line) in [("gait", "kind = \"s-start\""), ("accuracy", "target = 0.01")] {
+            for (t, line) in [
+                ("gait", "kind = \"s-start\""),
+                ("accuracy", "target = 0.01"),
+            ] {
                 let table = tables.iter_mut().find(|(n, _)| *n == t).expect(t);
                 table.1.push(line.into());
             }
@@ -594,7 +595,11 @@ mod tests {
             } else {
                 absent.clone()
             };
-            assert_eq!(explicit, absent, "{} = {v}: the parser's default differs", k.key);
+            assert_eq!(
+                explicit, absent,
+                "{} = {v}: the parser's default differs",
+                k.key
+            );
             checked += 1;
         }
         assert!(checked >= 35, "{checked} keys checked");

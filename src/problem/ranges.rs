@@ -50,7 +50,8 @@ pub(crate) fn check_lengths(text: &str, path: &Path) -> Result<(), ProblemError>
         };
         if a.len() != n {
             let dotted = format!("{table}.{key}");
-            let what = allowed(&dotted).unwrap_or_else(|| "an array of the documented length".into());
+            let what =
+                allowed(&dotted).unwrap_or_else(|| "an array of the documented length".into());
             return Err(ProblemError::Invalid {
                 file: path.into(),
                 line: key_line(text, table, key),

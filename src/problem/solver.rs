@@ -220,9 +220,15 @@ impl SolverSpec {
             (&keys::SOLVER_ARMIJO, self.armijo),
             (&keys::SOLVER_LINE_SEARCH_NOISE, self.line_search_noise),
             (&keys::SOLVER_SHIFT, self.shift),
-            (&keys::SOLVER_NORMAL_FORCE_TOLERANCE, self.normal_force_tolerance),
+            (
+                &keys::SOLVER_NORMAL_FORCE_TOLERANCE,
+                self.normal_force_tolerance,
+            ),
             (&keys::SOLVER_CONTACT_TOLERANCE, self.contact_tolerance),
-            (&keys::SOLVER_CONTACT_FORCE_TOLERANCE, self.contact_force_tolerance),
+            (
+                &keys::SOLVER_CONTACT_FORCE_TOLERANCE,
+                self.contact_force_tolerance,
+            ),
             (&keys::SOLVER_CONIC_TOLERANCE, self.conic_tolerance),
         ];
         let ints: [(&'static Key, usize); 8] = [
@@ -230,10 +236,22 @@ impl SolverSpec {
             (&keys::SOLVER_MAX_HALVINGS, self.max_halvings),
             (&keys::SOLVER_MAX_BACKTRACKS, self.max_backtracks),
             (&keys::SOLVER_SHIFT_TRIES, self.shift_tries),
-            (&keys::SOLVER_ACTIVE_SET_MAX_ITERATIONS, self.active_set_max_iterations),
-            (&keys::SOLVER_ACTIVE_SET_EXTRA_SWITCHES, self.active_set_extra_switches),
-            (&keys::SOLVER_WARM_CONIC_ITERATIONS, self.warm_conic_iterations),
-            (&keys::SOLVER_CONIC_MAX_ITERATIONS, self.conic_max_iterations as usize),
+            (
+                &keys::SOLVER_ACTIVE_SET_MAX_ITERATIONS,
+                self.active_set_max_iterations,
+            ),
+            (
+                &keys::SOLVER_ACTIVE_SET_EXTRA_SWITCHES,
+                self.active_set_extra_switches,
+            ),
+            (
+                &keys::SOLVER_WARM_CONIC_ITERATIONS,
+                self.warm_conic_iterations,
+            ),
+            (
+                &keys::SOLVER_CONIC_MAX_ITERATIONS,
+                self.conic_max_iterations as usize,
+            ),
         ];
         for (k, v) in reals {
             if !k.check_real(v) {
