@@ -6,7 +6,8 @@ use super::*;
 /// Name of the history file in the output directory.
 pub const HISTORY_FILE: &str = "history.csv";
 
-/// Header of `history.csv` (the column order is fixed; units in the README).
+/// Header of `history.csv` (the column order is fixed; units and meanings in
+/// [`crate::output::schema::HISTORY_CSV`], which `tests/docs.rs` keeps equal to it).
 pub const HISTORY_HEADER: &str = "eval,stress,sigma,speed,duration,G,W,v_s,v_s_over_v_m,writhe_max,writhe_mean,displacement_angle_deg,regime,status,wall_time_s,objective,base_hash,reason";
 
 /// Outcome of one simulation.

@@ -104,7 +104,7 @@ pub struct Observables {
     pub two_patch_fraction: f64,
     /// Median slip speed of contact nodes over `v_m`.
     pub contact_slip_over_v_m: f64,
-    /// Regime, serialised as "S", "M", "F", "N" or "U" (criteria in [`regime`] and README).
+    /// Regime, serialised as "S", "M", "F", "N" or "U" (criteria in [`regime`] and the guide's chapter "Regimes").
     pub regime: Regime,
     /// Why: the deciding comparisons in one line, the S criteria an `M` run missed, and every
     /// comparison with its value and threshold.

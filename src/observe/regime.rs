@@ -121,8 +121,8 @@ impl Criterion {
     }
 }
 
-/// The thresholds of the classification. Defaults in [`Thresholds::DEFAULT`]; the README gives
-/// each one's reason and how many cells of the bundled phase study change label when it
+/// The thresholds of the classification. Defaults in [`Thresholds::DEFAULT`]; the guide's
+/// chapter "Regimes" (`docs/book/src/regimes.md`) gives each one's reason and how many cells of the bundled phase study change label when it
 /// moves by 20 %.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Thresholds {
