@@ -44,6 +44,10 @@ enum Cmd {
     /// bisecting the boundaries into refine.csv when the phase file has `refine = true`.
     /// Refuses directories of another grid or base file and reports missing cells.
     Merge(cli::merge::Args),
+    /// Print the user guide's generated references: every problem-file key with its unit,
+    /// default, allowed values and meaning (--markdown), or every key of summary.json and
+    /// column of phase.csv and history.csv (--outputs-markdown).
+    Keys(cli::keys::Args),
 }
 
 fn main() -> ExitCode {
@@ -56,5 +60,6 @@ fn main() -> ExitCode {
         Cmd::Optimize(a) => cli::optimize::optimize(&a),
         Cmd::Phase(a) => cli::phase::phase(&a),
         Cmd::Merge(a) => cli::merge::merge(&a),
+        Cmd::Keys(a) => cli::keys::keys(&a),
     }
 }
