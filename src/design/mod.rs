@@ -73,6 +73,7 @@ pub mod accuracy;
 mod history;
 pub mod phase;
 pub mod refine;
+pub mod selection;
 mod report;
 mod search;
 mod simulate;
