@@ -56,7 +56,7 @@ pub struct GaitPrecisionOptions {
     /// Relative change of `v_s/v_m` between successive reference runs that ends the halving.
     /// Default 1e-3.
     pub reference_change: f64,
-    /// Most halvings of the reference step. Default 3 (2.5e-4 to 3.125e-5 s: implicit Euler's
+    /// Most halvings of the reference step. Default 3 (5e-4 to 6.25e-5 s: implicit Euler's
     /// damping of the rod's fast modes fades below that, and with it its insensitivity, e.g.
     /// 0.30273 at 1.5625e-5 s on the 50-element S-start against 0.30829 at 3.125e-5 s).
     pub reference_halvings: usize,
