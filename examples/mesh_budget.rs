@@ -129,7 +129,11 @@ fn main() {
             for (k, i) in m.real.clone().enumerate() {
                 let own = m.mass[dof::node(i)];
                 let mass = if k % ratio == 0 {
-                    let lv = if k == 0 || k == elements { 0.5 * lc } else { lc };
+                    let lv = if k == 0 || k == elements {
+                        0.5 * lc
+                    } else {
+                        lc
+                    };
                     (1.0 - eps) * m.line_density() * lv + eps * own
                 } else {
                     eps * own

@@ -35,7 +35,11 @@ fn accuracy_estimate_bounds_the_error_against_a_finer_reference() {
     let sel = select(&p, 0.05, 80, &mut |l| println!("{l}"));
     let r = &sel.report;
     let finest_n = r.runs.iter().map(|x| x.elements).max().unwrap();
-    let finest_dt = r.runs.iter().filter_map(|x| x.dt).fold(f64::INFINITY, f64::min);
+    let finest_dt = r
+        .runs
+        .iter()
+        .filter_map(|x| x.dt)
+        .fold(f64::INFINITY, f64::min);
     let v = r
         .runs
         .iter()

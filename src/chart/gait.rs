@@ -420,7 +420,15 @@ pub fn gait_precision(
             elements: r.elements,
             dt: r.dt.unwrap_or(f64::NAN),
             tolerance: r.error_tolerance,
-            v_ratio: r.runs.iter().find(|x| x.elements == r.elements && x.dt == r.dt && x.error_tolerance == r.error_tolerance).map_or(f64::NAN, |x| x.v_s_over_v_m),
+            v_ratio: r
+                .runs
+                .iter()
+                .find(|x| {
+                    x.elements == r.elements
+                        && x.dt == r.dt
+                        && x.error_tolerance == r.error_tolerance
+                })
+                .map_or(f64::NAN, |x| x.v_s_over_v_m),
             wall_s: r.wall_time_total_s,
             steps: o.steps.accepted,
             rejected: o.steps.rejected,

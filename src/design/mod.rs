@@ -73,9 +73,9 @@ pub mod accuracy;
 mod history;
 pub mod phase;
 pub mod refine;
-pub mod selection;
 mod report;
 mod search;
+pub mod selection;
 mod simulate;
 mod study;
 
