@@ -84,7 +84,7 @@ pub struct Summary {
     pub accuracy: Option<AccuracyReport>,
 }
 
-/// How `slither run --accuracy` chose its model (see `crate::chart::accuracy`).
+/// How `slither run --accuracy` chose its model (see `crate::design::selection`).
 #[derive(Clone, Debug, Serialize)]
 pub struct AccuracyReport {
     /// Allowed relative error of `v_s/v_m`.
@@ -117,9 +117,15 @@ pub struct AccuracyReport {
     /// Richardson extrapolation of `v_s/v_m` (the chosen value corrected by both estimates'
     /// signed differences).
     pub v_s_over_v_m_extrapolated: f64,
+    /// Uncertainty of the extrapolation (absolute): the whole time correction plus how far the
+    /// mesh correction moves at mesh order 1 instead of 2. The answer of the run is the chosen
+    /// model's `v_s/v_m` (a simulated motion, which every other output describes, with the
+    /// error estimate `estimated_error`); the extrapolation is the best estimate of the
+    /// converged value, within this uncertainty.
+    pub v_s_over_v_m_extrapolated_uncertainty: f64,
     /// Every run of the selection, in order.
     pub runs: Vec<AccuracyRun>,
-    /// Wall time of all runs (s).
+    /// Wall time of all runs of the selection, the chosen one included (s).
     pub wall_time_total_s: f64,
 }
 

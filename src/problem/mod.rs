@@ -44,7 +44,7 @@ pub struct Problem {
     #[serde(default)]
     pub gait: GaitSpec,
     /// Accuracy target: `slither run` picks the tolerance and the mesh
-    /// (`crate::chart::accuracy`). Absent: run the file as written.
+    /// (`crate::design::selection`). Absent: run the file as written.
     pub accuracy: Option<AccuracySpec>,
 }
 
