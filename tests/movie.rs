@@ -35,7 +35,7 @@ fn decode(bytes: &[u8]) -> (usize, usize, Vec<Vec<u8>>) {
     (w, h, frames)
 }
 
-/// Centroid (px) of the body-coloured pixels (saturated: max - min channel > 70; the ground,
+/// Centroid (px) of the body-coloured pixels (saturated: max - min channel > 50; the ground,
 /// grid, shadow, sky and text are grey) in rows `rows`, and their count.
 fn body_centroid(rgba: &[u8], w: usize, rows: (usize, usize)) -> (f64, f64, usize) {
     let (mut sx, mut sy, mut n) = (0.0, 0.0, 0usize);
@@ -43,7 +43,7 @@ fn body_centroid(rgba: &[u8], w: usize, rows: (usize, usize)) -> (f64, f64, usiz
         for x in 0..w {
             let p = &rgba[4 * (y * w + x)..4 * (y * w + x) + 3];
             let (hi, lo) = (*p.iter().max().unwrap(), *p.iter().min().unwrap());
-            if hi - lo > 70 {
+            if hi - lo > 50 {
                 sx += x as f64;
                 sy += y as f64;
                 n += 1;
@@ -119,7 +119,7 @@ fn gif_of_a_sliding_rod_follows_its_centroid() {
     }
     // The fitted scale is the picture's: the 0.116 m slide spans travel px.
     let metres = cx.last().unwrap() - cx[0];
-    assert!((alpha * metres - travel).abs() < 1.0);
+    assert!((alpha * metres - travel).abs() < 2.0);
 }
 
 #[test]

@@ -13,6 +13,10 @@ use crate::plot::movie::{Clip, ContactState, MovieOptions, MovieStats};
 use crate::sim::Frame;
 use std::path::Path;
 
+/// Whether `slither run` writes `movie.gif` when the problem file does not say
+/// (`[output] movie`).
+pub const MOVIE_BY_DEFAULT: bool = true;
+
 /// The speed (m/s) below which a node in contact counts as stuck: a tenth of the gait speed
 /// `v_m` (the threshold of the regime rules' static middle segment), or, without a gait, a
 /// thousandth of a body length per second.

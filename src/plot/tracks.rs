@@ -109,14 +109,14 @@ pub fn tracks(path: &Path, clip: &Clip) -> Result<(), PlotError> {
         // Tracks: per node, runs of consecutive stuck frames.
         for i in 0..nn {
             let mut prev: Option<(f64, f64)> = None;
-            for k in 0..nf {
-                let p = clip.x[k].get(i).copied().unwrap_or([f64::NAN; 3]);
-                let stuck = clip.contact[k].get(i) == Some(&ContactState::Stuck) && finite(&p);
+            for ((xk, ck), &tk) in clip.x.iter().zip(&clip.contact).zip(&clip.t) {
+                let p = xk.get(i).copied().unwrap_or([f64::NAN; 3]);
+                let stuck = ck.get(i) == Some(&ContactState::Stuck) && finite(&p);
                 if !stuck {
                     prev = None;
                     continue;
                 }
-                let c = tcolor(clip.t[k]);
+                let c = tcolor(tk);
                 let q = (p[0], p[1]);
                 if let Some(a) = prev {
                     chart

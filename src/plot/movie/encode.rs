@@ -78,7 +78,7 @@ pub(super) fn write_gif(
     let encoded: Vec<gif::Frame<'static>> = (0..n)
         .into_par_iter()
         .map(|k| {
-            let taken = kept[k].lock().map_or(None, |mut g| g.take());
+            let taken = kept[k].lock().ok().and_then(|mut g| g.take());
             let f = match taken {
                 Some(f) => f,
                 None => render(k)?,

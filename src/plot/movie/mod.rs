@@ -249,8 +249,8 @@ impl Clip {
         let mut n = 0.0;
         for p in &self.x[k] {
             if p.iter().all(|v| v.is_finite()) {
-                for d in 0..3 {
-                    c[d] += p[d];
+                for (cd, pd) in c.iter_mut().zip(p) {
+                    *cd += pd;
                 }
                 n += 1.0;
             }
@@ -300,16 +300,16 @@ struct Plan<'a> {
 /// Centred moving average with a triangular window of half-width `tau` (s) of the points `c`
 /// at times `t`.
 fn smooth(t: &[f64], c: &[[f64; 3]], tau: f64) -> Vec<[f64; 3]> {
-    (0..t.len())
-        .map(|k| {
+    t.iter()
+        .map(|&tk| {
             let mut s = [0.0; 3];
             let mut wsum = 0.0;
-            for j in 0..t.len() {
-                let w = 1.0 - (t[j] - t[k]).abs() / tau.max(1e-12);
-                if w > 0.0 || j == k {
+            for (&tj, cj) in t.iter().zip(c) {
+                let w = 1.0 - (tj - tk).abs() / tau.max(1e-12);
+                if w > 0.0 || tj == tk {
                     let w = w.max(1e-9);
-                    for d in 0..3 {
-                        s[d] += w * c[j][d];
+                    for (sd, cd) in s.iter_mut().zip(cj) {
+                        *sd += w * cd;
                     }
                     wsum += w;
                 }
