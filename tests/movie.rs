@@ -29,7 +29,11 @@ fn decode(bytes: &[u8]) -> (usize, usize, Vec<Vec<u8>>) {
     let (w, h) = (d.width() as usize, d.height() as usize);
     let mut frames = Vec::new();
     while let Some(f) = d.read_next_frame().expect("a valid GIF frame") {
-        assert_eq!((f.width as usize, f.height as usize), (w, h), "full-size frames");
+        assert_eq!(
+            (f.width as usize, f.height as usize),
+            (w, h),
+            "full-size frames"
+        );
         frames.push(f.buffer.to_vec());
     }
     (w, h, frames)
@@ -76,7 +80,12 @@ fn gif_of_a_sliding_rod_follows_its_centroid() {
     );
     // Frames differ while the rod moves (the last ones, at rest, differ only by the clock).
     for k in 1..20 {
-        assert_ne!(images[k - 1], images[k], "frames {} and {k} are equal", k - 1);
+        assert_ne!(
+            images[k - 1],
+            images[k],
+            "frames {} and {k} are equal",
+            k - 1
+        );
     }
     // The body's pixel centroid in the scene (text bands excluded) against the trajectory's
     // centroid along x (the heading, screen right in the top view).
@@ -184,9 +193,10 @@ fn clip_from_a_run_directory_equals_the_clip_in_memory() {
     assert_eq!(a.period, b.period);
     let same = |p: &Vec<Vec<f64>>, q: &Vec<Vec<f64>>| {
         p.len() == q.len()
-            && p.iter().flatten().zip(q.iter().flatten()).all(|(x, y)| {
-                x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan())
-            })
+            && p.iter()
+                .flatten()
+                .zip(q.iter().flatten())
+                .all(|(x, y)| x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()))
     };
     assert!(same(&a.lambda, &b.lambda));
     // The movie of the stored run: one frame per stored output, written where asked.

@@ -198,7 +198,10 @@ pub fn clip_from_dir(dir: &Path) -> Result<Clip, String> {
             let nw = shape[1] as usize;
             let rows: Vec<Vec<f64>> = v.chunks(nw).map(|r| r.to_vec()).collect();
             // Windows of L/10 start at the first nodes (observe::fields).
-            let s_window: Vec<f64> = s[..nw.min(nn)].iter().map(|si| si + 0.05 * length).collect();
+            let s_window: Vec<f64> = s[..nw.min(nn)]
+                .iter()
+                .map(|si| si + 0.05 * length)
+                .collect();
             lambda_at_nodes(&s, &s_window, &rows)
         }
         _ => Vec::new(),

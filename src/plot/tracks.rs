@@ -8,7 +8,9 @@
 //! the same time colours, the head marked, with a legend of the instants. Equal scales in x
 //! and y. PNG or SVG by the path's extension.
 
-use super::axes::{best_corner, canvas_on, finite_range, fmt_num, frame_plot, legend, pad, tick_label};
+use super::axes::{
+    best_corner, canvas_on, finite_range, fmt_num, frame_plot, legend, pad, tick_label,
+};
 use super::movie::{Clip, ContactState};
 use super::{colormap, draw_err, PlotError, DESC_PX, FONT, TICK_PX};
 use plotters::prelude::*;
@@ -152,7 +154,9 @@ pub fn tracks(path: &Path, clip: &Clip) -> Result<(), PlotError> {
                 .draw_series(std::iter::once(PathElement::new(pts, c.stroke_width(2))))
                 .map_err(draw_err)?
                 .label(format!("body at t = {} s", fmt_num(clip.t[k], 3)))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3))
+                });
             if let Some(h) = clip.x[k].first().filter(|p| finite(p)) {
                 chart
                     .draw_series(std::iter::once(Circle::new((h[0], h[1]), 5, c.filled())))
@@ -166,13 +170,7 @@ pub fn tracks(path: &Path, clip: &Clip) -> Result<(), PlotError> {
                     .map_err(draw_err)?;
             }
         }
-        let corner = best_corner(
-            all().map(|p| (p[0], p[1])),
-            xrange,
-            yrange,
-            false,
-            false,
-        );
+        let corner = best_corner(all().map(|p| (p[0], p[1])), xrange, yrange, false, false);
         legend(&mut chart, corner, 10)?;
         frame_plot(&mut chart)?;
         root.present().map_err(draw_err)

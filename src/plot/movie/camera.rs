@@ -61,7 +61,11 @@ impl Camera {
     /// Pixel coordinates and depth (m) of a world point; None behind a perspective camera.
     pub fn project(&self, p: [f64; 3]) -> Option<(f64, f64, f64)> {
         let d = f::sub(p, self.eye);
-        let (x, y, z) = (f::dot(d, self.right), f::dot(d, self.up), f::dot(d, self.fwd));
+        let (x, y, z) = (
+            f::dot(d, self.right),
+            f::dot(d, self.up),
+            f::dot(d, self.fwd),
+        );
         match self.focal {
             Some(fl) => {
                 if z < NEAR {

@@ -87,7 +87,9 @@ pub(super) fn write_gif(
                 .rgb
                 .chunks_exact(3)
                 .map(|p| {
-                    lut[((p[0] as usize >> 3) << 10) | ((p[1] as usize >> 3) << 5) | (p[2] as usize >> 3)]
+                    lut[((p[0] as usize >> 3) << 10)
+                        | ((p[1] as usize >> 3) << 5)
+                        | (p[2] as usize >> 3)]
                 })
                 .collect();
             let mut fr = gif::Frame::from_indexed_pixels(w, h, idx, None);

@@ -413,8 +413,7 @@ impl<'a> Plan<'a> {
                         f_scale(probe.up, -my),
                     );
                     let centre = f_add(centre, f_scale(probe.fwd, 10.0 * l));
-                    let mut cam =
-                        Camera::looking_at(centre, hdir, el, 10.0 * l, None, scale, size);
+                    let mut cam = Camera::looking_at(centre, hdir, el, 10.0 * l, None, scale, size);
                     cam.cy = y0 as f64 + 0.5 * scene_h;
                     vec![cam; picks.len()]
                 } else {
@@ -552,7 +551,11 @@ impl<'a> Plan<'a> {
             .map_or([0.0; 3], |(g, _)| [g[0], g[1], 0.0]);
         let reach = match cam.focal {
             Some(_) => 4.0 * l,
-            None => (4.0 * l).max(0.65 * ((w * w + h * h) as f64).sqrt() / cam.scale / cam.fwd[2].abs().max(0.05)).min(12.0 * l),
+            None => (4.0 * l)
+                .max(
+                    0.65 * ((w * w + h * h) as f64).sqrt() / cam.scale / cam.fwd[2].abs().max(0.05),
+                )
+                .min(12.0 * l),
         };
         raster::ground(&mut cv, cam, 0.1 * l, centre, reach, &balls);
         raster::tube(&mut cv, cam, &balls);
@@ -575,7 +578,8 @@ fn f_scale(a: [f64; 3], s: f64) -> [f64; 3] {
 pub fn movie(path: &Path, clip: &Clip, opts: &MovieOptions) -> Result<MovieStats, PlotError> {
     let start = std::time::Instant::now();
     let bytes = movie_bytes(clip, opts)?;
-    std::fs::write(path, &bytes).map_err(|e| PlotError::Draw(format!("{}: {e}", path.display())))?;
+    std::fs::write(path, &bytes)
+        .map_err(|e| PlotError::Draw(format!("{}: {e}", path.display())))?;
     Ok(MovieStats {
         frames: frame_picks(clip.t.len(), opts.fps, opts.max_seconds).len(),
         bytes: bytes.len(),
@@ -608,7 +612,8 @@ pub fn still(path: &Path, clip: &Clip, opts: &MovieOptions, t: f64) -> Result<()
         .unwrap_or(0);
     let f = plan.render(j)?;
     let mut root = BitMapBackend::new(path, opts.size);
-    root.blit_bitmap((0, 0), opts.size, &f.rgb).map_err(draw_err)?;
+    root.blit_bitmap((0, 0), opts.size, &f.rgb)
+        .map_err(draw_err)?;
     root.present().map_err(draw_err)?;
     Ok(())
 }

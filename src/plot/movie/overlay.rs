@@ -90,8 +90,11 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
                 } else {
                     colormap::diverging(u)
                 };
-                root.draw(&Rectangle::new([(x + i, ym - 6), (x + i + 1, ym + 6)], c.filled()))
-                    .map_err(draw_err)?;
+                root.draw(&Rectangle::new(
+                    [(x + i, ym - 6), (x + i + 1, ym + 6)],
+                    c.filled(),
+                ))
+                .map_err(draw_err)?;
             }
             x += wbar + 6;
             label(&root, x, &format!("{hi:.2}"))?;
@@ -110,8 +113,11 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
             root.draw(&PathElement::new(line, BLACK.stroke_width(3)))
                 .map_err(draw_err)?;
             for xe in [x0, x1] {
-                root.draw(&PathElement::new(vec![(xe, ym - 5), (xe, ym + 5)], BLACK.stroke_width(2)))
-                    .map_err(draw_err)?;
+                root.draw(&PathElement::new(
+                    vec![(xe, ym - 5), (xe, ym + 5)],
+                    BLACK.stroke_width(2),
+                ))
+                .map_err(draw_err)?;
             }
             label(&root, x1 + 8, "0.25 L")?;
         }
@@ -128,8 +134,11 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
                 let b = cam.project([g[0] + rx, g[1] + ry, 0.0]);
                 if let (Some(a), Some(b)) = (a, b) {
                     let (a, b) = ((a.0 as i32, a.1 as i32), (b.0 as i32, b.1 as i32));
-                    root.draw(&PathElement::new(vec![a, b], RGBColor(40, 40, 40).stroke_width(3)))
-                        .map_err(draw_err)?;
+                    root.draw(&PathElement::new(
+                        vec![a, b],
+                        RGBColor(40, 40, 40).stroke_width(3),
+                    ))
+                    .map_err(draw_err)?;
                     for e in [a, b] {
                         root.draw(&PathElement::new(
                             vec![(e.0, e.1 - 5), (e.0, e.1 + 5)],

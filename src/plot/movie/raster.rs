@@ -80,7 +80,10 @@ pub(super) fn ground(
     // Grid lines: straight in any projection, drawn in pieces of one cell, each piece's colour
     // faded by its distance from the centre.
     let n = (reach / cell).ceil() as i64;
-    let (ox, oy) = ((centre[0] / cell).round() as i64, (centre[1] / cell).round() as i64);
+    let (ox, oy) = (
+        (centre[0] / cell).round() as i64,
+        (centre[1] / cell).round() as i64,
+    );
     for axis in 0..2 {
         for i in -n..=n {
             let major = (if axis == 0 { ox + i } else { oy + i }).rem_euclid(5) == 0;
@@ -94,7 +97,10 @@ pub(super) fn ground(
                     }
                 };
                 let (p, q) = (at(j), at(j + 1));
-                let mid = [0.5 * (p[0] + q[0]) - centre[0], 0.5 * (p[1] + q[1]) - centre[1]];
+                let mid = [
+                    0.5 * (p[0] + q[0]) - centre[0],
+                    0.5 * (p[1] + q[1]) - centre[1],
+                ];
                 let r = (mid[0] * mid[0] + mid[1] * mid[1]).sqrt() / reach;
                 let fade = ((1.0 - r) / 0.375).clamp(0.0, 1.0);
                 if fade <= 0.0 {
@@ -290,7 +296,11 @@ mod tests {
         };
         tube(&mut cv, &cam, &[high, low]);
         let i = 20 * 40 + 20;
-        assert!(cv.rgb[3 * i] > cv.rgb[3 * i + 2], "{:?}", &cv.rgb[3 * i..3 * i + 3]);
+        assert!(
+            cv.rgb[3 * i] > cv.rgb[3 * i + 2],
+            "{:?}",
+            &cv.rgb[3 * i..3 * i + 3]
+        );
         let mut cv = Canvas::new(40, 40);
         tube(&mut cv, &cam, &[low, high]);
         assert!(cv.rgb[3 * i] > cv.rgb[3 * i + 2]);
