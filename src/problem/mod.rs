@@ -308,6 +308,9 @@ pub struct OutputSpec {
     /// Interval between recorded frames (s); absent: [`OutputSpec::interval_for`]
     /// ([`keys::OUTPUT_INTERVAL`]).
     pub interval: Option<f64>,
+    /// Whether `slither run` writes `movie.gif` (with its figures, so not with `--no-plots`);
+    /// absent: [`keys::OUTPUT_MOVIE`].
+    pub movie: Option<bool>,
 }
 
 impl OutputSpec {
