@@ -34,6 +34,8 @@ pub mod conic;
 mod deferred;
 pub mod reactions;
 pub mod status;
+#[cfg(test)]
+mod dissipation_tests;
 
 pub use active::ActiveSet;
 pub use conic::{Conic, ConicError, ConicStep};
