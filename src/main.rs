@@ -48,6 +48,10 @@ enum Cmd {
     /// default, allowed values and meaning (--markdown), or every key of summary.json and
     /// column of phase.csv and history.csv (--outputs-markdown).
     Keys(cli::keys::Args),
+    /// Render a movie (animated GIF) of a run directory from its trajectory.npz: the body as a
+    /// shaded tube over the ground, in a 3d, top or side view, coloured by contact state,
+    /// elevation or lambda.
+    Movie(cli::movie::Args),
 }
 
 fn main() -> ExitCode {
@@ -61,5 +65,6 @@ fn main() -> ExitCode {
         Cmd::Phase(a) => cli::phase::phase(&a),
         Cmd::Merge(a) => cli::merge::merge(&a),
         Cmd::Keys(a) => cli::keys::keys(&a),
+        Cmd::Movie(a) => cli::movie::movie(&a),
     }
 }

@@ -219,3 +219,59 @@ fn clip_from_a_run_directory_equals_the_clip_in_memory() {
     assert!(output::movie::clip_from_dir(&d).is_err());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn slither_movie_renders_a_stored_run() {
+    let d = tmp_dir("cli");
+    let bin = env!("CARGO_BIN_EXE_slither");
+    let o = std::process::Command::new(bin)
+        .args(["run", "problems/slide.toml", "--quiet", "--movie", "--out"])
+        .arg(&d)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // `--movie` writes the run's movie; the tracks come with every run's figures.
+    for f in ["movie.gif", "tracks.png", "tracks.svg"] {
+        assert!(d.join(f).is_file(), "{f} missing");
+    }
+    let clip = output::movie::clip_from_dir(&d).unwrap();
+    let (_, _, run_movie) = decode(&std::fs::read(d.join("movie.gif")).unwrap());
+    assert_eq!(run_movie.len(), clip.t.len());
+    // `slither movie` from the stored trajectory.npz, top view, 20 fps, to a chosen file.
+    let out = d.join("top.gif");
+    let o = std::process::Command::new(bin)
+        .arg("movie")
+        .arg(&d)
+        .args([
+            "--view",
+            "top",
+            "--colour",
+            "elevation",
+            "--fps",
+            "20",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&out).unwrap();
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut dec = opts.read_info(&bytes[..]).unwrap();
+    let first = dec.read_next_frame().unwrap().unwrap().delay;
+    assert_eq!(first, 5, "20 fps is 5 hundredths of a second per frame");
+    let (_, _, images) = decode(&bytes);
+    assert_eq!(images.len(), clip.t.len());
+    assert_ne!(images[0], images[10]);
+    // A bad view is refused with the allowed values.
+    let o = std::process::Command::new(bin)
+        .arg("movie")
+        .arg(&d)
+        .args(["--view", "front"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("3d, top, side"));
+    let _ = std::fs::remove_dir_all(&d);
+}

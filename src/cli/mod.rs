@@ -5,6 +5,7 @@
 pub mod chart;
 pub mod keys;
 pub mod merge;
+pub mod movie;
 pub mod optimize;
 pub mod phase;
 pub mod run;

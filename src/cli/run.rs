@@ -18,9 +18,12 @@ pub struct Args {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
-    /// Skip the PNG figures and the ParaView export.
+    /// Skip the PNG figures, the movie, the tracks and the ParaView export.
     #[arg(long)]
     pub no_plots: bool,
+    /// Write movie.gif even when the problem file says `[output] movie = false`.
+    #[arg(long)]
+    pub movie: bool,
     /// Run even above the size limits (steps, stored frames, post-processing; see the
     /// README's "Limits").
     #[arg(long)]
@@ -175,6 +178,31 @@ pub fn run(args: &Args) -> ExitCode {
     if !no_plots {
         if let Err(e) = output::write_figures(out, &model, &o.frames, &fields) {
             eprintln!("error: {}: cannot write figures: {e}", out.display());
+            return ExitCode::from(1);
+        }
+        // Ground tracks always; the movie unless the problem file turns it off.
+        let want_movie = args.movie || p.output.movie;
+        let title = path
+            .file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+        let regime = summary
+            .observables
+            .as_ref()
+            .filter(|_| o.error.is_none())
+            .map(|ob| ob.regime.to_string());
+        let clip = output::movie::clip_from_run(&model, &o.frames, &fields, &title, regime);
+        let made = output::movie::write_tracks(out, &clip).and_then(|_| {
+            if want_movie {
+                output::movie::write_movie(out, "movie.gif", &clip, &Default::default()).map(|_| ())
+            } else {
+                Ok(())
+            }
+        });
+        if let Err(e) = made {
+            eprintln!(
+                "error: {}: cannot write the movie or the tracks: {e}",
+                out.display()
+            );
             return ExitCode::from(1);
         }
     }

@@ -13,10 +13,6 @@ use crate::plot::movie::{Clip, ContactState, MovieOptions, MovieStats};
 use crate::sim::Frame;
 use std::path::Path;
 
-/// Whether `slither run` writes `movie.gif` when the problem file does not say
-/// (`[output] movie`).
-pub const MOVIE_BY_DEFAULT: bool = true;
-
 /// The speed (m/s) below which a node in contact counts as stuck: a tenth of the gait speed
 /// `v_m` (the threshold of the regime rules' static middle segment), or, without a gait, a
 /// thousandth of a body length per second.
@@ -111,6 +107,9 @@ pub fn movie_scalars(m: &Model) -> [(&'static str, f64); 4] {
     ]
 }
 
+/// An npz array: shape and values.
+type Array = (Vec<u64>, Vec<f64>);
+
 /// The clip of a run directory: `trajectory.npz` (times, positions, slip speeds, lambda and the
 /// [`movie_scalars`]) and, when present, `summary.json` (the regime and the problem's name).
 /// Errors name the file and the missing or malformed array.
@@ -118,7 +117,7 @@ pub fn clip_from_dir(dir: &Path) -> Result<Clip, String> {
     let path = dir.join("trajectory.npz");
     let mut npz = npyz::npz::NpzArchive::open(&path)
         .map_err(|e| format!("{}: cannot open: {e}", path.display()))?;
-    let mut get = |name: &str| -> Result<Option<(Vec<u64>, Vec<f64>)>, String> {
+    let mut get = |name: &str| -> Result<Option<Array>, String> {
         match npz.by_name(name) {
             Ok(Some(a)) => {
                 let shape = a.shape().to_vec();
@@ -131,7 +130,7 @@ pub fn clip_from_dir(dir: &Path) -> Result<Clip, String> {
             Err(e) => Err(format!("{}: array {name:?}: {e}", path.display())),
         }
     };
-    let need = |a: Option<(Vec<u64>, Vec<f64>)>, name: &str| {
+    let need = |a: Option<Array>, name: &str| {
         a.ok_or_else(|| {
             format!(
                 "{}: no array {name:?} (written by an older slither? re-run the problem)",
@@ -151,7 +150,7 @@ pub fn clip_from_dir(dir: &Path) -> Result<Clip, String> {
             path.display()
         ));
     }
-    let scalar = |a: Option<(Vec<u64>, Vec<f64>)>| a.and_then(|(_, v)| v.first().copied());
+    let scalar = |a: Option<Array>| a.and_then(|(_, v)| v.first().copied());
     let diameter = scalar(get("diameter")?);
     let period = scalar(get("gait_period")?).filter(|v| v.is_finite());
     let gait_speed = scalar(get("gait_speed")?).filter(|v| v.is_finite());

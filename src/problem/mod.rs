@@ -310,7 +310,8 @@ pub struct OutputSpec {
     pub interval: Option<f64>,
     /// Whether `slither run` writes `movie.gif` (with its figures, so not with `--no-plots`);
     /// absent: [`keys::OUTPUT_MOVIE`].
-    pub movie: Option<bool>,
+    #[serde(default = "movie_default")]
+    pub movie: bool,
 }
 
 impl OutputSpec {
@@ -319,6 +320,10 @@ impl OutputSpec {
     pub fn interval_for(&self, duration: f64) -> f64 {
         self.interval.unwrap_or(duration / 100.0)
     }
+}
+
+fn movie_default() -> bool {
+    keys::OUTPUT_MOVIE.flag()
 }
 
 /// A problem-file error: names the file, the key and its line, and what is allowed.

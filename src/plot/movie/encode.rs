@@ -30,7 +30,7 @@ fn palette(frames: &[Rgb]) -> color_quant::NeuQuant {
     for f in frames {
         for (i, &b) in f.body.iter().enumerate() {
             k += 1;
-            if k % stride == 0 || (b && k % body_stride == 0) {
+            if k.is_multiple_of(stride) || (b && k.is_multiple_of(body_stride)) {
                 sample.extend_from_slice(&f.rgb[3 * i..3 * i + 3]);
                 sample.push(255);
             }

@@ -232,9 +232,8 @@ impl Clip {
                 )));
             }
         }
-        if !(self.diameter > 0.0 && self.diameter.is_finite())
-            || !(self.length > 0.0 && self.length.is_finite())
-        {
+        let positive = |v: f64| v > 0.0 && v.is_finite();
+        if !positive(self.diameter) || !positive(self.length) {
             return Err(PlotError::Invalid(format!(
                 "movie: diameter {} m and length {} m must be finite and > 0",
                 self.diameter, self.length
