@@ -345,7 +345,7 @@ fn at_mesh(problem: &Problem, model: &Model, elements: usize) -> (Problem, Model
 /// the reference mesh is k times finer); empty when the meshes do not nest.
 fn centreline_at(xref: &[[f64; 3]], elements: usize) -> Vec<[f64; 3]> {
     let nref = xref.len().saturating_sub(1);
-    if elements == 0 || nref % elements != 0 {
+    if elements == 0 || !nref.is_multiple_of(elements) {
         return Vec::new();
     }
     let k = nref / elements;
