@@ -281,7 +281,10 @@ fn incline(heading: f64, mu: f64) {
     // Rigid sliding from rest at constant acceleration: BDF2 gives the velocity exactly, so
     // only the solver's tolerance is left: measured 2.5e-13 (heading 0) and 3e-16 (90). The
     // bound is the one of tests/contact.rs, whose conic-only path reaches 2.9e-7.
-    assert!((acc / expected - 1.0).abs() < 1e-6, "acceleration {acc} vs {expected}");
+    assert!(
+        (acc / expected - 1.0).abs() < 1e-6,
+        "acceleration {acc} vs {expected}"
+    );
 }
 
 #[test]

@@ -682,9 +682,15 @@ fn topology_planar_square_ring() {
     let wr = v["wr"].as_f64().expect("wr");
     let lk_gauss = v["lk_gauss"].as_f64().expect("lk_gauss with --closed");
     assert!(wr.abs() <= 1e-12, "wr = {wr}; {stdout}");
-    assert!(lk_gauss.abs() <= 1e-6, "lk_gauss = {lk_gauss}, not 0; {stdout}");
+    assert!(
+        lk_gauss.abs() <= 1e-6,
+        "lk_gauss = {lk_gauss}, not 0; {stdout}"
+    );
     let tw = v["tw"].as_f64().expect("tw");
-    assert!(tw.abs() <= 1e-12, "tw = {tw}: d1 does not turn about the tangent; {stdout}");
+    assert!(
+        tw.abs() <= 1e-12,
+        "tw = {tw}: d1 does not turn about the tangent; {stdout}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -185,7 +185,10 @@ fn incline_with(heading: f64, mu: f64, active: bool, integrator: &str) {
     // velocity exactly, so only the solver's tolerance is left: measured 1.4e-11 and 1.8e-12
     // (active set, implicit Euler), 9e-13 and 1.4e-12 (BDF2), -2.9e-7 (conic program alone,
     // its interior-point tolerance): 1e-6 is 3.4 times the largest.
-    assert!((acc / expected - 1.0).abs() < 1e-6, "acceleration {acc} vs {expected}");
+    assert!(
+        (acc / expected - 1.0).abs() < 1e-6,
+        "acceleration {acc} vs {expected}"
+    );
 }
 
 #[test]
@@ -375,7 +378,11 @@ fn contact_newton_converges_quadratically() {
     // its full rate), and most pairs square outright. A linear contraction (the lagged
     // iteration's) gives neither.
     assert!(wc <= 100.0, "coupled: r1 / r0^2 up to {wc:e}");
-    assert!(sc >= 0.75, "coupled: only {:.0} % of pairs squared", 100.0 * sc);
+    assert!(
+        sc >= 0.75,
+        "coupled: only {:.0} % of pairs squared",
+        100.0 * sc
+    );
     // The lagged iteration does not: the comparison shows what the coupling does.
     assert!(sl <= 0.5, "lagged: {:.0} % of pairs squared", 100.0 * sl);
     assert!(wl > 1e3, "lagged: r1 / r0^2 at most {wl:e}");
@@ -390,7 +397,11 @@ fn contact_newton_converges_quadratically() {
 fn pin_contact_newton_squares_nine_pairs_in_ten() {
     let (raw, _) = residual_runs();
     let (sc, _) = squared_fraction(&newton_pairs(raw));
-    assert!(sc >= 0.9, "coupled: only {:.0} % of pairs squared", 100.0 * sc);
+    assert!(
+        sc >= 0.9,
+        "coupled: only {:.0} % of pairs squared",
+        100.0 * sc
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -454,7 +465,12 @@ fn oblique_slide(alpha: f64, speed: f64, dt: f64) -> ([f64; 2], f64, f64, [f64; 
     let (a, h) = (alpha.to_radians(), HEADING.to_radians());
     let v = [speed * (a + h).cos(), speed * (a + h).sin(), 0.0];
     // World (x, y) to body (forward, sideways).
-    let body = |w: [f64; 3]| [w[0] * h.cos() + w[1] * h.sin(), -w[0] * h.sin() + w[1] * h.cos()];
+    let body = |w: [f64; 3]| {
+        [
+            w[0] * h.cos() + w[1] * h.sin(),
+            -w[0] * h.sin() + w[1] * h.cos(),
+        ]
+    };
     let mut m = scene(HEADING, v, 0.0, 0.0, 1.0);
     m.dt = dt;
     let mut integ = Integrator::new(&m, Box::new(Natural));
@@ -539,14 +555,26 @@ fn oblique_sliding_stops_where_the_anisotropic_dissipation_says() {
             turn1.max(turn2),
             rise1.max(rise2)
         );
-        assert!(launch_line > 0.05, "{alpha}: the reference is not anisotropic");
+        assert!(
+            launch_line > 0.05,
+            "{alpha}: the reference is not anisotropic"
+        );
         // Measured up to 1.5e-6 (135 degrees); the first-order error at 0.5 ms is 1.6e-3.
         assert!(err(rich) < 1e-5, "{alpha} deg: stop {rich:?} vs {stop:?}");
-        assert!(err(d2) < 5e-3, "{alpha} deg: stop {d2:?} vs {stop:?} at 0.5 ms");
+        assert!(
+            err(d2) < 5e-3,
+            "{alpha} deg: stop {d2:?} vs {stop:?} at 0.5 ms"
+        );
         // Measured up to 1.3e-11: the law holds to the Newton tolerance.
-        assert!(acc_err < 1e-8, "{alpha} deg: deceleration {acc:?} vs {decel:?}");
+        assert!(
+            acc_err < 1e-8,
+            "{alpha} deg: deceleration {acc:?} vs {decel:?}"
+        );
         assert!(turn1.max(turn2) < 1e-9, "{alpha} deg: the body turned");
-        assert!(rise1.max(rise2) < 1e-6 * m_diameter(), "{alpha} deg: the body rose");
+        assert!(
+            rise1.max(rise2) < 1e-6 * m_diameter(),
+            "{alpha} deg: the body rose"
+        );
     }
 }
 

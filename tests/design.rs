@@ -96,8 +96,12 @@ fn good_point_speed(tag: &str) -> f64 {
         .replace("stress = 9000.0", "stress = 24000.0");
     let path = setup(&format!("good_point_{tag}"), BASE, &study);
     let out = path.parent().unwrap().join("out");
-    let r = design::optimize(&design::load_study(&path).unwrap(), &out, &mut design::Silent)
-        .unwrap();
+    let r = design::optimize(
+        &design::load_study(&path).unwrap(),
+        &out,
+        &mut design::Silent,
+    )
+    .unwrap();
     assert_eq!(r.initial.point.stress, 24000.0);
     assert_eq!(r.initial.status, Status::Ok, "{}", r.initial.reason);
     r.initial.v_s

@@ -161,6 +161,10 @@ fn keys_command_prints_the_references() {
             .output()
             .expect("run slither keys");
         assert!(o.status.success(), "slither keys {flag}: {}", o.status);
-        assert_eq!(String::from_utf8(o.stdout).unwrap(), text, "slither keys {flag}");
+        assert_eq!(
+            String::from_utf8(o.stdout).unwrap(),
+            text,
+            "slither keys {flag}"
+        );
     }
 }

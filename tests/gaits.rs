@@ -105,7 +105,11 @@ fn sidewinding() -> &'static (Observables, usize) {
 #[test]
 fn periodic_s_starts_sidewind() {
     let (ob, _) = sidewinding();
-    assert!(ob.v_s.is_finite() && ob.v_s.abs() > 1e-3, "v_s {} m/s", ob.v_s);
+    assert!(
+        ob.v_s.is_finite() && ob.v_s.abs() > 1e-3,
+        "v_s {} m/s",
+        ob.v_s
+    );
     assert!(
         ob.displacement_angle_deg >= 60.0,
         "moved {} degrees off the body axis",

@@ -223,7 +223,9 @@ const NUMERIC: &[(&str, Getter)] = &[
     ("rod.length", |p| p.rod.length),
     ("rod.diameter", |p| p.rod.diameter),
     ("rod.bending_stiffness", |p| p.rod.bending_stiffness),
-    ("ground.mu_forward", |p| p.ground.as_ref().unwrap().mu_forward),
+    ("ground.mu_forward", |p| {
+        p.ground.as_ref().unwrap().mu_forward
+    }),
     ("gait.stress", |p| p.gait.stress),
     ("gait.sigma", |p| p.gait.sigma),
     ("gait.speed", |p| p.gait.speed),

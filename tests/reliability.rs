@@ -417,7 +417,10 @@ fn concurrent_runs_into_one_directory_do_not_mix() {
             break;
         }
         if let Some(st) = a.child().try_wait().unwrap() {
-            panic!("the first run ended ({st}) without holding {}", lock.display());
+            panic!(
+                "the first run ended ({st}) without holding {}",
+                lock.display()
+            );
         }
         std::thread::sleep(std::time::Duration::from_millis(2));
     }

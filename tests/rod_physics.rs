@@ -39,7 +39,10 @@ fn cantilever_small_deflection_matches_beam_theory_static_and_dynamic() {
         sag / exact - 1.0
     );
     // Measured 3.5e-4 at 50 elements (second order in the element size: the discretisation).
-    assert!((sag / exact - 1.0).abs() < 1e-3, "sag {sag} vs beam theory {exact}");
+    assert!(
+        (sag / exact - 1.0).abs() < 1e-3,
+        "sag {sag} vs beam theory {exact}"
+    );
     assert!(o.max_strain < 1e-3);
     // The dynamic run of the same rod settles to the same shape.
     let dynamic = text.replace("mode = \"static\"", "mode = \"dynamic\"");
@@ -498,7 +501,10 @@ duration = 1.0
         measured / period - 1.0
     );
     assert!(bent < 1e-9, "the rod bent: {bent} m");
-    assert!((amp / (tau0 * length) - 1.0).abs() < 0.05, "amplitude {amp}");
+    assert!(
+        (amp / (tau0 * length) - 1.0).abs() < 0.05,
+        "amplitude {amp}"
+    );
     assert!(
         (measured / period - 1.0).abs() < 2e-3,
         "period {measured} vs wave equation {period}"
@@ -583,7 +589,8 @@ fn explicit_momentum(dt: f64, duration: f64) -> ([f64; 2], f64, f64) {
     let m = spinning_rod(dt, duration);
     let mut integ = Explicit::new(&m, Box::new(Natural)).unwrap();
     let mut s = State::initial(&m);
-    let theta_dot = |s: &State| -> Vec<f64> { (0..m.nodes - 1).map(|j| s.v[dof::edge(j)]).collect() };
+    let theta_dot =
+        |s: &State| -> Vec<f64> { (0..m.nodes - 1).map(|j| s.v[dof::edge(j)]).collect() };
     let spin0 = {
         let w = theta_dot(&s);
         spin(&m, &s, &|j| w[j])
@@ -677,5 +684,8 @@ fn implicit_euler_loses_angular_momentum_at_first_order() {
     // First order: the ratio tends to 2 as the step falls (and not to 4 or 1).
     assert!((1.6..2.4).contains(&r1), "order: ratio {r1}");
     assert!((1.75..2.25).contains(&r2), "order: ratio {r2}");
-    assert!((r2 - 2.0).abs() <= (r1 - 2.0).abs(), "ratios {r1}, {r2} not tending to 2");
+    assert!(
+        (r2 - 2.0).abs() <= (r1 - 2.0).abs(),
+        "ratios {r1}, {r2} not tending to 2"
+    );
 }

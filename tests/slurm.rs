@@ -134,9 +134,11 @@ fn availability() -> Result<(), String> {
             ));
         }
         if !munge_works() {
-            return Err("not root and no munged answers `munge -n | unmunge`; start munged \
+            return Err(
+                "not root and no munged answers `munge -n | unmunge`; start munged \
                         (as root) or run the test as root"
-                .to_string());
+                    .to_string(),
+            );
         }
         return Ok(());
     }
@@ -155,7 +157,11 @@ fn availability() -> Result<(), String> {
             .map_err(|e| format!("Slurm is missing and apt-get cannot run: {e}"))?;
         if !o.status.success() {
             let err = String::from_utf8_lossy(&o.stderr);
-            let last = err.lines().rev().find(|l| !l.trim().is_empty()).unwrap_or("");
+            let last = err
+                .lines()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("");
             return Err(format!(
                 "Slurm is missing and `apt-get {}` failed ({}: {last})",
                 args.join(" "),
@@ -168,7 +174,9 @@ fn availability() -> Result<(), String> {
         t.elapsed().as_secs_f64()
     );
     match PROGRAMS.iter().find(|p| find(p).is_none()) {
-        Some(p) => Err(format!("{p} not found after installing slurm-wlm and munge")),
+        Some(p) => Err(format!(
+            "{p} not found after installing slurm-wlm and munge"
+        )),
         None => Ok(()),
     }
 }

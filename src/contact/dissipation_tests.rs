@@ -89,8 +89,14 @@ fn sliding_dissipation_matches_finite_differences_in_every_direction() {
             let len = 1e-4 * 100f64.powf(r.next());
             let (eg, eh, _) = errors(&ct, &m, &q, c, [len * phi.cos(), len * phi.sin()]);
             // Measured up to 5e-9 and 1e-8 (central differences with a 1e-8 m step).
-            assert!(eg < 1e-7, "contact {c}, slip angle {phi}: gradient error {eg:e}");
-            assert!(eh < 1e-6, "contact {c}, slip angle {phi}: Hessian error {eh:e}");
+            assert!(
+                eg < 1e-7,
+                "contact {c}, slip angle {phi}: gradient error {eg:e}"
+            );
+            assert!(
+                eh < 1e-6,
+                "contact {c}, slip angle {phi}: Hessian error {eh:e}"
+            );
             worst_g = worst_g.max(eg);
             worst_h = worst_h.max(eh);
         }
@@ -128,9 +134,7 @@ fn sliding_dissipation_derivatives_on_both_sides_of_the_forward_backward_switch(
     // The forward-forward curvature of the Hessian jumps by (mu_b / mu_f)^2 across the
     // switch (in the contact's frame: f^T H f).
     let fw = ct.forward[c];
-    let ff = |h: [f64; 3]| {
-        h[0] * fw[0] * fw[0] + 2.0 * h[1] * fw[0] * fw[1] + h[2] * fw[1] * fw[1]
-    };
+    let ff = |h: [f64; 3]| h[0] * fw[0] * fw[0] + 2.0 * h[1] * fw[0] * fw[1] + h[2] * fw[1] * fw[1];
     let ratio = ff(h_b) / ff(h_f);
     let expected = (g.mu_b / g.mu_f).powi(2);
     assert!(

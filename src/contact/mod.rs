@@ -32,10 +32,10 @@
 pub mod active;
 pub mod conic;
 mod deferred;
-pub mod reactions;
-pub mod status;
 #[cfg(test)]
 mod dissipation_tests;
+pub mod reactions;
+pub mod status;
 
 pub use active::ActiveSet;
 pub use conic::{Conic, ConicError, ConicStep};

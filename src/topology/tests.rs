@@ -189,7 +189,11 @@ fn twisted_ring_link_equals_twist_plus_writhe() {
         );
         // The reported link against the independent Gauss linking integral of the curve and
         // its push-off (not against `tw + wr`, from which it is summed).
-        assert!((topo.lk - lk).abs() < 1e-6, "k={k}: lk {} vs Gauss {lk}", topo.lk);
+        assert!(
+            (topo.lk - lk).abs() < 1e-6,
+            "k={k}: lk {} vs Gauss {lk}",
+            topo.lk
+        );
         assert!(topo.wr.abs() < 1e-12, "planar writhe {}", topo.wr);
         assert!((topo.tw - k as f64).abs() < 1e-9, "tw={}", topo.tw);
     }
