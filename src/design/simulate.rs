@@ -30,11 +30,9 @@ pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Eval
         reason: String::new(),
     };
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        let outcome = sim::run_gait(&model, pr.solver.integrator, progress, &mut |_| {})
+        let o = observe::evaluate(&model, observe::Measure::Full, progress, &mut |_| {})
             .map_err(|err| err.to_string())?;
-        let fields = observe::fields(&model, &outcome.frames);
-        let ob = observe::observe(&model, &outcome.frames, &fields);
-        Ok::<_, String>((ob, outcome.error.map(|err| err.to_string())))
+        Ok::<_, String>((o.observables, o.outcome.error.map(|err| err.to_string())))
     }));
     match run {
         // A run cut short has not measured the gait: its observables stay NaN (regime "-").

@@ -1,12 +1,12 @@
 //! Regime boundaries located by bisection between neighbouring cells (`[phase] refine = true`).
 //!
 //! A grid cell pair whose regimes differ says only that a boundary crosses the segment between
-//! the two cell centres; the midpoint fit of [`super::phase::boundaries`] puts the crossing at
+//! the two cell centres; the midpoint fit of [`super::boundaries()`] puts the crossing at
 //! the segment's log-midpoint, so each point is uncertain by half a grid spacing. With
 //! `refine = true` every such pair is bisected along its segment, in log scale: for two
 //! neighbours in the same `G` row (a ray of constant `G`) the base scene is simulated at the
 //! geometric midpoint `W_m = sqrt(W_lo W_hi)` (the same `G`, set the way the grid sets it,
-//! [`super::phase::cell_problem`]), labelled by the same regime test, and the half whose ends
+//! [`super::cell_problem`]), labelled by the same regime test, and the half whose ends
 //! still differ is kept; `refine_steps = K` times. Neighbours in the same `W` column are
 //! bisected the same way in `G` (a ray of constant `W`): the boundaries slither finds are
 //! flatter than the paper's (slopes well below 1), and a nearly flat line is crossed mostly by
@@ -22,14 +22,16 @@
 //! done, never dropped.
 //!
 //! The lines are then fitted through these points exactly as through the midpoints
-//! ([`super::phase::fit_boundaries`]). Every refinement simulation is appended to `refine.csv`
+//! ([`super::fit_boundaries`]). Every refinement simulation is appended to `refine.csv`
 //! (the columns of `phase.csv`) as it finishes, and a rerun answers every midpoint already in
 //! the file for the same base file (hash) from its row; at the end the file is rewritten in a
 //! fixed order (by `G`, then `W`), so its content does not depend on which simulation finished
 //! first. Pairs are bisected in parallel (rayon, one pair per core; the steps of one pair run one
 //! after another, as each depends on the last).
 
-use super::phase::{read_rows, simulate, Cell, PhaseError, HEADER};
+use super::cell::{simulate, Cell};
+use super::csv::{append_rows, read_rows, HEADER};
+use super::PhaseError;
 use crate::observe::Regime;
 use crate::problem::Problem;
 use rayon::prelude::*;
@@ -39,14 +41,6 @@ use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
-
-/// Bisection steps per neighbour pair when `refine = true` and `refine_steps` is not given.
-pub const DEFAULT_STEPS: usize = 3;
-
-/// Largest `refine_steps`: 8 steps narrow a pair to 1/256 of its grid spacing (0.001 decades
-/// on a 20-point-per-3-decades grid), finer than the regime test's own sensitivity, and each
-/// step is one more simulation per pair.
-pub const MAX_STEPS: usize = 8;
 
 /// The grid axis along which two neighbouring cells (and their bisection) lie.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -290,7 +284,7 @@ pub fn refine(
         .filter(|(_, h)| *h == base_hash)
         .map(|(c, _)| (key(c.weight, c.torque), c.clone()))
         .collect();
-    let file = super::phase::append_rows(&csv, old.fresh)?;
+    let file = append_rows(&csv, old.fresh)?;
     let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
     let pairs = neighbour_pairs(weight, torque, &labels);
     let (reused, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
