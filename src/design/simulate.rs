@@ -5,7 +5,7 @@ use super::*;
 /// Simulate the study's base problem at `p` (the evaluation index is set by the caller) and
 /// measure it. Never panics: a failed step, an unsupported integrator, a non-finite speed or a
 /// panic inside the simulator gives status [`Status::Failed`] with the reason.
-pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Evaluation {
+pub fn simulate(study: &Study, p: &GaitParams, progress: &mut dyn FnMut(f64)) -> Evaluation {
     let start = Instant::now();
     let pr = study.problem_at(p);
     let duration = pr.time.duration.unwrap_or(0.0);

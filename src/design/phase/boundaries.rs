@@ -1,6 +1,6 @@
 //! The regime boundaries: straight lines in log-log fitted through the crossing points
 //! between neighbouring cells of different regimes (midpoints, or bisected by [`super::refine`]).
-use super::refine::{self, Point};
+use super::refine::{self, BoundaryPoint};
 use crate::observe::Regime;
 
 /// A fitted boundary between two regimes: the line `log10 G = slope log10 W + intercept`
@@ -26,8 +26,8 @@ pub struct Boundary {
     /// The neighbouring cells `[[W, G], [W, G]]` whose crossings were fitted.
     pub cells: Vec<[[f64; 2]; 2]>,
     /// The fitted points: `W`, `G`, the axis each was located along, its half-width (decades
-    /// along that axis), method, bisection steps and failure (see [`Point`]).
-    pub points: Vec<Point>,
+    /// along that axis), method, bisection steps and failure (see [`BoundaryPoint`]).
+    pub points: Vec<BoundaryPoint>,
 }
 
 /// Fit every boundary between neighbouring cells (along W and along G, cells with `G > 0`) of
@@ -39,8 +39,8 @@ pub fn boundaries(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]) -> 
 
 /// Fit one line per regime pair through its points (midpoints or bisected), by least squares in
 /// `log10 G` against `log10 W`; the lines in alphabetical order of their pairs.
-pub fn fit_boundaries(points: &[Point]) -> Vec<Boundary> {
-    let mut pairs: std::collections::BTreeMap<&str, Vec<Point>> = Default::default();
+pub fn fit_boundaries(points: &[BoundaryPoint]) -> Vec<Boundary> {
+    let mut pairs: std::collections::BTreeMap<&str, Vec<BoundaryPoint>> = Default::default();
     for p in points {
         pairs.entry(p.pair.as_str()).or_default().push(p.clone());
     }
@@ -68,7 +68,7 @@ pub fn fit_boundaries(points: &[Point]) -> Vec<Boundary> {
             });
             let bisected = points
                 .iter()
-                .any(|p| p.method == refine::Method::Bisection);
+                .any(|p| p.method == refine::Placement::Bisection);
             Boundary {
                 pair: pair.to_string(),
                 method: if bisected { "bisection" } else { "midpoints" },

@@ -99,7 +99,7 @@ pub fn neighbour_pairs(
 /// How a boundary point was placed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Method {
+pub enum Placement {
     /// The log-midpoint of the two grid cells.
     Midpoint,
     /// The log-midpoint of the interval left after one or more bisection steps.
@@ -108,7 +108,7 @@ pub enum Method {
 
 /// One point on a regime boundary, as written to `boundaries.json`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Point {
+pub struct BoundaryPoint {
     /// The two regimes on either side, alphabetical (`"F/N"`).
     #[serde(skip)]
     pub pair: String,
@@ -122,7 +122,7 @@ pub struct Point {
     /// point's uncertainty.
     pub half_width: f64,
     /// Midpoint of the grid pair, or bisection.
-    pub method: Method,
+    pub method: Placement,
     /// Bisection steps done (the `refine_steps` asked for, unless a simulation failed).
     pub steps: usize,
     /// Why a bisection simulation failed (its interval stopped there); `null` otherwise.
@@ -148,23 +148,23 @@ fn point(
     hi: (f64, Regime),
     steps: usize,
     failed: Option<String>,
-) -> Point {
+) -> BoundaryPoint {
     let m = (lo.0 * hi.0).sqrt();
     let ((w0, g0), _) = n.lo;
     let (w, g) = match n.axis {
         Axis::W => (m, g0),
         Axis::G => (w0, m),
     };
-    Point {
+    BoundaryPoint {
         pair: pair_name(lo.1, hi.1),
         w,
         g,
         along: n.axis,
         half_width: 0.5 * (hi.0 / lo.0).log10(),
         method: if steps > 0 {
-            Method::Bisection
+            Placement::Bisection
         } else {
-            Method::Midpoint
+            Placement::Midpoint
         },
         steps,
         failed,
@@ -173,7 +173,7 @@ fn point(
 }
 
 /// The midpoint of a grid pair (no simulation).
-pub fn midpoint(n: &Neighbours) -> Point {
+pub fn midpoint(n: &Neighbours) -> BoundaryPoint {
     let along = |c: (f64, f64)| match n.axis {
         Axis::W => c.0,
         Axis::G => c.1,
@@ -188,7 +188,7 @@ pub fn bisect(
     n: &Neighbours,
     steps: usize,
     label: &dyn Fn(f64, f64) -> Result<Regime, String>,
-) -> Vec<Point> {
+) -> Vec<BoundaryPoint> {
     let ((w0, g0), _) = n.lo;
     let along = |c: (f64, f64)| match n.axis {
         Axis::W => c.0,
@@ -229,8 +229,8 @@ pub fn bisect_all(
     pairs: &[Neighbours],
     steps: usize,
     label: &(dyn Fn(f64, f64) -> Result<Regime, String> + Sync),
-) -> Vec<Point> {
-    let per_pair: Vec<Vec<Point>> = pairs.par_iter().map(|n| bisect(n, steps, label)).collect();
+) -> Vec<BoundaryPoint> {
+    let per_pair: Vec<Vec<BoundaryPoint>> = pairs.par_iter().map(|n| bisect(n, steps, label)).collect();
     per_pair.into_iter().flatten().collect()
 }
 
@@ -242,7 +242,7 @@ pub struct Refinement {
     /// Neighbour pairs of different regimes that were bisected.
     pub pairs: usize,
     /// The boundary points, in pair order.
-    pub points: Vec<Point>,
+    pub points: Vec<BoundaryPoint>,
     /// Refinement simulations run in this call (rows appended to `refine.csv`).
     pub simulated: usize,
     /// Midpoints answered from rows of an earlier run.
@@ -351,7 +351,7 @@ pub fn refine(
 
 /// The boundaries of a grid of labels with each neighbour pair's point placed at its midpoint
 /// (no simulation).
-pub fn midpoint_points(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]) -> Vec<Point> {
+pub fn midpoint_points(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]) -> Vec<BoundaryPoint> {
     neighbour_pairs(weight, torque, labels)
         .iter()
         .map(midpoint)
@@ -387,7 +387,7 @@ mod tests {
     }
 
     /// The distance, in decades along the point's axis, from the true line `W/G = ratio`.
-    fn miss(p: &Point, ratio: f64) -> f64 {
+    fn miss(p: &BoundaryPoint, ratio: f64) -> f64 {
         match p.along {
             Axis::W => (p.w / (ratio * p.g)).log10().abs(),
             Axis::G => (p.g / (p.w / ratio)).log10().abs(),
@@ -411,7 +411,7 @@ mod tests {
         assert!(points.len() >= pairs.len());
         let truth = |pair: &str| if pair == "F/S" { 20.0 } else { 60.0 };
         for p in &points {
-            assert_eq!(p.method, Method::Bisection);
+            assert_eq!(p.method, Placement::Bisection);
             assert_eq!(p.steps, steps);
             assert!(p.failed.is_none());
             // The interval is 2^steps times narrower than the grid spacing it started from.
@@ -485,7 +485,7 @@ mod tests {
         assert_eq!(pts.len(), pairs.len());
         for (p, n) in pts.iter().zip(&pairs) {
             let m = midpoint(n);
-            assert_eq!((p.method, p.steps), (Method::Midpoint, 0));
+            assert_eq!((p.method, p.steps), (Placement::Midpoint, 0));
             assert_eq!(p.failed.as_deref(), Some("step rejected"));
             assert_eq!((p.w, p.g, p.half_width), (m.w, m.g, m.half_width));
         }
@@ -499,7 +499,7 @@ mod tests {
                 Ok(by_ratio(w, g))
             }
         });
-        let early: Vec<&Point> = pts.iter().filter(|p| p.failed.is_some()).collect();
+        let early: Vec<&BoundaryPoint> = pts.iter().filter(|p| p.failed.is_some()).collect();
         assert!(!early.is_empty() && early.len() < pts.len());
         for p in &pts {
             let ratio = if p.pair == "F/S" { 20.0 } else { 60.0 };
