@@ -5,7 +5,7 @@
 //! loses nothing), failed simulations are recorded as failed, bad study files exit with code 2
 //! naming file, key and range, and the normalised coordinates clamp exactly to the bounds.
 
-use slither::design::{self, Dim, Param, GaitParams, Space, Status};
+use slither::design::{self, Dim, GaitParams, Param, Space, Status};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

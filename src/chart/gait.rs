@@ -28,8 +28,8 @@
 //! the reference's at the final time, over the rod length.
 
 use super::*;
-use crate::problem::{Adaptive, IntegratorKind};
 use crate::observe::{evaluate, measure, Measure, Observed};
+use crate::problem::{Adaptive, IntegratorKind};
 use crate::sim::Outcome;
 
 /// Settings of the gait work-precision chart (defaults in [`Default`]).

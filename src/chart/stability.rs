@@ -117,7 +117,12 @@ impl StabilityMap {
 }
 
 /// Whether `model` runs `duration` in steps of `h` by `method` (see the module doc).
-pub fn stable(model: &Model, method: StepperKind, h: f64, duration: f64) -> Result<bool, Unsupported> {
+pub fn stable(
+    model: &Model,
+    method: StepperKind,
+    h: f64,
+    duration: f64,
+) -> Result<bool, Unsupported> {
     Ok(trial(model, method, h, duration)?.is_ok())
 }
 

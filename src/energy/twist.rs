@@ -3,8 +3,8 @@
 //! twist `m0_i` (integrated, rad) that may change with time (muscles).
 
 use super::autodiff::{self, StencilEnergy};
-use super::stencil::{self, EdgeJets, Jets, StencilDerivatives};
 pub use super::stencil::TwistStencil;
+use super::stencil::{self, EdgeJets, Jets, StencilDerivatives};
 use super::{Assembly, Ctx, Term};
 use crate::rod::{frames, frames::StencilFrame, V3};
 use nalgebra::{SMatrix, SVector};

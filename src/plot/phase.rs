@@ -404,11 +404,7 @@ fn map_legend<DB: DrawingBackend>(
             b.slope.unwrap_or(f64::NAN),
             ratio,
             b.points.len(),
-            if b.bisected {
-                "bisected"
-            } else {
-                "pairs"
-            }
+            if b.bisected { "bisected" } else { "pairs" }
         );
         right
             .draw(&Text::new(text, (44, y), left_style(15)))
@@ -480,7 +476,6 @@ pub fn speed_chart(path: &Path, torque: &[f64], cells: &[MapCell]) -> Result<(),
         false,
     )
 }
-
 
 /// Fig. 3a of the paper (`writhe_vs_ratio.png`): the largest writhe and the writhe at the
 /// snapshot instant against `W/G`, one pair of series per shown torque ([`shown_torques`],

@@ -85,7 +85,6 @@ pub fn fit_boundaries(points: &[BoundaryPoint]) -> Vec<Boundary> {
         .collect()
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

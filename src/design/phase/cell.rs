@@ -46,7 +46,6 @@ pub struct Cell {
     pub reason: String,
 }
 
-
 impl Cell {
     fn failed(w: f64, g: f64, reason: String) -> Self {
         Cell {

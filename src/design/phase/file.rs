@@ -180,8 +180,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
                     format!("{v}"),
                     &format!(
                         "an integer in [1, {}] (bisection steps per neighbour pair; default {})",
-                        MAX_STEPS,
-                        DEFAULT_STEPS
+                        MAX_STEPS, DEFAULT_STEPS
                     ),
                 )
             })?,

@@ -101,4 +101,3 @@ pub enum PhaseError {
         source: plot::PlotError,
     },
 }
-

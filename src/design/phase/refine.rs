@@ -230,7 +230,8 @@ pub fn bisect_all(
     steps: usize,
     label: &(dyn Fn(f64, f64) -> Result<Regime, String> + Sync),
 ) -> Vec<BoundaryPoint> {
-    let per_pair: Vec<Vec<BoundaryPoint>> = pairs.par_iter().map(|n| bisect(n, steps, label)).collect();
+    let per_pair: Vec<Vec<BoundaryPoint>> =
+        pairs.par_iter().map(|n| bisect(n, steps, label)).collect();
     per_pair.into_iter().flatten().collect()
 }
 
@@ -351,7 +352,11 @@ pub fn refine(
 
 /// The boundaries of a grid of labels with each neighbour pair's point placed at its midpoint
 /// (no simulation).
-pub fn midpoint_points(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]) -> Vec<BoundaryPoint> {
+pub fn midpoint_points(
+    weight: &[f64],
+    torque: &[f64],
+    labels: &[Option<Regime>],
+) -> Vec<BoundaryPoint> {
     neighbour_pairs(weight, torque, labels)
         .iter()
         .map(midpoint)
