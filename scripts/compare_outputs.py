@@ -36,6 +36,7 @@ TIMERS = {
     "solve_s",
     "line_search_s",
     "conic_s",
+    "wall_s",
 }
 
 
@@ -143,6 +144,7 @@ def main():
     ap.add_argument("--skip-scenes", action="store_true")
     ap.add_argument("--skip-phase", action="store_true")
     ap.add_argument("--optimize", action="store_true", help="also a 6-evaluation optimize study")
+    ap.add_argument("--short", action="store_true", help="also `run --accuracy 0.05` and the gait work-precision chart on the S-start cut to 0.3 s")
     args = ap.parse_args()
     work = Path(args.work)
     shutil.rmtree(work, ignore_errors=True)
@@ -216,6 +218,37 @@ def main():
         for x in diffs[:20]:
             print("   ", x)
         failures += bool(diffs)
+    if args.short:
+        text = (ROOT / "problems" / "s_start.toml").read_text()
+        text = re.sub(r"^duration\s*=.*$", "duration = 0.3", text, flags=re.M)
+        short = work / "s_start_short.toml"
+        short.write_text(text)
+        jobs = [
+            ("run --accuracy 0.05", ["run", str(short), "--quiet", "--no-plots", "--accuracy", "0.05", "--out"], "accuracy"),
+            ("chart work-precision", ["chart", "work-precision", str(short), "--out"], "gait_chart"),
+        ]
+        for label, cmd, name in jobs:
+            codes = {}
+            for tag, b in bins.items():
+                codes[tag], _ = run(b, cmd + [str(work / tag / name)], env)
+            diffs = [] if codes["old"] == codes["new"] else [f"exit codes old {codes['old']} new {codes['new']}"]
+            n = 0
+            for f in sorted(p.name for p in (work / "old" / name).iterdir()):
+                a, b = work / "old" / name / f, work / "new" / name / f
+                if f.endswith(".json"):
+                    d, k = compare_json(a, b, f)
+                elif f.endswith(".csv"):
+                    d, k = compare_csv(a, b, f)
+                elif f.endswith(".npz"):
+                    d, k = compare_npz(a, b, f), 0
+                else:
+                    continue
+                diffs += d
+                n += k
+            print(f"{label} (S-start, 0.3 s): exit {codes['new']}, {n} fields of its JSON/CSV files: {'IDENTICAL' if not diffs else 'DIFFERENT'}")
+            for x in diffs[:20]:
+                print("   ", x)
+            failures += bool(diffs)
     sys.exit(1 if failures else 0)
 
 

@@ -33,18 +33,30 @@
 //!    explicit velocity Verlet reference.
 //! 7. [`sim`]: the one run loop.
 //! 8. Observables and output: [`topology`] (twist, writhe, link, densities), [`observe`]
-//!    (speeds, kymograph fields, regimes), [`output`] (files), [`plot`] (figures).
+//!    (speeds, kymograph fields, regimes; [`observe::evaluate()`], the one simulate-then-measure
+//!    pipeline), [`output`] (files), [`plot`] (figures).
 //! 9. Studies: [`design`] (gait optimiser, phase diagram) and [`chart`] (speed against
 //!    accuracy).
 //! 10. The command line (`main.rs` and `cli/`, one file per subcommand; a module of the binary,
 //!     not of this library), the only place that reads the environment and prints.
 //!
-//! Where to add things: a time integrator is a [`integrator::Scheme`] in one new file under
-//! `integrator/` plus a variant of [`problem::IntegratorKind`] (mapped in
-//! [`integrator::scheme_for`]); an energy term is a [`energy::Term`] in one new file under
-//! `energy/` plus a line in [`energy::rod_terms`] (the implicit and the explicit integrator
-//! both use that list); a contact model is a [`contact::ContactModel`] in one new file under
-//! `contact/` plus a variant of [`problem::ContactKind`] (mapped in [`contact::model_for`]).
+//! Where to add things:
+//! * a time integrator: a [`integrator::Scheme`] in one new file under `integrator/` plus a
+//!   variant of [`problem::IntegratorKind`] (mapped in [`integrator::scheme_for`]); the
+//!   names [`integrator::Stepper`], [`integrator::Integrator`] and [`integrator::Scheme`] are
+//!   explained together in [`integrator`];
+//! * an energy term: a [`energy::Term`] in one new file under `energy/` plus a line in
+//!   [`energy::rod_terms`], the one list the implicit, static and explicit steppers use (per
+//!   edge like `stretch.rs`, per node like `gravity.rs`). Bending and twist run as one fused
+//!   closed-form node stencil, [`energy::node::BendTwist`]; a term that changes the node's
+//!   strains goes there, checked against the reference derivatives of `bend.rs`, `twist.rs`,
+//!   `closed.rs` and the jets of `stencil.rs` and `autodiff.rs` (which real runs do not use
+//!   for Hessians) and against finite differences;
+//! * a contact model: a [`contact::ContactModel`] in one new file under `contact/` plus a
+//!   variant of [`problem::ContactKind`] (mapped in [`contact::model_for`]);
+//! * a study kind: a module under `design/` (as [`design::phase`]) that builds each run's
+//!   problem and measures it with [`observe::evaluate()`], plus a file `cli/NAME.rs` with its
+//!   arguments and one variant in `main.rs`.
 #![warn(missing_docs)]
 // Numerical kernels index several arrays (coordinates, masses, flags, predictor) with one dof
 // index `k`; the index loop states that correspondence more plainly than zipped iterators.

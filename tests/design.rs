@@ -5,7 +5,7 @@
 //! loses nothing), failed simulations are recorded as failed, bad study files exit with code 2
 //! naming file, key and range, and the normalised coordinates clamp exactly to the bounds.
 
-use slither::design::{self, Dim, Param, Point, Space, Status};
+use slither::design::{self, Dim, GaitParams, Param, Space, Status};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -459,7 +459,7 @@ fn normalised_coordinates_map_and_clamp_exactly_to_the_bounds() {
                 initial: 0.29,
             },
         ],
-        fixed: Point {
+        fixed: GaitParams {
             stress: 1.0,
             sigma: 0.0525,
             speed: 2.0,
@@ -468,7 +468,7 @@ fn normalised_coordinates_map_and_clamp_exactly_to_the_bounds() {
     let x0 = space.initial();
     assert_eq!(
         x0,
-        Point {
+        GaitParams {
             stress: 24525.0,
             sigma: 0.0525,
             speed: 0.29
@@ -579,7 +579,7 @@ fn pso_study(max: usize) -> String {
 fn particle_swarm_runs_generations_and_resumes_deterministically() {
     let path = setup("pso", BASE, &pso_study(12));
     let study = design::load_study(&path).unwrap();
-    assert_eq!(study.method, design::Method::ParticleSwarm);
+    assert_eq!(study.method, design::SearchMethod::ParticleSwarm);
     assert_eq!(study.particles, 4);
     let out = path.parent().unwrap().join("out");
     let r = design::optimize(&study, &out, &mut design::Silent).unwrap();
@@ -690,7 +690,7 @@ fn particle_swarm_runs_generations_and_resumes_deterministically() {
     assert_eq!(resumed.reused, 6);
     assert_eq!(resumed.evaluations, 12);
     let points =
-        |r: &design::Report| -> Vec<Point> { r.visited.iter().map(|v| v.0.point).collect() };
+        |r: &design::Report| -> Vec<GaitParams> { r.visited.iter().map(|v| v.0.point).collect() };
     assert_eq!(points(&resumed), points(&r));
     // Another seed draws another swarm.
     std::fs::write(&path, pso_study(12).replace("seed = 7", "seed = 8")).unwrap();

@@ -49,7 +49,7 @@ struct Observer<'a> {
 }
 
 impl design::EvaluationObserver for Observer<'_> {
-    fn started(&mut self, _count: usize, _p: &design::Point, _cached: bool) {
+    fn started(&mut self, _count: usize, _p: &design::GaitParams, _cached: bool) {
         self.watch.raise_pending();
         self.watch.poll();
     }
@@ -156,7 +156,7 @@ pub fn phase(
                 say(line)
             }
         };
-        design::accuracy::prepare_phase(&mut ph, &out, &mut log).map_err(|e| {
+        design::phase::prepare_accuracy(&mut ph, &out, &mut log).map_err(|e| {
             PyOSError::new_err(format!(
                 "{}: {e}",
                 out.join(design::accuracy::ACCURACY_FILE).display()

@@ -52,22 +52,23 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 pub use work_precision::*;
 
-/// A time integrator of the comparison.
+/// Which [`crate::integrator::Stepper`] a chart runs: the implicit [`Integrator`] (with
+/// implicit Euler) or the explicit velocity Verlet [`Explicit`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Method {
+pub enum StepperKind {
     /// Variational implicit Euler by Newton.
     Implicit,
     /// Velocity Verlet.
     Explicit,
 }
 
-impl Method {
+impl StepperKind {
     /// Name in files.
     pub fn name(self) -> &'static str {
         match self {
-            Method::Implicit => "implicit",
-            Method::Explicit => "explicit",
+            StepperKind::Implicit => "implicit",
+            StepperKind::Explicit => "explicit",
         }
     }
 }
@@ -115,7 +116,7 @@ pub struct RunResult {
 /// The implicit integrator halves failed steps up to `model.max_halvings` times.
 pub fn simulate(
     model: &Model,
-    method: Method,
+    method: StepperKind,
     h: f64,
     n: usize,
 ) -> Result<Result<RunResult, StepError>, Unsupported> {
@@ -125,11 +126,11 @@ pub fn simulate(
     let start = Instant::now();
     let schedule = Schedule::fixed(h, n);
     let o = match method {
-        Method::Implicit => {
+        StepperKind::Implicit => {
             let mut integ = Integrator::new(model, actuation);
             drive(model, &mut integ, schedule, start, &mut |_| {}, &mut |_| {})
         }
-        Method::Explicit => {
+        StepperKind::Explicit => {
             let mut integ = Explicit::new(model, actuation)?;
             drive(model, &mut integ, schedule, start, &mut |_| {}, &mut |_| {})
         }

@@ -117,14 +117,19 @@ impl StabilityMap {
 }
 
 /// Whether `model` runs `duration` in steps of `h` by `method` (see the module doc).
-pub fn stable(model: &Model, method: Method, h: f64, duration: f64) -> Result<bool, Unsupported> {
+pub fn stable(
+    model: &Model,
+    method: StepperKind,
+    h: f64,
+    duration: f64,
+) -> Result<bool, Unsupported> {
     Ok(trial(model, method, h, duration)?.is_ok())
 }
 
 /// [`stable`] with the failure.
 fn trial(
     model: &Model,
-    method: Method,
+    method: StepperKind,
     h: f64,
     duration: f64,
 ) -> Result<Result<(), String>, Unsupported> {
@@ -239,7 +244,7 @@ pub fn stability_map(
             // The first guess is off the prediction so that a marginal run at exactly
             // 2/omega_max does not decide the result.
             let (dte, te, _) = largest_stable(
-                |h| stable(&model, Method::Explicit, h, opts.duration),
+                |h| stable(&model, StepperKind::Explicit, h, opts.duration),
                 0.7 * lin,
                 opts.duration,
                 opts.rtol,
@@ -247,7 +252,7 @@ pub fn stability_map(
             let mut implicit_failure = String::new();
             let (dti, ti, capped) = largest_stable(
                 |h| {
-                    let r = trial(&model, Method::Implicit, h, opts.duration)?;
+                    let r = trial(&model, StepperKind::Implicit, h, opts.duration)?;
                     if let Err(e) = &r {
                         implicit_failure = format!("dt = {h:.4e} s: {e}");
                     }
@@ -352,8 +357,8 @@ pub fn write_stability(dir: &Path, map: &StabilityMap) -> Result<(), ChartError>
     let mut names = Vec::new();
     let mut series = Vec::new();
     for (method, label) in [
-        (Method::Implicit, "implicit Euler"),
-        (Method::Explicit, "velocity Verlet"),
+        (StepperKind::Implicit, "implicit Euler"),
+        (StepperKind::Explicit, "velocity Verlet"),
     ] {
         for &w in &weights {
             let mut pts: Vec<(f64, f64)> = map
@@ -362,8 +367,8 @@ pub fn write_stability(dir: &Path, map: &StabilityMap) -> Result<(), ChartError>
                 .filter(|c| c.scaled_weight == w)
                 .map(|c| {
                     let dt = match method {
-                        Method::Explicit => c.explicit_dt_max,
-                        Method::Implicit => c.implicit_dt_max,
+                        StepperKind::Explicit => c.explicit_dt_max,
+                        StepperKind::Implicit => c.implicit_dt_max,
                     };
                     (c.elements as f64, dt)
                 })

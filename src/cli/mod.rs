@@ -71,7 +71,7 @@ pub fn lock_out(out: &Path) -> Result<output::lock::OutLock, ExitCode> {
     })
 }
 
-/// A study's `[accuracy]` after [`design::accuracy::prepare_study`] or `prepare_phase`
+/// A study's `[accuracy]` after [`design::accuracy::prepare_study`] or [`design::phase::prepare_accuracy`]
 /// (`prepared`: whether a recorded choice was reused): prints the choice. `Err` is the exit
 /// code (1: `accuracy.json` could not be written).
 pub fn study_accuracy(

@@ -39,7 +39,7 @@ impl StudyProgress {
 }
 
 impl design::EvaluationObserver for StudyProgress {
-    fn started(&mut self, count: usize, p: &design::Point, cached: bool) {
+    fn started(&mut self, count: usize, p: &design::GaitParams, cached: bool) {
         if let Some(b) = &self.bar {
             b.set_message(format!(
                 "eval {count}/{}: stress {} Pa, sigma {}, speed {} m/s{}",
@@ -139,11 +139,11 @@ pub fn optimize(args: &Args) -> ExitCode {
         ));
     }
     let method = match study.method {
-        design::Method::NelderMead if study.starts > 1 => {
+        design::SearchMethod::NelderMead if study.starts > 1 => {
             format!("Nelder-Mead ({} starts)", study.starts)
         }
-        design::Method::NelderMead => "Nelder-Mead".to_string(),
-        design::Method::ParticleSwarm => format!(
+        design::SearchMethod::NelderMead => "Nelder-Mead".to_string(),
+        design::SearchMethod::ParticleSwarm => format!(
             "particle swarm ({} particles per generation, in parallel)",
             study.particles
         ),

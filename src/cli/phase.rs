@@ -42,7 +42,7 @@ pub fn phase(args: &Args) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let prepared = design::accuracy::prepare_phase(&mut ph, out, &mut selection_log(quiet));
+    let prepared = design::phase::prepare_accuracy(&mut ph, out, &mut selection_log(quiet));
     if let Err(code) = study_accuracy(out, quiet, prepared, ph.chosen.as_ref()) {
         return code;
     }
@@ -175,7 +175,7 @@ pub fn refine_line(done: usize, c: &design::phase::Cell) -> String {
 }
 
 /// The refinement's counts, for the last lines of `phase` and `merge`.
-pub fn refine_summary(r: &design::refine::Refinement, elapsed_s: f64) -> String {
+pub fn refine_summary(r: &design::phase::refine::Refinement, elapsed_s: f64) -> String {
     let stopped = r.points.iter().filter(|p| p.failed.is_some()).count();
     format!(
         "refinement ({} bisection steps): {} neighbour pairs, {} boundary points ({} stopped early by a failed simulation); {} simulated, {} reused, {} failed; {:.1} s since start; wrote refine.csv",

@@ -2,7 +2,9 @@
 use super::{lock_out, model_label};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use slither::model::Model;
-use slither::{observe, output, problem, sim};
+use slither::observe::{self, Measure, Observed};
+use slither::{output, problem};
+use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -79,26 +81,25 @@ pub fn run(args: &Args) -> ExitCode {
         return ExitCode::from(1);
     }
     let show = !quiet && std::io::stderr().is_terminal();
-    let start = Instant::now();
-    let mut bar: Option<ProgressBar> = None;
-    let mut progress = |frac: f64| {
-        if !show {
-            return;
-        }
-        if bar.is_none() && start.elapsed() > Duration::from_secs(1) {
-            let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
-            b.set_style(
-                ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {percent}% eta {eta}")
-                    .unwrap(),
-            );
-            bar = Some(b);
-        }
-        if let Some(b) = &bar {
-            b.set_position((frac * 1000.0) as u64);
-        }
+    // The stepping's bar, then the post-processing's (topology of every frame), each shown
+    // once its part has taken over a second.
+    let stepping = RefCell::new(LateBar::new(
+        show,
+        Some(Instant::now()),
+        "{elapsed_precise} [{bar:40}] {percent}% eta {eta}",
+    ));
+    let mut post_bar = LateBar::new(
+        show,
+        None,
+        "{elapsed_precise} [{bar:40}] {percent}% post-processing (topology of every frame) eta {eta}",
+    );
+    let mut progress = |frac: f64| stepping.borrow_mut().set(frac);
+    let mut post = |frac: f64| {
+        stepping.borrow_mut().clear();
+        post_bar.set(frac);
     };
     let mut report = None;
-    let o = if let Some((target, max_elements)) = target {
+    let observed = if let Some((target, max_elements)) = target {
         let mut log = |line: &str| {
             if !quiet {
                 eprintln!("{line}")
@@ -106,22 +107,7 @@ pub fn run(args: &Args) -> ExitCode {
         };
         let sel = slither::chart::accuracy::select(&p, target, max_elements, &mut log);
         model = sel.model;
-        report = Some(sel.report);
-        sel.outcome
-    } else {
-        match sim::run_gait(&model, p.solver.integrator, &mut progress, &mut |_| {}) {
-            Ok(o) => o,
-            Err(e) => {
-                eprintln!("error: {}: {e}", path.display());
-                return ExitCode::from(2);
-            }
-        }
-    };
-    if let Some(b) = bar.take() {
-        b.finish_and_clear();
-    }
-    let mut summary = output::Summary::new(path, &model, &o);
-    if let Some(r) = &report {
+        let r = sel.report;
         if !quiet {
             eprintln!(
                 "accuracy {}: chose {} elements, {}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs in {:.1} s",
@@ -136,33 +122,33 @@ pub fn run(args: &Args) -> ExitCode {
                 r.wall_time_total_s
             );
         }
-    }
+        report = Some(r);
+        let (fields, observables) =
+            observe::measure(&model, &sel.outcome.frames, Measure::Full, &mut post);
+        Observed {
+            outcome: sel.outcome,
+            fields,
+            observables,
+        }
+    } else {
+        match observe::evaluate(&model, Measure::Full, &mut progress, &mut post) {
+            Ok(o) => o,
+            Err(e) => {
+                eprintln!("error: {}: {e}", path.display());
+                return ExitCode::from(2);
+            }
+        }
+    };
+    stepping.borrow_mut().clear();
+    post_bar.clear();
+    let Observed {
+        outcome: o,
+        fields,
+        observables,
+    } = observed;
+    let mut summary = output::Summary::new(path, &model, &o);
     summary.accuracy = report;
-    // Post-processing (topology of every frame) shows its own bar when it takes over a second.
-    let post_start = Instant::now();
-    let mut post_bar: Option<ProgressBar> = None;
-    let fields = observe::fields_with_progress(&model, &o.frames, &mut |frac| {
-        if !show {
-            return;
-        }
-        if post_bar.is_none() && post_start.elapsed() > Duration::from_secs(1) {
-            let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
-            b.set_style(
-                ProgressStyle::with_template(
-                    "{elapsed_precise} [{bar:40}] {percent}% post-processing (topology of every frame) eta {eta}",
-                )
-                .unwrap(),
-            );
-            post_bar = Some(b);
-        }
-        if let Some(b) = &post_bar {
-            b.set_position((frac * 1000.0) as u64);
-        }
-    });
-    if let Some(b) = post_bar.take() {
-        b.finish_and_clear();
-    }
-    summary.observables = Some(observe::observe(&model, &o.frames, &fields));
+    summary.observables = Some(observables);
     let extra = [
         ("elevation", fields.elevation.clone()),
         ("slip_speed", fields.slip.clone()),
@@ -231,4 +217,47 @@ pub fn run(args: &Args) -> ExitCode {
         );
     }
     ExitCode::SUCCESS
+}
+
+/// A progress bar on stderr that appears once its task has run for a second (never when
+/// `show` is false): the task's start is given, or taken at the first report.
+struct LateBar {
+    show: bool,
+    start: Option<Instant>,
+    template: &'static str,
+    bar: Option<ProgressBar>,
+}
+
+impl LateBar {
+    fn new(show: bool, start: Option<Instant>, template: &'static str) -> Self {
+        LateBar {
+            show,
+            start,
+            template,
+            bar: None,
+        }
+    }
+
+    /// Report the fraction done.
+    fn set(&mut self, frac: f64) {
+        if !self.show {
+            return;
+        }
+        let start = *self.start.get_or_insert_with(Instant::now);
+        if self.bar.is_none() && start.elapsed() > Duration::from_secs(1) {
+            let b = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::stderr());
+            b.set_style(ProgressStyle::with_template(self.template).unwrap());
+            self.bar = Some(b);
+        }
+        if let Some(b) = &self.bar {
+            b.set_position((frac * 1000.0) as u64);
+        }
+    }
+
+    /// Remove the bar (if it appeared).
+    fn clear(&mut self) {
+        if let Some(b) = self.bar.take() {
+            b.finish_and_clear();
+        }
+    }
 }

@@ -155,21 +155,3 @@ pub fn prepare_study(
     study.chosen = Some(chosen);
     Ok(reused)
 }
-
-/// [`prepare_study`] for a phase diagram: every cell runs at the chosen model.
-pub fn prepare_phase(
-    ph: &mut super::phase::Phase,
-    out: &Path,
-    log: &mut dyn FnMut(&str),
-) -> std::io::Result<bool> {
-    let Some(spec) = ph.accuracy.clone() else {
-        forget(out)?;
-        return Ok(false);
-    };
-    let file_hash = format!("{:016x}", ph.base_hash);
-    let (chosen, reused) = choose(&ph.base, &file_hash, &spec, out, log)?;
-    ph.base = chosen.apply(&ph.base);
-    ph.base_hash = chosen.row_hash();
-    ph.chosen = Some(chosen);
-    Ok(reused)
-}

@@ -46,7 +46,7 @@ pub struct Evaluation {
     pub eval: usize,
     /// Gait values.
     #[serde(flatten)]
-    pub point: Point,
+    pub point: GaitParams,
     /// Simulated duration (s).
     pub duration: f64,
     /// Scaled torque `G = Gamma a^3 L / B`.
@@ -115,7 +115,7 @@ impl Evaluation {
 /// Cache key: exact bits of stress, sigma, speed and duration.
 pub(super) type Key = [u64; 4];
 
-pub(super) fn key(p: &Point, duration: f64) -> Key {
+pub(super) fn key(p: &GaitParams, duration: f64) -> Key {
     [
         p.stress.to_bits(),
         p.sigma.to_bits(),
@@ -218,7 +218,7 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
         };
         let e = Evaluation {
             eval,
-            point: Point {
+            point: GaitParams {
                 stress: num(1)?,
                 sigma: num(2)?,
                 speed: num(3)?,

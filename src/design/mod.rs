@@ -65,14 +65,13 @@
 //! `study.rs` the study file (schema, validation, the search space); `history.rs` the
 //! evaluations and `history.csv`; `simulate.rs` one evaluation (a simulation); `search.rs` the
 //! argmin glue (cost function, budgeted solvers, iteration observer) and [`optimize`];
-//! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram, [`refine`] its
-//! boundaries by bisection; [`accuracy`] a study's `[accuracy]` table (the model chosen once
-//! for every run).
+//! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram (with
+//! [`phase::refine`], its boundaries by bisection); [`accuracy`] a study's `[accuracy]` table
+//! (the model chosen once for every run).
 
 pub mod accuracy;
 mod history;
 pub mod phase;
-pub mod refine;
 mod report;
 mod search;
 pub mod selection;
@@ -88,7 +87,7 @@ pub use study::*;
 
 use crate::model::Model;
 use crate::problem::{self, key_line, Problem, ProblemError};
-use crate::{gait, observe, plot, sim};
+use crate::{gait, observe, plot};
 use argmin::core::observers::{Observe, ObserverMode};
 use argmin::core::PopulationState;
 use argmin::core::{

@@ -21,7 +21,7 @@ use super::*;
 pub trait EvaluationObserver {
     /// Evaluation number `count` (1-based within this run) starts at `point`; `cached` when it
     /// is answered from `history.csv` without simulating.
-    fn started(&mut self, _count: usize, _point: &Point, _cached: bool) {}
+    fn started(&mut self, _count: usize, _point: &GaitParams, _cached: bool) {}
     /// Fraction of the running simulation done, in [0, 1].
     fn progress(&mut self, _fraction: f64) {}
     /// Evaluation `count` ended with `e`; `reused` when it came from an earlier run's row.
@@ -89,7 +89,7 @@ impl Evaluator<'_> {
         let mut sh = self.shared.borrow_mut();
         let study = sh.study;
         let mut slots = Vec::with_capacity(us.len());
-        let mut runs: Vec<(Point, Key)> = Vec::new();
+        let mut runs: Vec<(GaitParams, Key)> = Vec::new();
         for u in us {
             if self.calls.get() >= self.limit.get() || sh.fatal.is_some() {
                 slots.push(Slot::Skip);
@@ -462,7 +462,7 @@ pub fn optimize(
     let n = study.space.dims.len();
     let mut terminations = Vec::new();
     match study.method {
-        Method::NelderMead => {
+        SearchMethod::NelderMead => {
             for start in 1..=study.starts {
                 // Equal shares of the budget; the last start takes the remainder.
                 let share = study.max_evaluations / study.starts;
@@ -497,7 +497,7 @@ pub fn optimize(
                 }
             }
         }
-        Method::ParticleSwarm => {
+        SearchMethod::ParticleSwarm => {
             // The first generation lies in the unit cube, where `reflect` is the identity.
             let (positions, velocities) = first_generation(
                 study.space.to_unit(&study.space.initial()),

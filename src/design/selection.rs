@@ -342,12 +342,14 @@ pub fn select(
     }
 }
 
-/// `v_s/v_m` of a run by the definition of [`crate::observe`] (first and last frame).
+/// `v_s/v_m` of a run by the definition of [`crate::observe`], measured on its first and last
+/// frame ([`crate::observe::Measure::Ends`]); NaN without frames.
 fn speed_ratio(model: &Model, o: &Outcome) -> f64 {
-    let (Some(first), Some(last)) = (o.frames.first(), o.frames.last()) else {
+    if o.frames.is_empty() {
         return f64::NAN;
-    };
-    let frames = [first.clone(), last.clone()];
-    let fl = crate::observe::fields(model, &frames);
-    crate::observe::observe(model, &frames, &fl).v_s_over_v_m
+    }
+    let ends = crate::observe::Measure::Ends;
+    crate::observe::measure(model, &o.frames, ends, &mut |_| {})
+        .1
+        .v_s_over_v_m
 }

@@ -5,7 +5,7 @@ use super::*;
 /// Simulate the study's base problem at `p` (the evaluation index is set by the caller) and
 /// measure it. Never panics: a failed step, an unsupported integrator, a non-finite speed or a
 /// panic inside the simulator gives status [`Status::Failed`] with the reason.
-pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Evaluation {
+pub fn simulate(study: &Study, p: &GaitParams, progress: &mut dyn FnMut(f64)) -> Evaluation {
     let start = Instant::now();
     let pr = study.problem_at(p);
     let duration = pr.time.duration.unwrap_or(0.0);
@@ -30,11 +30,9 @@ pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Eval
         reason: String::new(),
     };
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        let outcome = sim::run_gait(&model, pr.solver.integrator, progress, &mut |_| {})
+        let o = observe::evaluate(&model, observe::Measure::Full, progress, &mut |_| {})
             .map_err(|err| err.to_string())?;
-        let fields = observe::fields(&model, &outcome.frames);
-        let ob = observe::observe(&model, &outcome.frames, &fields);
-        Ok::<_, String>((ob, outcome.error.map(|err| err.to_string())))
+        Ok::<_, String>((o.observables, o.outcome.error.map(|err| err.to_string())))
     }));
     match run {
         // A run cut short has not measured the gait: its observables stay NaN (regime "-").

@@ -78,7 +78,7 @@ pub struct OptimizeTable {
     pub initial: InitialTable,
     /// Search method: "nelder-mead" (default) or "particle-swarm".
     #[serde(default)]
-    pub method: Method,
+    pub method: SearchMethod,
     /// Nelder-Mead only: independent starts sharing `max_evaluations` equally, the first from
     /// `initial`, the others from points drawn uniformly in the bounds (seeded by `seed`).
     /// Default 1, an integer in [1, 1000] with `max_evaluations >= starts * (n + 1)`.
@@ -95,7 +95,7 @@ pub struct OptimizeTable {
 /// The search method of a study (`[optimize] method`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Method {
+pub enum SearchMethod {
     /// argmin's Nelder-Mead simplex, one simulation at a time (optionally multi-start).
     #[default]
     NelderMead,
@@ -103,12 +103,12 @@ pub enum Method {
     ParticleSwarm,
 }
 
-impl Method {
+impl SearchMethod {
     /// The name as written in the study file.
     pub fn as_str(self) -> &'static str {
         match self {
-            Method::NelderMead => "nelder-mead",
-            Method::ParticleSwarm => "particle-swarm",
+            SearchMethod::NelderMead => "nelder-mead",
+            SearchMethod::ParticleSwarm => "particle-swarm",
         }
     }
 }
@@ -169,7 +169,7 @@ impl Param {
         }
     }
 
-    pub(super) fn get(self, p: &Point) -> f64 {
+    pub(super) fn get(self, p: &GaitParams) -> f64 {
         match self {
             Param::Stress => p.stress,
             Param::Sigma => p.sigma,
@@ -177,7 +177,7 @@ impl Param {
         }
     }
 
-    pub(super) fn set(self, p: &mut Point, v: f64) {
+    pub(super) fn set(self, p: &mut GaitParams, v: f64) {
         match self {
             Param::Stress => p.stress = v,
             Param::Sigma => p.sigma = v,
@@ -188,7 +188,7 @@ impl Param {
 
 /// Gait parameters of one evaluation (physical units).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Point {
+pub struct GaitParams {
     /// Muscle stress `Gamma` (Pa).
     pub stress: f64,
     /// Couple width `sigma` (fraction of L).
@@ -216,12 +216,12 @@ pub struct Space {
     /// Optimised dimensions, in the order stress, sigma, speed (those present).
     pub dims: Vec<Dim>,
     /// Values of every parameter when not optimised (the base problem's).
-    pub fixed: Point,
+    pub fixed: GaitParams,
 }
 
 impl Space {
     /// Normalised coordinates `u_i = (x_i - lo_i) / (hi_i - lo_i)` of a physical point.
-    pub fn to_unit(&self, p: &Point) -> Vec<f64> {
+    pub fn to_unit(&self, p: &GaitParams) -> Vec<f64> {
         self.dims
             .iter()
             .map(|d| (d.param.get(p) - d.lo) / (d.hi - d.lo))
@@ -231,7 +231,7 @@ impl Space {
     /// The physical point of normalised coordinates `u`, clamped to the bounds, and the
     /// Euclidean distance of `u` from the unit cube (0 inside). Non-finite coordinates clamp
     /// to the lower bound at infinite distance.
-    pub fn point(&self, u: &[f64]) -> (Point, f64) {
+    pub fn point(&self, u: &[f64]) -> (GaitParams, f64) {
         let mut p = self.fixed;
         let mut d2 = 0.0;
         for (d, &ui) in self.dims.iter().zip(u) {
@@ -256,7 +256,7 @@ impl Space {
     }
 
     /// The starting point (physical).
-    pub fn initial(&self) -> Point {
+    pub fn initial(&self) -> GaitParams {
         let mut p = self.fixed;
         for d in &self.dims {
             d.param.set(&mut p, d.initial);
@@ -314,7 +314,7 @@ pub struct Study {
     /// The search space.
     pub space: Space,
     /// The search method.
-    pub method: Method,
+    pub method: SearchMethod,
     /// Nelder-Mead starts (1 for the particle swarm).
     pub starts: usize,
     /// Particle swarm population (0 for Nelder-Mead).
@@ -351,7 +351,7 @@ impl Study {
     }
 
     /// The base problem with the point's gait values and the matching duration.
-    pub fn problem_at(&self, p: &Point) -> Problem {
+    pub fn problem_at(&self, p: &GaitParams) -> Problem {
         let mut pr = self.base.clone();
         pr.gait.stress = p.stress;
         pr.gait.sigma = p.sigma;
@@ -429,7 +429,7 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
     if base.time.mode != problem::Mode::Dynamic {
         return Err(base_fail("a problem in dynamic mode (a gait needs time)"));
     }
-    let fixed = Point {
+    let fixed = GaitParams {
         stress: base.gait.stress,
         sigma: base.gait.sigma,
         speed: base.gait.speed,
@@ -595,7 +595,7 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
     let method = opt.method;
     let starts = opt.starts.unwrap_or(1);
     if let Some(k) = opt.starts {
-        if method != Method::NelderMead {
+        if method != SearchMethod::NelderMead {
             return Err(fail(
                 "optimize",
                 "starts",
@@ -618,7 +618,7 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         }
     }
     let particles = match (method, opt.particles) {
-        (Method::NelderMead, Some(p)) => {
+        (SearchMethod::NelderMead, Some(p)) => {
             return Err(fail(
                 "optimize",
                 "particles",
@@ -626,8 +626,8 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
                 "absent unless method = \"particle-swarm\"".into(),
             ))
         }
-        (Method::NelderMead, None) => 0,
-        (Method::ParticleSwarm, p) => {
+        (SearchMethod::NelderMead, None) => 0,
+        (SearchMethod::ParticleSwarm, p) => {
             let p = p.unwrap_or(DEFAULT_PARTICLES);
             if !(2..=1000).contains(&p) || p > s.max_evaluations {
                 return Err(fail(

@@ -3,6 +3,7 @@
 //! curvature `kappa0_i` (integrated, dimensionless) that may change with time (muscles).
 
 use super::autodiff::{self, StencilEnergy};
+pub use super::stencil::BendStencil;
 use super::stencil::{self, EdgeJets, Jets, StencilDerivatives};
 use super::{Assembly, Ctx, Term};
 use crate::rod::{frames, frames::StencilFrame, V3};
@@ -11,28 +12,6 @@ use num_dual::DualNum;
 
 /// The bending term, with its stencil derivatives from `D` ([`Jets`] by default).
 pub struct Bend<D: StencilDerivatives = Jets>(pub D);
-
-/// One node's bending energy.
-pub struct BendStencil<'a> {
-    /// Frozen frames.
-    pub frame: &'a StencilFrame,
-    /// Natural integrated curvature.
-    pub kappa0: [f64; 2],
-    /// `B / (2 l_i)`.
-    pub coef: f64,
-}
-
-impl StencilEnergy for BendStencil<'_> {
-    fn eval<T: DualNum<Primitive = f64>>(&self, y: &[T; 8]) -> T {
-        let e0 = V3([y[0].clone(), y[1].clone(), y[2].clone()]);
-        let e1 = V3([y[3].clone(), y[4].clone(), y[5].clone()]);
-        let s = frames::strains(&e0, &e1, &y[6], &y[7], self.frame);
-        let [k1, k2] = s.kappa;
-        let d1 = k1 - self.kappa0[0];
-        let d2 = k2 - self.kappa0[1];
-        (d1.clone() * d1 + d2.clone() * d2) * self.coef
-    }
-}
 
 impl BendStencil<'_> {
     /// Value, gradient and Hessian in the 8 intrinsic coordinates, by staged jets: each

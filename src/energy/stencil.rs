@@ -11,18 +11,18 @@
 //! node's bending and twist, and the gradient alone (explicit integration). [`Jets`] is the
 //! implementation: staged second-order jets for the Hessians; for the gradient, the closed
 //! form of Bergou et al. 2010 when the frames are current, first-order dual numbers otherwise.
-//! [`super::closed::Closed`] is the per-term closed form; the implicit integrator's default
+//! The node's two energies ([`BendStencil`], [`TwistStencil`]) are defined here, their
+//! derivative methods in `bend.rs` and `twist.rs`; [`super::closed::Closed`] is the per-term
+//! closed form; the implicit integrator's default
 //! is the fused bending-and-twist stencil of [`super::node`] (chosen in
 //! [`crate::energy::rod_terms`]), tested against both.
 
 use super::autodiff::jet::{edge_frame, Jet, JV};
 use super::autodiff::StencilEnergy;
-use super::bend::BendStencil;
-use super::twist::TwistStencil;
 use crate::rod::frames::{self, StencilFrame};
 use crate::rod::{vec3::f, V3};
 use nalgebra::{SMatrix, SVector};
-use num_dual::DualSVec64;
+use num_dual::{DualNum, DualSVec64};
 
 /// Value, gradient and Hessian in the 8 intrinsic coordinates of a stencil.
 pub type Local = (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>);
@@ -55,6 +55,48 @@ impl EdgeJets {
             EdgeJets::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0]),
             EdgeJets::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1]),
         ]
+    }
+}
+
+/// One node's bending energy.
+pub struct BendStencil<'a> {
+    /// Frozen frames.
+    pub frame: &'a StencilFrame,
+    /// Natural integrated curvature.
+    pub kappa0: [f64; 2],
+    /// `B / (2 l_i)`.
+    pub coef: f64,
+}
+
+impl StencilEnergy for BendStencil<'_> {
+    fn eval<T: DualNum<Primitive = f64>>(&self, y: &[T; 8]) -> T {
+        let e0 = V3([y[0].clone(), y[1].clone(), y[2].clone()]);
+        let e1 = V3([y[3].clone(), y[4].clone(), y[5].clone()]);
+        let s = frames::strains(&e0, &e1, &y[6], &y[7], self.frame);
+        let [k1, k2] = s.kappa;
+        let d1 = k1 - self.kappa0[0];
+        let d2 = k2 - self.kappa0[1];
+        (d1.clone() * d1 + d2.clone() * d2) * self.coef
+    }
+}
+
+/// One node's twist energy.
+pub struct TwistStencil<'a> {
+    /// Frozen frames.
+    pub frame: &'a StencilFrame,
+    /// Natural integrated twist.
+    pub m0: f64,
+    /// `C / (2 l_i)`.
+    pub coef: f64,
+}
+
+impl StencilEnergy for TwistStencil<'_> {
+    fn eval<T: DualNum<Primitive = f64>>(&self, y: &[T; 8]) -> T {
+        let e0 = V3([y[0].clone(), y[1].clone(), y[2].clone()]);
+        let e1 = V3([y[3].clone(), y[4].clone(), y[5].clone()]);
+        let s = frames::strains(&e0, &e1, &y[6], &y[7], self.frame);
+        let d = s.twist - self.m0;
+        d.clone() * d * self.coef
     }
 }
 

@@ -3,6 +3,7 @@
 //! twist `m0_i` (integrated, rad) that may change with time (muscles).
 
 use super::autodiff::{self, StencilEnergy};
+pub use super::stencil::TwistStencil;
 use super::stencil::{self, EdgeJets, Jets, StencilDerivatives};
 use super::{Assembly, Ctx, Term};
 use crate::rod::{frames, frames::StencilFrame, V3};
@@ -11,26 +12,6 @@ use num_dual::DualNum;
 
 /// The twist term, with its stencil derivatives from `D` ([`Jets`] by default).
 pub struct Twist<D: StencilDerivatives = Jets>(pub D);
-
-/// One node's twist energy.
-pub struct TwistStencil<'a> {
-    /// Frozen frames.
-    pub frame: &'a StencilFrame,
-    /// Natural integrated twist.
-    pub m0: f64,
-    /// `C / (2 l_i)`.
-    pub coef: f64,
-}
-
-impl StencilEnergy for TwistStencil<'_> {
-    fn eval<T: DualNum<Primitive = f64>>(&self, y: &[T; 8]) -> T {
-        let e0 = V3([y[0].clone(), y[1].clone(), y[2].clone()]);
-        let e1 = V3([y[3].clone(), y[4].clone(), y[5].clone()]);
-        let s = frames::strains(&e0, &e1, &y[6], &y[7], self.frame);
-        let d = s.twist - self.m0;
-        d.clone() * d * self.coef
-    }
-}
 
 impl TwistStencil<'_> {
     /// Value, gradient and Hessian in the 8 intrinsic coordinates, by staged jets: each

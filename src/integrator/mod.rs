@@ -22,6 +22,23 @@
 //! the state, the scheme's history and the contact model untouched by a rejected try.
 //!
 //! The rest strains at a time come from an [`Actuation`] ([`crate::gait`]).
+//!
+//! # Names
+//!
+//! Four names, one concept each:
+//! * [`Stepper`] (trait): anything the run loop can advance by a step (`step`, normal forces,
+//!   energies, statistics). Implemented by [`Integrator`], [`statics::Static`] and
+//!   [`explicit::Explicit`].
+//! * [`Integrator`] (struct): the implicit dynamic stepper, i.e. Newton on the incremental
+//!   potential with contact, halvings and adaptive steps. One struct for every implicit
+//!   integrator.
+//! * [`Scheme`] (trait): what one implicit integrator changes in [`Integrator`]: predictor,
+//!   inertia weight, velocity update, error predictor ([`euler::ImplicitEuler`],
+//!   [`bdf2::Bdf2`]).
+//! * [`crate::problem::IntegratorKind`] (enum): the problem file's `[solver] integrator`
+//!   choice, mapped to a [`Scheme`] by [`scheme_for`] (or to [`explicit::Explicit`] by
+//!   [`crate::sim::run_gait`]). The charts' [`crate::chart::StepperKind`] picks between the
+//!   implicit and the explicit stepper.
 
 pub mod adaptive;
 pub mod bdf2;

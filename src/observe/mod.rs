@@ -18,9 +18,13 @@
 //! taken at the frame nearest to the instant the centre of couple b, the middle of the
 //! triplet, passes mid-body: `t* = (L/2 - s_b0) / v_m` (`s_b0` its initial arc length), clamped
 //! to the recorded frames.
+//!
+//! [`evaluate()`] is the one pipeline that simulates a scene and measures it here.
 
+pub mod evaluate;
 pub mod regime;
 
+pub use evaluate::{evaluate, measure, Measure, Observed};
 pub use regime::{classify, Regime, RegimeInputs, RegimeReason};
 
 use crate::model::Model;

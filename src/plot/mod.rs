@@ -17,13 +17,15 @@
 //! (`snapshots.rs`), [`series()`] and [`xy()`] (line charts, `charts.rs`), [`scatter()`]
 //! (`scatter.rs`), [`tracks()`] (ground tracks, `tracks.rs`, PNG or SVG), and the animated GIF
 //! of a run, [`movie`] (`movie/`); axis ranges, tick labels, cell edges, legends and the canvas are shared in
-//! `axes.rs`, colour maps in [`colormap`].
+//! `axes.rs`, colour maps in [`colormap`]; the phase diagram's map and charts in [`phase`]
+//! (`phase.rs`).
 
 mod axes;
 mod charts;
 pub mod colormap;
 mod kymograph;
 pub mod movie;
+pub mod phase;
 mod scatter;
 mod snapshots;
 mod tracks;

@@ -1,12 +1,12 @@
 //! Regime boundaries located by bisection between neighbouring cells (`[phase] refine = true`).
 //!
 //! A grid cell pair whose regimes differ says only that a boundary crosses the segment between
-//! the two cell centres; the midpoint fit of [`super::phase::boundaries`] puts the crossing at
+//! the two cell centres; the midpoint fit of [`super::boundaries()`] puts the crossing at
 //! the segment's log-midpoint, so each point is uncertain by half a grid spacing. With
 //! `refine = true` every such pair is bisected along its segment, in log scale: for two
 //! neighbours in the same `G` row (a ray of constant `G`) the base scene is simulated at the
 //! geometric midpoint `W_m = sqrt(W_lo W_hi)` (the same `G`, set the way the grid sets it,
-//! [`super::phase::cell_problem`]), labelled by the same regime test, and the half whose ends
+//! [`super::cell_problem`]), labelled by the same regime test, and the half whose ends
 //! still differ is kept; `refine_steps = K` times. Neighbours in the same `W` column are
 //! bisected the same way in `G` (a ray of constant `W`): the boundaries slither finds are
 //! flatter than the paper's (slopes well below 1), and a nearly flat line is crossed mostly by
@@ -22,14 +22,16 @@
 //! done, never dropped.
 //!
 //! The lines are then fitted through these points exactly as through the midpoints
-//! ([`super::phase::fit_boundaries`]). Every refinement simulation is appended to `refine.csv`
+//! ([`super::fit_boundaries`]). Every refinement simulation is appended to `refine.csv`
 //! (the columns of `phase.csv`) as it finishes, and a rerun answers every midpoint already in
 //! the file for the same base file (hash) from its row; at the end the file is rewritten in a
 //! fixed order (by `G`, then `W`), so its content does not depend on which simulation finished
 //! first. Pairs are bisected in parallel (rayon, one pair per core; the steps of one pair run one
 //! after another, as each depends on the last).
 
-use super::phase::{read_rows, simulate, Cell, PhaseError, HEADER};
+use super::cell::{simulate, Cell};
+use super::csv::{append_rows, read_rows, HEADER};
+use super::PhaseError;
 use crate::observe::Regime;
 use crate::problem::Problem;
 use rayon::prelude::*;
@@ -39,14 +41,6 @@ use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
-
-/// Bisection steps per neighbour pair when `refine = true` and `refine_steps` is not given.
-pub const DEFAULT_STEPS: usize = 3;
-
-/// Largest `refine_steps`: 8 steps narrow a pair to 1/256 of its grid spacing (0.001 decades
-/// on a 20-point-per-3-decades grid), finer than the regime test's own sensitivity, and each
-/// step is one more simulation per pair.
-pub const MAX_STEPS: usize = 8;
 
 /// The grid axis along which two neighbouring cells (and their bisection) lie.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -105,7 +99,7 @@ pub fn neighbour_pairs(
 /// How a boundary point was placed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Method {
+pub enum Placement {
     /// The log-midpoint of the two grid cells.
     Midpoint,
     /// The log-midpoint of the interval left after one or more bisection steps.
@@ -114,7 +108,7 @@ pub enum Method {
 
 /// One point on a regime boundary, as written to `boundaries.json`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Point {
+pub struct BoundaryPoint {
     /// The two regimes on either side, alphabetical (`"F/N"`).
     #[serde(skip)]
     pub pair: String,
@@ -128,7 +122,7 @@ pub struct Point {
     /// point's uncertainty.
     pub half_width: f64,
     /// Midpoint of the grid pair, or bisection.
-    pub method: Method,
+    pub method: Placement,
     /// Bisection steps done (the `refine_steps` asked for, unless a simulation failed).
     pub steps: usize,
     /// Why a bisection simulation failed (its interval stopped there); `null` otherwise.
@@ -154,23 +148,23 @@ fn point(
     hi: (f64, Regime),
     steps: usize,
     failed: Option<String>,
-) -> Point {
+) -> BoundaryPoint {
     let m = (lo.0 * hi.0).sqrt();
     let ((w0, g0), _) = n.lo;
     let (w, g) = match n.axis {
         Axis::W => (m, g0),
         Axis::G => (w0, m),
     };
-    Point {
+    BoundaryPoint {
         pair: pair_name(lo.1, hi.1),
         w,
         g,
         along: n.axis,
         half_width: 0.5 * (hi.0 / lo.0).log10(),
         method: if steps > 0 {
-            Method::Bisection
+            Placement::Bisection
         } else {
-            Method::Midpoint
+            Placement::Midpoint
         },
         steps,
         failed,
@@ -179,7 +173,7 @@ fn point(
 }
 
 /// The midpoint of a grid pair (no simulation).
-pub fn midpoint(n: &Neighbours) -> Point {
+pub fn midpoint(n: &Neighbours) -> BoundaryPoint {
     let along = |c: (f64, f64)| match n.axis {
         Axis::W => c.0,
         Axis::G => c.1,
@@ -194,7 +188,7 @@ pub fn bisect(
     n: &Neighbours,
     steps: usize,
     label: &dyn Fn(f64, f64) -> Result<Regime, String>,
-) -> Vec<Point> {
+) -> Vec<BoundaryPoint> {
     let ((w0, g0), _) = n.lo;
     let along = |c: (f64, f64)| match n.axis {
         Axis::W => c.0,
@@ -235,8 +229,9 @@ pub fn bisect_all(
     pairs: &[Neighbours],
     steps: usize,
     label: &(dyn Fn(f64, f64) -> Result<Regime, String> + Sync),
-) -> Vec<Point> {
-    let per_pair: Vec<Vec<Point>> = pairs.par_iter().map(|n| bisect(n, steps, label)).collect();
+) -> Vec<BoundaryPoint> {
+    let per_pair: Vec<Vec<BoundaryPoint>> =
+        pairs.par_iter().map(|n| bisect(n, steps, label)).collect();
     per_pair.into_iter().flatten().collect()
 }
 
@@ -248,7 +243,7 @@ pub struct Refinement {
     /// Neighbour pairs of different regimes that were bisected.
     pub pairs: usize,
     /// The boundary points, in pair order.
-    pub points: Vec<Point>,
+    pub points: Vec<BoundaryPoint>,
     /// Refinement simulations run in this call (rows appended to `refine.csv`).
     pub simulated: usize,
     /// Midpoints answered from rows of an earlier run.
@@ -290,7 +285,7 @@ pub fn refine(
         .filter(|(_, h)| *h == base_hash)
         .map(|(c, _)| (key(c.weight, c.torque), c.clone()))
         .collect();
-    let file = super::phase::append_rows(&csv, old.fresh)?;
+    let file = append_rows(&csv, old.fresh)?;
     let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
     let pairs = neighbour_pairs(weight, torque, &labels);
     let (reused, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
@@ -357,7 +352,11 @@ pub fn refine(
 
 /// The boundaries of a grid of labels with each neighbour pair's point placed at its midpoint
 /// (no simulation).
-pub fn midpoint_points(weight: &[f64], torque: &[f64], labels: &[Option<Regime>]) -> Vec<Point> {
+pub fn midpoint_points(
+    weight: &[f64],
+    torque: &[f64],
+    labels: &[Option<Regime>],
+) -> Vec<BoundaryPoint> {
     neighbour_pairs(weight, torque, labels)
         .iter()
         .map(midpoint)
@@ -393,7 +392,7 @@ mod tests {
     }
 
     /// The distance, in decades along the point's axis, from the true line `W/G = ratio`.
-    fn miss(p: &Point, ratio: f64) -> f64 {
+    fn miss(p: &BoundaryPoint, ratio: f64) -> f64 {
         match p.along {
             Axis::W => (p.w / (ratio * p.g)).log10().abs(),
             Axis::G => (p.g / (p.w / ratio)).log10().abs(),
@@ -417,7 +416,7 @@ mod tests {
         assert!(points.len() >= pairs.len());
         let truth = |pair: &str| if pair == "F/S" { 20.0 } else { 60.0 };
         for p in &points {
-            assert_eq!(p.method, Method::Bisection);
+            assert_eq!(p.method, Placement::Bisection);
             assert_eq!(p.steps, steps);
             assert!(p.failed.is_none());
             // The interval is 2^steps times narrower than the grid spacing it started from.
@@ -491,7 +490,7 @@ mod tests {
         assert_eq!(pts.len(), pairs.len());
         for (p, n) in pts.iter().zip(&pairs) {
             let m = midpoint(n);
-            assert_eq!((p.method, p.steps), (Method::Midpoint, 0));
+            assert_eq!((p.method, p.steps), (Placement::Midpoint, 0));
             assert_eq!(p.failed.as_deref(), Some("step rejected"));
             assert_eq!((p.w, p.g, p.half_width), (m.w, m.g, m.half_width));
         }
@@ -505,7 +504,7 @@ mod tests {
                 Ok(by_ratio(w, g))
             }
         });
-        let early: Vec<&Point> = pts.iter().filter(|p| p.failed.is_some()).collect();
+        let early: Vec<&BoundaryPoint> = pts.iter().filter(|p| p.failed.is_some()).collect();
         assert!(!early.is_empty() && early.len() < pts.len());
         for p in &pts {
             let ratio = if p.pair == "F/S" { 20.0 } else { 60.0 };

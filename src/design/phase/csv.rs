@@ -1,0 +1,274 @@
+//! `phase.csv` and `refine.csv`: the row format of a cell, reading for resume (a torn last
+//! row is cut off), appending.
+use super::cell::Cell;
+use super::PhaseError;
+use crate::design::Status;
+use crate::observe::Regime;
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::Path;
+
+/// Header of `phase.csv` (the column order is fixed; units in the README).
+pub const HEADER: &str = "weight,torque,W_over_G,status,regime,v_s_over_v_m,displacement_angle_deg,max_elevation_over_a,lifted_arcs_max,writhe_max,lambda_pulse_r2,regime_detail,max_elevation_over_length,two_arc_lift_over_a,lambda_pulse_speed_over_v_m,writhe_snapshot,wall_time_s,base_hash,reason";
+
+/// Number of columns of [`HEADER`].
+const COLUMNS: usize = 19;
+
+impl Cell {
+    /// The cell as a `phase.csv` row (no newline) for the base file with hash `hash`.
+    pub(crate) fn row(&self, hash: u64) -> String {
+        let clean = crate::design::csv_field(&self.reason);
+        format!(
+            "{:e},{:e},{:e},{},{},{:e},{:e},{:e},{},{:e},{:e},{},{:e},{:e},{:e},{:e},{:.3},{:016x},{}",
+            self.weight,
+            self.torque,
+            self.weight / self.torque,
+            self.status.as_str(),
+            self.regime.map_or("-", Regime::as_str),
+            self.v_s_over_v_m,
+            self.displacement_angle_deg,
+            self.max_elevation_over_a,
+            self.lifted_arcs_max,
+            self.writhe_max,
+            self.lambda_pulse_r2,
+            self.regime_detail,
+            self.max_elevation_over_length,
+            self.two_arc_lift_over_a,
+            self.lambda_pulse_speed_over_v_m,
+            self.writhe_snapshot,
+            self.wall_time_s,
+            hash,
+            clean
+        )
+    }
+
+    fn parse(line: &str) -> Option<(Cell, u64)> {
+        let f: Vec<&str> = line.splitn(COLUMNS, ',').collect();
+        if f.len() != COLUMNS {
+            return None;
+        }
+        let num = |i: usize| f[i].parse::<f64>().ok();
+        Some((
+            Cell {
+                weight: num(0)?,
+                torque: num(1)?,
+                status: Status::parse(f[3])?,
+                regime: match f[4] {
+                    "-" => None,
+                    r => Some(r.parse().ok()?),
+                },
+                regime_detail: f[11].into(),
+                v_s_over_v_m: num(5)?,
+                displacement_angle_deg: num(6)?,
+                max_elevation_over_a: num(7)?,
+                lifted_arcs_max: f[8].parse().ok()?,
+                writhe_max: num(9)?,
+                lambda_pulse_r2: num(10)?,
+                max_elevation_over_length: num(12)?,
+                two_arc_lift_over_a: num(13)?,
+                lambda_pulse_speed_over_v_m: num(14)?,
+                writhe_snapshot: num(15)?,
+                wall_time_s: num(16)?,
+                reason: f[18].into(),
+            },
+            u64::from_str_radix(f[17], 16).ok()?,
+        ))
+    }
+}
+
+/// Finished cells of an existing `phase.csv`, keyed by the bits of `(W, G)`.
+#[derive(Debug, Default)]
+pub struct PhaseCsv {
+    /// Rows written for the base file with hash `base_hash`.
+    pub cells: HashMap<(u64, u64), Cell>,
+    /// The file did not exist or held nothing (not even a complete header).
+    pub fresh: bool,
+    /// An incomplete last line (no newline: a write cut short) was cut off the file.
+    pub dropped_partial_row: bool,
+}
+
+/// Read `phase.csv` for resuming: rows of other base files are skipped; a last line without
+/// its newline (a row cut short by a crash) is removed from the file, so the next row is not
+/// glued onto it; any other line that is not a row is [`PhaseError::Csv`] naming it.
+pub fn read_phase_csv(csv: &Path, base_hash: u64) -> Result<PhaseCsv, PhaseError> {
+    let r = read_rows(csv)?;
+    Ok(PhaseCsv {
+        cells: r
+            .rows
+            .into_iter()
+            .filter(|(_, h)| *h == base_hash)
+            .map(|(c, _)| ((c.weight.to_bits(), c.torque.to_bits()), c))
+            .collect(),
+        fresh: r.fresh,
+        dropped_partial_row: r.dropped_partial_row,
+    })
+}
+
+/// Every row of a `phase.csv` or `refine.csv` (the same columns), in file order.
+#[derive(Debug, Default)]
+pub struct Rows {
+    /// The rows, each with the hash of the base file it was simulated for.
+    pub rows: Vec<(Cell, u64)>,
+    /// The file did not exist or held nothing (not even a complete header).
+    pub fresh: bool,
+    /// An incomplete last line (no newline: a write cut short) was cut off the file.
+    pub dropped_partial_row: bool,
+}
+
+/// Open a study's CSV of rows (`phase.csv`, `refine.csv`) for appending, writing the header
+/// first when the file is `fresh`. Rows are then written one per `write_all` and flushed, so a
+/// crash leaves whole lines or a torn last one ([`read_rows`] drops it).
+pub(crate) fn append_rows(csv: &Path, fresh: bool) -> Result<std::fs::File, PhaseError> {
+    let io = |source| PhaseError::Io {
+        file: csv.to_path_buf(),
+        source,
+    };
+    let mut file = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(csv)
+        .map_err(io)?;
+    if fresh {
+        file.write_all(format!("{HEADER}\n").as_bytes())
+            .and_then(|_| file.flush())
+            .map_err(io)?;
+    }
+    Ok(file)
+}
+
+/// Read every row of a `phase.csv` or `refine.csv` (of any base file), cutting a torn last line
+/// off the file as [`read_phase_csv`] does.
+pub fn read_rows(csv: &Path) -> Result<Rows, PhaseError> {
+    let io = |source| PhaseError::Io {
+        file: csv.to_path_buf(),
+        source,
+    };
+    let mut out = Rows::default();
+    let bytes = match std::fs::read(csv) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            out.fresh = true;
+            return Ok(out);
+        }
+        Err(e) => return Err(io(e)),
+    };
+    let mut keep = bytes.len();
+    if !bytes.is_empty() && !bytes.ends_with(b"\n") {
+        keep = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(csv)
+            .and_then(|f| f.set_len(keep as u64))
+            .map_err(io)?;
+        out.dropped_partial_row = true;
+    }
+    let text = match std::str::from_utf8(&bytes[..keep]) {
+        Ok(t) => t,
+        Err(e) => {
+            let at = e.valid_up_to();
+            return Err(PhaseError::Csv {
+                file: csv.to_path_buf(),
+                line: 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count(),
+            });
+        }
+    };
+    out.fresh = text.is_empty();
+    for (n, line) in text.lines().enumerate() {
+        if n == 0 {
+            if line != HEADER {
+                return Err(PhaseError::Csv {
+                    file: csv.to_path_buf(),
+                    line: 1,
+                });
+            }
+            continue;
+        }
+        if line.trim().is_empty() {
+            continue;
+        }
+        let row = Cell::parse(line).ok_or(PhaseError::Csv {
+            file: csv.to_path_buf(),
+            line: n + 1,
+        })?;
+        out.rows.push(row);
+    }
+    Ok(out)
+}
+
+/// A cell's row without its wall time (what must agree between two runs of one cell).
+pub fn comparable_row(c: &Cell, hash: u64) -> String {
+    let row = c.row(hash);
+    let mut f: Vec<&str> = row.split(',').collect();
+    if f.len() > 16 {
+        f[16] = "";
+    }
+    f.join(",")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::observe::RegimeInputs;
+
+    #[test]
+    fn rows_round_trip() {
+        let c = Cell {
+            weight: 300.0,
+            torque: 15.0,
+            status: crate::design::Status::Failed,
+            regime: None,
+            regime_detail: "-".into(),
+            v_s_over_v_m: f64::NAN,
+            displacement_angle_deg: 12.5,
+            max_elevation_over_a: 0.25,
+            lifted_arcs_max: 2,
+            writhe_max: 0.1,
+            lambda_pulse_r2: 0.9,
+            max_elevation_over_length: 0.005,
+            two_arc_lift_over_a: 0.125,
+            lambda_pulse_speed_over_v_m: 1.32,
+            writhe_snapshot: -0.375,
+            wall_time_s: 1.5,
+            reason: "step rejected, at t = 1\nagain".into(),
+        };
+        let row = c.row(0xabc);
+        assert_eq!(row.split(',').count(), HEADER.split(',').count(), "{row}");
+        let (d, h) = Cell::parse(&row).unwrap();
+        assert_eq!(h, 0xabc);
+        assert_eq!((d.weight, d.torque, d.lifted_arcs_max), (300.0, 15.0, 2));
+        assert!(d.v_s_over_v_m.is_nan());
+        assert_eq!(d.regime, None);
+        assert_eq!(d.displacement_angle_deg, 12.5);
+        let (di, ci) = (d.regime_inputs(), c.regime_inputs());
+        assert!(di.v_s_over_v_m.is_nan());
+        assert_eq!(
+            RegimeInputs {
+                v_s_over_v_m: 0.0,
+                ..di
+            },
+            RegimeInputs {
+                v_s_over_v_m: 0.0,
+                ..ci
+            }
+        );
+        assert_eq!(d.writhe_snapshot, -0.375);
+        assert_eq!(d.reason, "step rejected; at t = 1;again");
+        // An M cell keeps its label and the criteria it missed.
+        let m = Cell {
+            status: crate::design::Status::Ok,
+            regime: Some(Regime::M),
+            regime_detail: "heading;pulse_speed".into(),
+            v_s_over_v_m: 0.29,
+            reason: String::new(),
+            ..c
+        };
+        let (d, _) = Cell::parse(&m.row(1)).unwrap();
+        assert_eq!(d.regime, Some(Regime::M));
+        assert_eq!(d.regime_detail, "heading;pulse_speed");
+        assert_eq!(d.v_s_over_v_m, 0.29);
+        assert_eq!(d.regime_inputs(), m.regime_inputs());
+        // A label that is not a regime is not a row.
+        let bad = m.row(1).replacen(",M,", ",X,", 1);
+        assert!(Cell::parse(&bad).is_none());
+    }
+}

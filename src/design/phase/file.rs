@@ -1,0 +1,304 @@
+//! The phase file: its `[phase]` table (base problem, grids, refinement) and `[accuracy]`,
+//! and the problem of one cell.
+use crate::design::accuracy::{self, StudyAccuracy};
+use crate::problem::{self, key_line, Problem, ProblemError};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// Bisection steps per neighbour pair ([`super::refine`]) when `refine = true` and
+/// `refine_steps` is not given.
+pub const DEFAULT_STEPS: usize = 3;
+
+/// Largest `refine_steps`: 8 steps narrow a pair to 1/256 of its grid spacing (0.001 decades
+/// on a 20-point-per-3-decades grid), finer than the regime test's own sensitivity, and each
+/// step is one more simulation per pair.
+pub const MAX_STEPS: usize = 8;
+
+/// A parsed and validated phase file.
+#[derive(Clone, Debug)]
+pub struct Phase {
+    /// The phase file.
+    pub file: PathBuf,
+    /// The base problem's path.
+    pub base_path: PathBuf,
+    /// The base problem.
+    pub base: Problem,
+    /// Hash of the base problem's text (resume key).
+    pub base_hash: u64,
+    /// Scaled weights `W` (dimensionless).
+    pub weight: Vec<f64>,
+    /// Scaled torques `G` (dimensionless).
+    pub torque: Vec<f64>,
+    /// `Some(K)`: `refine = true`, bisect the boundaries `K = refine_steps` times per
+    /// neighbour pair ([`super::refine`]); `None`: boundaries through cell midpoints.
+    pub refine: Option<usize>,
+    /// `[accuracy]`, if given ([`crate::design::accuracy`]).
+    pub accuracy: Option<problem::AccuracySpec>,
+    /// The model chosen for it (set by [`prepare_accuracy`]).
+    pub chosen: Option<StudyAccuracy>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PhaseFile {
+    phase: PhaseTable,
+    accuracy: Option<problem::AccuracySpec>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PhaseTable {
+    base: String,
+    weight: toml::Value,
+    torque: toml::Value,
+    #[serde(default)]
+    refine: bool,
+    refine_steps: Option<toml::Value>,
+}
+
+/// A grid axis as written: a list, or `{ from, to, count, spacing = "log" | "linear" }`
+/// (log by default; the ends included).
+fn grid_axis(v: &toml::Value) -> Result<Vec<f64>, String> {
+    let num = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+    match v {
+        toml::Value::Array(a) => a
+            .iter()
+            .map(|x| num(x).ok_or_else(|| format!("{x} is not a number")))
+            .collect(),
+        toml::Value::Table(t) => {
+            for k in t.keys() {
+                if !matches!(k.as_str(), "from" | "to" | "count" | "spacing") {
+                    return Err(format!("unknown key `{k}` (from, to, count, spacing)"));
+                }
+            }
+            let get = |k: &str| {
+                t.get(k)
+                    .and_then(num)
+                    .ok_or(format!("`{k}` is missing or not a number"))
+            };
+            let (from, to) = (get("from")?, get("to")?);
+            let count =
+                t.get("count")
+                    .and_then(|c| c.as_integer())
+                    .filter(|&c| (1..=10_000).contains(&c))
+                    .ok_or("`count` must be an integer in [1, 10000]")? as usize;
+            let log = match t.get("spacing").map(|s| s.as_str()) {
+                None | Some(Some("log")) => true,
+                Some(Some("linear")) => false,
+                _ => return Err("`spacing` must be \"log\" or \"linear\"".into()),
+            };
+            if !(from.is_finite() && to.is_finite()) || (count > 1 && to <= from) {
+                return Err(format!("from = {from}, to = {to}: need finite from < to"));
+            }
+            if log && from <= 0.0 {
+                return Err(format!("from = {from}: a log-spaced range needs from > 0"));
+            }
+            if count == 1 {
+                return Ok(vec![from]);
+            }
+            let n = (count - 1) as f64;
+            Ok((0..count)
+                .map(|k| {
+                    if k == count - 1 {
+                        to
+                    } else if log {
+                        from * (to / from).powf(k as f64 / n)
+                    } else {
+                        from + (to - from) * k as f64 / n
+                    }
+                })
+                .collect())
+        }
+        other => Err(format!("{other} is neither a list nor a range table")),
+    }
+}
+
+/// Read and validate a phase file and its base problem.
+pub fn load(path: &Path) -> Result<Phase, ProblemError> {
+    let text = problem::read(path)?;
+    let f: PhaseFile = problem::from_toml(&text, path)?;
+    let t = f.phase;
+    let invalid = |key: &str, value: String, allowed: &str| ProblemError::Invalid {
+        file: path.into(),
+        line: key_line(&text, "phase", key),
+        key: format!("phase.{key}"),
+        value,
+        allowed: allowed.into(),
+    };
+    let check = |key: &str, v: &[f64], ok: fn(f64) -> bool, what: &str| {
+        if v.is_empty() {
+            return Err(invalid(
+                key,
+                "[]".into(),
+                &format!("a non-empty list of {what}"),
+            ));
+        }
+        if let Some(x) = v.iter().find(|&&x| !ok(x)) {
+            return Err(invalid(key, format!("[.. {x} ..]"), what));
+        }
+        if v.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(invalid(
+                key,
+                format!("{v:?}"),
+                &format!("{what}, strictly increasing"),
+            ));
+        }
+        Ok(())
+    };
+    let axis = |key: &str, v: &toml::Value| {
+        grid_axis(v).map_err(|why| {
+            invalid(
+                key,
+                format!("{v}"),
+                &format!("a list of numbers or {{ from, to, count, spacing = \"log\" | \"linear\" }}: {why}"),
+            )
+        })
+    };
+    let weight = axis("weight", &t.weight)?;
+    let torque = axis("torque", &t.torque)?;
+    check(
+        "weight",
+        &weight,
+        |x| x.is_finite() && x > 0.0,
+        "scaled weights W > 0",
+    )?;
+    check(
+        "torque",
+        &torque,
+        |x| x.is_finite() && x >= 0.0,
+        "scaled torques G >= 0",
+    )?;
+    let steps = match &t.refine_steps {
+        None => DEFAULT_STEPS,
+        Some(v) => v
+            .as_integer()
+            .filter(|k| (1..=MAX_STEPS as i64).contains(k))
+            .map(|k| k as usize)
+            .ok_or_else(|| {
+                invalid(
+                    "refine_steps",
+                    format!("{v}"),
+                    &format!(
+                        "an integer in [1, {}] (bisection steps per neighbour pair; default {})",
+                        MAX_STEPS, DEFAULT_STEPS
+                    ),
+                )
+            })?,
+    };
+    let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
+    let base_text = match problem::read(&base_path) {
+        Ok(text) => text,
+        Err(ProblemError::Io { source, .. }) => {
+            let why = if source.kind() == std::io::ErrorKind::NotFound {
+                "not found".to_string()
+            } else {
+                source.to_string()
+            };
+            return Err(invalid(
+                "base",
+                format!("\"{}\"", t.base),
+                &format!(
+                    "a readable problem file (relative to the phase file; {}: {why})",
+                    base_path.display()
+                ),
+            ));
+        }
+        Err(e) => return Err(e),
+    };
+    let base = problem::parse(&base_text, &base_path)?;
+    if base.gait.kind == Kind::None {
+        return Err(invalid(
+            "base",
+            format!("\"{}\"", t.base),
+            "a problem with a [gait] (kind other than \"none\")",
+        ));
+    }
+    if base.ground.is_none() {
+        return Err(invalid(
+            "base",
+            format!("\"{}\"", t.base),
+            "a problem with a [ground]",
+        ));
+    }
+    if let Some(a) = &f.accuracy {
+        if let Err((key, value, allowed)) = problem::check_accuracy(a, &base) {
+            return Err(ProblemError::Invalid {
+                file: path.into(),
+                line: key_line(&text, "accuracy", key),
+                key: format!("accuracy.{key}"),
+                value,
+                allowed,
+            });
+        }
+    }
+    Ok(Phase {
+        accuracy: f.accuracy,
+        chosen: None,
+        file: path.into(),
+        base_hash: super::fnv1a(base_text.as_bytes()),
+        base_path,
+        base,
+        weight,
+        torque,
+        refine: t.refine.then_some(steps),
+    })
+}
+
+/// The base problem with scaled weight `w` and scaled torque `g` (see the module doc).
+pub fn cell_problem(base: &Problem, w: f64, g: f64) -> Problem {
+    let mut p = base.clone();
+    let r = &base.rod;
+    let b = r.density * base.gravity.g * r.diameter.powi(2) * r.length.powi(3) / w;
+    let k = b / r.bending_stiffness;
+    p.rod.bending_stiffness = b;
+    p.rod.twist_stiffness = r.twist_stiffness.map(|c| c * k);
+    p.rod.stretch_stiffness = r.stretch_stiffness.map(|ea| ea * k);
+    p.gait.stress = g * b / (r.diameter.powi(3) * r.length);
+    p
+}
+
+/// Apply the phase file's `[accuracy]` before the sweep (as
+/// [`crate::design::accuracy::prepare_study`] does for an optimisation): every cell runs at the
+/// chosen model, and the rows' resume key is the model's. Without `[accuracy]`, removes a stale
+/// `accuracy.json` and changes nothing. Returns whether a recorded choice was reused.
+pub fn prepare_accuracy(
+    ph: &mut Phase,
+    out: &Path,
+    log: &mut dyn FnMut(&str),
+) -> std::io::Result<bool> {
+    let Some(spec) = ph.accuracy.clone() else {
+        accuracy::forget(out)?;
+        return Ok(false);
+    };
+    let file_hash = format!("{:016x}", ph.base_hash);
+    let (chosen, reused) = accuracy::choose(&ph.base, &file_hash, &spec, out, log)?;
+    ph.base = chosen.apply(&ph.base);
+    ph.base_hash = chosen.row_hash();
+    ph.chosen = Some(chosen);
+    Ok(reused)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cell_problem_sets_the_groups_and_keeps_the_ratios() {
+        let base = problem::load(Path::new("problems/s_start.toml")).unwrap();
+        let p = cell_problem(&base, 1234.0, 7.5);
+        let r = &p.rod;
+        let w =
+            r.density * p.gravity.g * r.diameter.powi(2) * r.length.powi(3) / r.bending_stiffness;
+        let g = p.gait.stress * r.diameter.powi(3) * r.length / r.bending_stiffness;
+        assert!((w / 1234.0 - 1.0).abs() < 1e-12, "W {w}");
+        assert!((g / 7.5 - 1.0).abs() < 1e-12, "G {g}");
+        let c0 = base.rod.twist_stiffness.unwrap() / base.rod.bending_stiffness;
+        let c1 = r.twist_stiffness.unwrap() / r.bending_stiffness;
+        assert!((c1 / c0 - 1.0).abs() < 1e-12);
+        let e0 = base.rod.stretch_stiffness.unwrap() / base.rod.bending_stiffness;
+        let e1 = r.stretch_stiffness.unwrap() / r.bending_stiffness;
+        assert!((e1 / e0 - 1.0).abs() < 1e-12);
+        assert_eq!(p.gait.speed, base.gait.speed);
+        assert_eq!(p.rod.length, base.rod.length);
+    }
+}

@@ -1,0 +1,211 @@
+//! Merging the output directories of a sharded sweep into one.
+use super::cell::Cell;
+use super::csv::{comparable_row, read_phase_csv, HEADER};
+use super::sweep::{finish, write_info, RunInfo};
+use super::PhaseError;
+use crate::design::fnv1a;
+use crate::problem;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use Refinement;
+
+/// What [`merge()`] combined.
+#[derive(Debug)]
+pub struct Merged {
+    /// Every cell, weight-major.
+    pub cells: Vec<Cell>,
+    /// Cells found in more than one directory (with identical results).
+    pub duplicates: usize,
+    /// The bisection of the boundaries, when the shards' phase file asked for it.
+    pub refinement: Option<Refinement>,
+}
+
+/// Combine the `phase.csv` of shard directories (of one phase file and base problem, checked
+/// with their `phase.json`) into `out`: the same `phase.csv` (rows in grid order),
+/// `phase.json` and figures as an unsharded run. Refuses directories of other grids or base
+/// files, cells found twice with different results, and a grid with missing cells (listed).
+/// When the shards ran a phase file with `refine = true` (their `phase.json`), the boundaries
+/// are bisected here, into `out/refine.csv` (resumable as in an unsharded run), with the base
+/// problem read again from the file named in `phase.json` (refused if its text changed since:
+/// hash). `refine_report(done, cell)` is called after each refinement simulation.
+pub fn merge(
+    dirs: &[PathBuf],
+    out: &Path,
+    refine_report: &(dyn Fn(usize, &Cell) + Sync),
+) -> Result<Merged, PhaseError> {
+    let mismatch = |dir: &Path, why: String| PhaseError::Merge {
+        dir: dir.to_path_buf(),
+        why,
+    };
+    let mut reference: Option<RunInfo> = None;
+    let mut found: HashMap<(u64, u64), (Cell, String)> = HashMap::new();
+    let mut duplicates = 0;
+    for dir in dirs {
+        let file = dir.join("phase.json");
+        let text = std::fs::read_to_string(&file).map_err(|e| {
+            mismatch(
+                dir,
+                format!("no readable phase.json ({e}): not a `slither phase` output directory"),
+            )
+        })?;
+        let info: RunInfo = serde_json::from_str(&text)
+            .map_err(|e| mismatch(dir, format!("phase.json is not valid: {e}")))?;
+        match &reference {
+            None => reference = Some(info.clone()),
+            Some(r) => {
+                if r.base_hash != info.base_hash {
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "base problem {} (hash {}) differs from {} (hash {})",
+                            info.base_file, info.base_hash, r.base_file, r.base_hash
+                        ),
+                    ));
+                }
+                if r.refine_steps != info.refine_steps {
+                    let say = |k: Option<usize>| {
+                        k.map_or("refine = false".to_string(), |k| {
+                            format!("refine = true, refine_steps = {k}")
+                        })
+                    };
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "ran with {}, another directory with {}",
+                            say(info.refine_steps),
+                            say(r.refine_steps)
+                        ),
+                    ));
+                }
+                if r.weight != info.weight || r.torque != info.torque {
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "grid W {:?} x G {:?} differs from W {:?} x G {:?}",
+                            info.weight, info.torque, r.weight, r.torque
+                        ),
+                    ));
+                }
+            }
+        }
+        let hash = u64::from_str_radix(&info.base_hash, 16)
+            .map_err(|_| mismatch(dir, "phase.json: base_hash is not hexadecimal".into()))?;
+        for (key, c) in read_phase_csv(&dir.join("phase.csv"), hash)?.cells {
+            let row = comparable_row(&c, hash);
+            match found.get(&key) {
+                Some((_, seen)) if *seen == row => duplicates += 1,
+                Some(_) => {
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                        "cell W = {}, G = {} is also in another directory with a different result",
+                        c.weight, c.torque
+                    ),
+                    ))
+                }
+                None => {
+                    found.insert(key, (c, row));
+                }
+            }
+        }
+    }
+    let info =
+        reference.ok_or_else(|| mismatch(Path::new("."), "no directories to merge".into()))?;
+    let grid: Vec<(f64, f64)> = info
+        .weight
+        .iter()
+        .flat_map(|&w| info.torque.iter().map(move |&g| (w, g)))
+        .collect();
+    let missing: Vec<String> = grid
+        .iter()
+        .filter(|(w, g)| !found.contains_key(&(w.to_bits(), g.to_bits())))
+        .map(|(w, g)| format!("(W {w}, G {g})"))
+        .collect();
+    if !missing.is_empty() {
+        return Err(PhaseError::Missing {
+            count: missing.len(),
+            cells: missing
+                .iter()
+                .take(10)
+                .cloned()
+                .collect::<Vec<_>>()
+                .join(", "),
+        });
+    }
+    let hash = u64::from_str_radix(&info.base_hash, 16).expect("checked above");
+    // The base problem, for the refinement's simulations: the file the shards ran, unchanged.
+    let base = match info.refine_steps {
+        None => None,
+        Some(_) => {
+            let path = PathBuf::from(&info.base_file);
+            let refuse = |why: String| PhaseError::Merge {
+                dir: path.clone(),
+                why: format!("cannot refine the boundaries (refine = true): {why}"),
+            };
+            let text = std::fs::read_to_string(&path).map_err(|e| {
+                refuse(format!(
+                    "the base problem named in phase.json is not readable ({e}); merge from the directory the shards ran in"
+                ))
+            })?;
+            // With `[accuracy]` the rows are keyed by the file and the chosen model: the file
+            // is checked against the choice's own record, and refined at that model.
+            let (file_hash, shards_hash) = match &info.accuracy {
+                Some(c) => (
+                    u64::from_str_radix(&c.base_file_hash, 16).ok(),
+                    c.base_file_hash.clone(),
+                ),
+                None => (Some(hash), info.base_hash.clone()),
+            };
+            if Some(fnv1a(text.as_bytes())) != file_hash {
+                return Err(refuse(format!(
+                    "the base problem changed since the shards ran (hash {:016x}, the shards' {})",
+                    fnv1a(text.as_bytes()),
+                    shards_hash
+                )));
+            }
+            let base = problem::parse(&text, &path).map_err(|e| refuse(e.to_string()))?;
+            Some(match &info.accuracy {
+                Some(c) => c.apply(&base),
+                None => base,
+            })
+        }
+    };
+    let cells: Vec<Cell> = grid
+        .iter()
+        .map(|(w, g)| found[&(w.to_bits(), g.to_bits())].0.clone())
+        .collect();
+    std::fs::create_dir_all(out).map_err(|source| PhaseError::Io {
+        file: out.to_path_buf(),
+        source,
+    })?;
+    let mut text = format!("{HEADER}\n");
+    for c in &cells {
+        text += &(c.row(hash) + "\n");
+    }
+    let csv = out.join("phase.csv");
+    std::fs::write(&csv, text).map_err(|source| PhaseError::Io { file: csv, source })?;
+    write_info(
+        out,
+        &RunInfo {
+            shard: None,
+            ..info.clone()
+        },
+    )?;
+    let refine = base
+        .as_ref()
+        .zip(info.refine_steps)
+        .map(|(b, k)| (b, hash, k));
+    let refinement = finish(
+        out,
+        &info.weight,
+        &info.torque,
+        &cells,
+        refine,
+        refine_report,
+    )?;
+    Ok(Merged {
+        cells,
+        duplicates,
+        refinement,
+    })
+}

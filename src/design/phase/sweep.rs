@@ -1,0 +1,297 @@
+//! The sweep over the grid (whole or one shard): cells in parallel, each appended to
+//! `phase.csv` when done, then the boundaries and the figures.
+use super::boundaries::{boundaries, fit_boundaries, Boundary};
+use super::cell::{simulate, Cell};
+use super::csv::{append_rows, read_phase_csv};
+use super::file::Phase;
+use super::refine::{self, Refinement};
+use super::PhaseError;
+use crate::design::accuracy::StudyAccuracy;
+use crate::design::Status;
+use crate::observe::Regime;
+use crate::plot::{self, phase as figs};
+use crate::problem::Problem;
+use rayon::prelude::*;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// What a sweep produced.
+#[derive(Debug)]
+pub struct Sweep {
+    /// Every cell, weight-major (`cells[i * torque.len() + j]` is `(weight[i], torque[j])`).
+    pub cells: Vec<Cell>,
+    /// Cells simulated in this call.
+    pub simulated: usize,
+    /// Cells reused from an existing `phase.csv`.
+    pub reused: usize,
+    /// An incomplete last line of `phase.csv` (a write cut short by a crash) was dropped.
+    pub dropped_partial_row: bool,
+    /// The bisection of the boundaries, when the phase file asked for it and the run holds the
+    /// whole grid.
+    pub refinement: Option<Refinement>,
+}
+
+/// One share of a sweep's cells: `index` of `count` (1-based), for spreading a study over a
+/// job array. Cell `k` of the grid (weight-major) belongs to shard `k % count + 1`: a
+/// deterministic split in which every cell is in exactly one shard.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Shard {
+    /// This shard, 1..=count.
+    pub index: usize,
+    /// Number of shards.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Whether grid cell `k` (weight-major) is in this shard.
+    pub fn owns(&self, k: usize) -> bool {
+        k % self.count == self.index - 1
+    }
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let bad = || format!("`{s}`: a shard is I/N with integers 1 <= I <= N (e.g. 2/4)");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count) = (
+            i.trim().parse::<usize>().map_err(|_| bad())?,
+            n.trim().parse::<usize>().map_err(|_| bad())?,
+        );
+        if index == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+/// `phase.json`: what a sweep directory holds, so shards can be checked before merging.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RunInfo {
+    /// The phase file.
+    pub phase_file: String,
+    /// The base problem file.
+    pub base_file: String,
+    /// Hash of the base problem's text (hex).
+    pub base_hash: String,
+    /// Scaled weights of the grid.
+    pub weight: Vec<f64>,
+    /// Scaled torques of the grid.
+    pub torque: Vec<f64>,
+    /// The shard this directory holds (`null`: every cell).
+    pub shard: Option<Shard>,
+    /// Bisection steps of `refine = true` (`null`: no refinement); [`super::merge()`] refines with it.
+    #[serde(default)]
+    pub refine_steps: Option<usize>,
+    /// The model chosen for the phase file's `[accuracy]` (absent without one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<StudyAccuracy>,
+}
+
+pub(super) fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
+    let file = out.join("phase.json");
+    let text = serde_json::to_string_pretty(info).expect("serialisable");
+    std::fs::write(&file, text + "\n").map_err(|source| PhaseError::Io { file, source })
+}
+
+/// Run the diagram into `out` (`phase.csv`, `phase.json`, `boundaries.json` and the figures,
+/// each as PNG and SVG, and with `refine = true` `refine.csv`), reusing finished rows.
+/// `report(done, total, cell)` is called after each newly simulated cell of the grid,
+/// `refine_report(done, cell)` after each new refinement simulation.
+pub fn sweep(
+    ph: &Phase,
+    out: &Path,
+    report: &(dyn Fn(usize, usize, &Cell) + Sync),
+    refine_report: &(dyn Fn(usize, &Cell) + Sync),
+) -> Result<Sweep, PhaseError> {
+    sweep_shard(ph, out, None, report, refine_report)
+}
+
+/// [`sweep`] of one shard's cells only (all with `None`). A shard's directory gets
+/// `phase.csv` and `phase.json` but no figures and no refinement (unless it is the only shard,
+/// `1/1`); [`super::merge()`] combines the shards.
+pub fn sweep_shard(
+    ph: &Phase,
+    out: &Path,
+    shard: Option<Shard>,
+    report: &(dyn Fn(usize, usize, &Cell) + Sync),
+    refine_report: &(dyn Fn(usize, &Cell) + Sync),
+) -> Result<Sweep, PhaseError> {
+    let io = |file: &Path| {
+        let file = file.to_path_buf();
+        move |source| PhaseError::Io {
+            file: file.clone(),
+            source,
+        }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
+    let csv = out.join("phase.csv");
+    let key = |w: f64, g: f64| (w.to_bits(), g.to_bits());
+    let old = read_phase_csv(&csv, ph.base_hash)?;
+    let mut done = old.cells;
+    let file = append_rows(&csv, old.fresh)?;
+    write_info(
+        out,
+        &RunInfo {
+            phase_file: ph.file.display().to_string(),
+            base_file: ph.base_path.display().to_string(),
+            base_hash: format!("{:016x}", ph.base_hash),
+            weight: ph.weight.clone(),
+            torque: ph.torque.clone(),
+            shard,
+            refine_steps: ph.refine,
+            accuracy: ph.chosen.clone(),
+        },
+    )?;
+    let grid: Vec<(f64, f64)> = ph
+        .weight
+        .iter()
+        .flat_map(|&w| ph.torque.iter().map(move |&g| (w, g)))
+        .enumerate()
+        .filter(|(k, _)| shard.is_none_or(|s| s.owns(*k)))
+        .map(|(_, c)| c)
+        .collect();
+    let todo: Vec<(f64, f64)> = grid
+        .iter()
+        .copied()
+        .filter(|&(w, g)| !done.contains_key(&key(w, g)))
+        .collect();
+    let reused = grid.len() - todo.len();
+    let sink = Mutex::new((file, 0usize, None::<std::io::Error>));
+    let new: Vec<Cell> = todo
+        .par_iter()
+        .map(|&(w, g)| {
+            let c = simulate(&ph.base, w, g);
+            let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
+            let line = c.row(ph.base_hash) + "\n";
+            let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
+            if let Err(e) = r {
+                s.2.get_or_insert(e);
+            }
+            s.1 += 1;
+            report(s.1, todo.len(), &c);
+            c
+        })
+        .collect();
+    if let Some(e) = sink.into_inner().unwrap_or_else(|e| e.into_inner()).2 {
+        return Err(io(&csv)(e));
+    }
+    let simulated = new.len();
+    for c in new {
+        done.insert(key(c.weight, c.torque), c);
+    }
+    let cells: Vec<Cell> = grid
+        .iter()
+        .map(|&(w, g)| done[&key(w, g)].clone())
+        .collect();
+    let refinement = if shard.is_none_or(|s| s.count == 1) {
+        let refine = ph.refine.map(|k| (&ph.base, ph.base_hash, k));
+        finish(out, &ph.weight, &ph.torque, &cells, refine, refine_report)?
+    } else {
+        None
+    };
+    Ok(Sweep {
+        cells,
+        simulated,
+        reused,
+        dropped_partial_row: old.dropped_partial_row,
+        refinement,
+    })
+}
+
+/// The end of a run that holds the whole grid: the boundary points (bisected when `refine`
+/// gives the base problem, its hash and the steps; else the cell midpoints), `boundaries.json`
+/// and the figures.
+pub(super) fn finish(
+    out: &Path,
+    weight: &[f64],
+    torque: &[f64],
+    cells: &[Cell],
+    refine: Option<(&Problem, u64, usize)>,
+    refine_report: &(dyn Fn(usize, &Cell) + Sync),
+) -> Result<Option<Refinement>, PhaseError> {
+    let refinement = match refine {
+        Some((base, hash, steps)) => Some(refine::refine(
+            base,
+            hash,
+            steps,
+            out,
+            weight,
+            torque,
+            cells,
+            refine_report,
+        )?),
+        None => None,
+    };
+    let bounds = match &refinement {
+        Some(r) => fit_boundaries(&r.points),
+        None => {
+            let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
+            boundaries(weight, torque, &labels)
+        }
+    };
+    figures(out, weight, torque, cells, &bounds)?;
+    Ok(refinement)
+}
+
+/// The figures of a complete grid, each as PNG and SVG (`phase`, `speed`, Fig. 3a-c, drawn
+/// by [`crate::plot::phase`]), and `boundaries.json` (the lines `bounds`). Fig. 3a and 3b are
+/// skipped when they have no finite point.
+fn figures(
+    out: &Path,
+    weight: &[f64],
+    torque: &[f64],
+    cells: &[Cell],
+    bounds: &[Boundary],
+) -> Result<(), PhaseError> {
+    let file = out.join("boundaries.json");
+    let text = serde_json::to_string_pretty(bounds).expect("serialisable");
+    std::fs::write(&file, text + "\n").map_err(|source| PhaseError::Io { file, source })?;
+    let cells: Vec<figs::MapCell> = cells
+        .iter()
+        .map(|c| figs::MapCell {
+            weight: c.weight,
+            torque: c.torque,
+            ok: c.status == Status::Ok,
+            regime: c.regime,
+            regime_detail: &c.regime_detail,
+            v_s_over_v_m: c.v_s_over_v_m,
+            writhe_max: c.writhe_max,
+            writhe_snapshot: c.writhe_snapshot,
+        })
+        .collect();
+    let lines: Vec<figs::MapLine> = bounds
+        .iter()
+        .map(|b| figs::MapLine {
+            pair: &b.pair,
+            slope: b.slope,
+            intercept: b.intercept,
+            ratio_at_g10: b.ratio_at_g10,
+            bisected: b.method == "bisection",
+            points: b.points.iter().map(|p| (p.w, p.g)).collect(),
+        })
+        .collect();
+    let plot_err = |file: PathBuf| move |source| PhaseError::Plot { file, source };
+    // Fig. 3a and 3b without a finite point are left out.
+    let skip_empty = |r: Result<(), PhaseError>| match r {
+        Err(PhaseError::Plot {
+            source: plot::PlotError::Invalid(_),
+            ..
+        }) => Ok(()),
+        r => r,
+    };
+    for ext in ["png", "svg"] {
+        let f = out.join(format!("phase.{ext}"));
+        figs::regime_map(&f, weight, torque, &cells, &lines).map_err(plot_err(f.clone()))?;
+        let f = out.join(format!("speed.{ext}"));
+        figs::speed_chart(&f, torque, &cells).map_err(plot_err(f.clone()))?;
+        let f = out.join(format!("writhe_vs_ratio.{ext}"));
+        skip_empty(figs::writhe_vs_ratio(&f, torque, &cells).map_err(plot_err(f.clone())))?;
+        let f = out.join(format!("speed_vs_writhe.{ext}"));
+        skip_empty(figs::speed_vs_writhe(&f, &cells).map_err(plot_err(f.clone())))?;
+        let f = out.join(format!("speed_vs_ratio.{ext}"));
+        figs::speed_chart(&f, torque, &cells).map_err(plot_err(f.clone()))?;
+    }
+    Ok(())
+}

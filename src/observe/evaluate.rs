@@ -1,0 +1,78 @@
+//! The one evaluation pipeline: simulate a model with its own gait and integrator, then
+//! measure the run. Every caller that runs a scene for its observables goes through here: `slither
+//! run`, an optimisation's evaluation ([`crate::design`]), a phase cell
+//! ([`crate::design::phase`]) and the speed-against-accuracy charts ([`crate::chart`]).
+//!
+//! [`evaluate`] = [`crate::sim::run_gait`] with the model's `[solver] integrator`, then
+//! [`measure`]. A failed step is not an `Err`: the outcome keeps its error and everything up to
+//! it, measured like a finished run (the callers decide what a cut-short run means); `Err` is
+//! only an integrator that cannot run the model ([`Unsupported`]). Panics are not caught here:
+//! the studies catch them per evaluation, `slither run` lets them end the process.
+
+use super::{fields_with_progress, observe, Fields, Observables};
+use crate::integrator::explicit::Unsupported;
+use crate::model::Model;
+use crate::sim::{self, Frame, Outcome};
+
+/// What [`measure`] computes from a run's frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Measure {
+    /// Every frame: the kymograph fields (topology of every frame) and all observables.
+    Full,
+    /// The first and the last frame only: the displacement observables (`v_s`, `v_s/v_m`,
+    /// heading) at a fraction of the cost; the fields and the time-resolved observables
+    /// (writhe over time, lifts, the `lambda` pulse) are those of two frames.
+    Ends,
+}
+
+/// A simulated and measured run.
+pub struct Observed {
+    /// The run (finished or cut short by a failed step: `outcome.error`).
+    pub outcome: Outcome,
+    /// Kymograph fields of the measured frames.
+    pub fields: Fields,
+    /// Observables of the measured frames.
+    pub observables: Observables,
+}
+
+/// Simulate `model` driven by its own gait with its own integrator (`progress` gets the
+/// fraction of the run done), then [`measure`] it (`post` gets the fraction of the frames
+/// measured).
+pub fn evaluate(
+    model: &Model,
+    what: Measure,
+    progress: &mut dyn FnMut(f64),
+    post: &mut dyn FnMut(f64),
+) -> Result<Observed, Unsupported> {
+    let outcome = sim::run_gait(model, model.solver.integrator, progress, &mut |_| {})?;
+    let (fields, observables) = measure(model, &outcome.frames, what, post);
+    Ok(Observed {
+        outcome,
+        fields,
+        observables,
+    })
+}
+
+/// The fields and observables of a run's `frames` (all, or the two ends: [`Measure`]); `post`
+/// gets the fraction of the frames done.
+pub fn measure(
+    model: &Model,
+    frames: &[Frame],
+    what: Measure,
+    post: &mut dyn FnMut(f64),
+) -> (Fields, Observables) {
+    let ends: Vec<Frame>;
+    let frames = match what {
+        Measure::Full => frames,
+        Measure::Ends => {
+            ends = match (frames.first(), frames.last()) {
+                (Some(a), Some(b)) => vec![a.clone(), b.clone()],
+                _ => Vec::new(),
+            };
+            &ends
+        }
+    };
+    let fields = fields_with_progress(model, frames, post);
+    let observables = observe(model, frames, &fields);
+    (fields, observables)
+}
