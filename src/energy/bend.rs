@@ -2,13 +2,11 @@
 //! integrated strains `kappa_i` of [`crate::rod::frames::strains`] and natural (rest)
 //! curvature `kappa0_i` (integrated, dimensionless) that may change with time (muscles).
 
-use super::autodiff::{self, StencilEnergy};
+use super::autodiff;
 pub use super::stencil::BendStencil;
 use super::stencil::{self, EdgeJets, Jets, StencilDerivatives};
 use super::{Assembly, Ctx, Term};
-use crate::rod::{frames, frames::StencilFrame, V3};
 use nalgebra::{SMatrix, SVector};
-use num_dual::DualNum;
 
 /// The bending term, with its stencil derivatives from `D` ([`Jets`] by default).
 pub struct Bend<D: StencilDerivatives = Jets>(pub D);
@@ -18,7 +16,7 @@ impl BendStencil<'_> {
     /// edge's frame over its own 3 coordinates, the four projections of the curvature
     /// binormal on the reference frames over the 6 positional coordinates, and
     /// `kappa = 1/2 sum_j (cos theta^j (kb.a1^j) + sin theta^j (kb.a2^j), ...)` over all 8.
-    /// Equal to [`autodiff::derivatives`] of [`StencilEnergy::eval`] up to round-off.
+    /// Equal to [`autodiff::derivatives`] of [`autodiff::StencilEnergy::eval`] up to round-off.
     pub fn derivatives(&self, y: [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
         let [e0, e1] = EdgeJets::of_stencil(self.frame, &y);
         self.derivatives_with([&e0, &e1], &y)

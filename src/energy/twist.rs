@@ -2,13 +2,11 @@
 //! integrated twist `m_i = theta^i - theta^{i-1} + ref twist` of [`crate::rod::frames::strains`] and natural (rest)
 //! twist `m0_i` (integrated, rad) that may change with time (muscles).
 
-use super::autodiff::{self, StencilEnergy};
+use super::autodiff;
 pub use super::stencil::TwistStencil;
 use super::stencil::{self, EdgeJets, Jets, StencilDerivatives};
 use super::{Assembly, Ctx, Term};
-use crate::rod::{frames, frames::StencilFrame, V3};
 use nalgebra::{SMatrix, SVector};
-use num_dual::DualNum;
 
 /// The twist term, with its stencil derivatives from `D` ([`Jets`] by default).
 pub struct Twist<D: StencilDerivatives = Jets>(pub D);
@@ -17,7 +15,7 @@ impl TwistStencil<'_> {
     /// Value, gradient and Hessian in the 8 intrinsic coordinates, by staged jets: each
     /// edge's frame over its own 3 coordinates, the reference twist over the 6 positional
     /// coordinates, and `m = theta^1 - theta^0 + r` over all 8. Equal to
-    /// [`autodiff::derivatives`] of [`StencilEnergy::eval`] up to round-off.
+    /// [`autodiff::derivatives`] of [`autodiff::StencilEnergy::eval`] up to round-off.
     pub fn derivatives(&self, y: [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
         let [e0, e1] = EdgeJets::of_stencil(self.frame, &y);
         self.derivatives_with([&e0, &e1], &y)

@@ -206,7 +206,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         Err(e) => return Err(e),
     };
     let base = problem::parse(&base_text, &base_path)?;
-    if base.gait.kind == Kind::None {
+    if base.gait.kind == crate::gait::Kind::None {
         return Err(invalid(
             "base",
             format!("\"{}\"", t.base),
@@ -235,7 +235,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         accuracy: f.accuracy,
         chosen: None,
         file: path.into(),
-        base_hash: super::fnv1a(base_text.as_bytes()),
+        base_hash: crate::design::fnv1a(base_text.as_bytes()),
         base_path,
         base,
         weight,

@@ -7,7 +7,7 @@ use crate::design::fnv1a;
 use crate::problem;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use Refinement;
+use super::refine::Refinement;
 
 /// What [`merge()`] combined.
 #[derive(Debug)]
