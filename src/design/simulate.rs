@@ -32,8 +32,7 @@ pub fn simulate(study: &Study, p: &Point, progress: &mut dyn FnMut(f64)) -> Eval
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         let outcome = sim::run_gait(&model, pr.solver.integrator, progress, &mut |_| {})
             .map_err(|err| err.to_string())?;
-        let fields = observe::fields(&model, &outcome.frames);
-        let ob = observe::observe(&model, &outcome.frames, &fields);
+        let ob = observe::of_outcome(&model, &outcome);
         Ok::<_, String>((ob, outcome.error.map(|err| err.to_string())))
     }));
     match run {

@@ -26,7 +26,7 @@ mod scatter;
 mod snapshots;
 
 pub use charts::{series, xy};
-pub use kymograph::kymograph;
+pub use kymograph::{kymograph, kymograph_styled, quantile, KymographScale, KymographStyle};
 pub use scatter::scatter;
 pub use snapshots::snapshots;
 
