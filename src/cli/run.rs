@@ -25,9 +25,10 @@ pub struct Args {
     /// README's "Limits").
     #[arg(long)]
     pub force: bool,
-    /// Run the cheapest model (adaptive BDF2 tolerance and mesh) whose estimated relative
-    /// error of v_s/v_m is below this, e.g. 0.01 (overrides `[accuracy] target`; scenes
-    /// with ground and gait; in [1e-4, 0.5]).
+    /// Run the cheapest model (mesh, and the time step of implicit Euler, the default
+    /// integrator, or adaptive BDF2's tolerance with `integrator = "bdf2"`) whose estimated
+    /// relative error of v_s/v_m is below this, e.g. 0.01 (overrides `[accuracy] target`;
+    /// scenes with ground and gait; in [1e-4, 0.5]).
     #[arg(long)]
     pub accuracy: Option<f64>,
 }
@@ -66,15 +67,21 @@ pub fn run(args: &Args) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
-    // A previous run's outputs go first, so none is left beside this run's (and a crash never
-    // leaves a stale "finished" summary).
-    if let Err(e) = output::remove_previous(out) {
-        eprintln!(
-            "error: {}: cannot remove the previous run's outputs: {e}",
-            out.display()
-        );
-        return ExitCode::from(1);
-    }
+    // The outputs are written into a staging folder and swapped in when complete: an
+    // interrupted or killed rerun leaves the previous results as they were.
+    let staging = match output::staging::Staging::new(out) {
+        Ok(st) => st,
+        Err(e) => {
+            eprintln!(
+                "error: {}: cannot create the staging folder: {e}",
+                out.display()
+            );
+            return ExitCode::from(1);
+        }
+    };
+    let stage = staging.dir().to_path_buf();
+    let stage = stage.as_path();
+    on_interrupt();
     let show = !quiet && std::io::stderr().is_terminal();
     let start = Instant::now();
     let mut bar: Option<ProgressBar> = None;
@@ -116,6 +123,15 @@ pub fn run(args: &Args) -> ExitCode {
     };
     if let Some(b) = bar.take() {
         b.finish_and_clear();
+    }
+    if o.interrupted && staging.has_previous() {
+        eprintln!(
+            "{}: interrupted at t = {} s; nothing written, the previous results in {} are kept",
+            path.display(),
+            o.state.t,
+            out.display()
+        );
+        return ExitCode::from(130);
     }
     let mut summary = output::Summary::new(path, &model, &o);
     if let Some(r) = &report {
@@ -159,24 +175,41 @@ pub fn run(args: &Args) -> ExitCode {
     if let Some(b) = post_bar.take() {
         b.finish_and_clear();
     }
-    summary.observables = Some(observe::observe(&model, &o.frames, &fields));
+    // Observables from the observation frames (the physics' resolution), not the output frames.
+    summary.observables = Some(observe::of_outcome(&model, &o));
     let extra = [
         ("elevation", fields.elevation.clone()),
         ("slip_speed", fields.slip.clone()),
         ("lambda", fields.lambda.clone()),
     ];
-    let written = output::write_final_csv(out, &model, &o)
-        .and_then(|_| output::write_trajectory(out, &model, &o.frames, &extra))
-        .and_then(|_| output::write_summary(out, &summary));
+    let written = output::write_final_csv(stage, &model, &o)
+        .and_then(|_| output::write_trajectory(stage, &model, &o.frames, &extra))
+        .and_then(|_| output::write_summary(stage, &summary));
     if let Err(e) = written {
         eprintln!("error: {}: cannot write results: {e}", out.display());
         return ExitCode::from(1);
     }
     if !no_plots {
-        if let Err(e) = output::write_figures(out, &model, &o.frames, &fields) {
+        if let Err(e) = output::write_figures(stage, &model, &o.frames, &fields) {
             eprintln!("error: {}: cannot write figures: {e}", out.display());
             return ExitCode::from(1);
         }
+    }
+    if let Err(e) = staging.commit() {
+        eprintln!(
+            "error: {}: cannot move the results into place: {e}",
+            out.display()
+        );
+        return ExitCode::from(1);
+    }
+    if o.interrupted {
+        eprintln!(
+            "{}: interrupted at t = {} s; results up to then written to {} (status \"interrupted\")",
+            path.display(),
+            o.state.t,
+            out.display()
+        );
+        return ExitCode::from(130);
     }
     if let Some(e) = &o.error {
         eprintln!(
@@ -203,4 +236,25 @@ pub fn run(args: &Args) -> ExitCode {
         );
     }
     ExitCode::SUCCESS
+}
+
+/// Ctrl-C (SIGINT) stops the simulation after its current step ([`sim::INTERRUPT`]); the run
+/// then saves what it computed (a fresh directory) or keeps the previous results (a rerun),
+/// and exits 130. A second Ctrl-C ends the process at once.
+fn on_interrupt() {
+    #[cfg(unix)]
+    {
+        extern "C" fn handler(_: libc::c_int) {
+            sim::INTERRUPT.store(true, std::sync::atomic::Ordering::Relaxed);
+            // Async-signal-safe: the next Ctrl-C gets the default action.
+            unsafe {
+                libc::signal(libc::SIGINT, libc::SIG_DFL);
+            }
+        }
+        // SAFETY: the handler only stores an atomic and resets the disposition, both
+        // async-signal-safe.
+        unsafe {
+            libc::signal(libc::SIGINT, handler as *const () as libc::sighandler_t);
+        }
+    }
 }
