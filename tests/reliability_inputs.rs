@@ -214,3 +214,36 @@ fn topology_skips_a_byte_order_mark() {
     assert_eq!(bom.status.code(), Some(0), "{}", stderr(&bom));
     assert_eq!(plain.stdout, bom.stdout);
 }
+
+#[test]
+fn work_precision_of_a_ground_scene_without_a_gait_says_why() {
+    let dir = scratch("wp");
+    let o = Command::new(BIN)
+        .args(["chart", "work-precision", "problems/slide.toml", "--out"])
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("needs a [gait]") && !e.trim_end().ends_with("ok"),
+        "{e}"
+    );
+}
+
+#[test]
+fn unknown_solver_overrides_in_the_environment_are_refused() {
+    for (var, value) in [
+        ("SLITHER_CONTACT", "bogus"),
+        ("SLITHER_CLARABEL_METHOD", "xyz"),
+    ] {
+        let (o, out) = run(var, BASE, &[(var, value)]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{var}: {e}");
+        assert!(e.contains(var) && e.contains(value), "{e}");
+        assert!(!out.join("summary.json").exists());
+    }
+    // The allowed values still run.
+    let (o, _) = run("conic", BASE, &[("SLITHER_CONTACT", "conic")]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}

@@ -42,13 +42,11 @@ duration = 0.02
 #[test]
 fn a_phase_study_in_which_every_cell_fails_exits_3() {
     let dir = scratch("allfail");
-    // The repro: a base whose Newton solves cannot converge (one iteration, no
-    // step halving), so every cell fails.
-    let base = format!("{BASE}\n[solver]\nmax_iterations = 1\nmax_halvings = 0\n");
-    std::fs::write(dir.join("base.toml"), base).unwrap();
+    // The repro: a scaled torque whose muscle couple overflows, so every cell fails.
+    std::fs::write(dir.join("base.toml"), BASE).unwrap();
     std::fs::write(
         dir.join("phase.toml"),
-        "[phase]\nbase = \"base.toml\"\nweight = [300.0, 1000.0]\ntorque = [15.0]\n",
+        "[phase]\nbase = \"base.toml\"\nweight = [300.0, 1000.0]\ntorque = [1e308]\n",
     )
     .unwrap();
     let out = dir.join("out");
