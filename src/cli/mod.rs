@@ -3,6 +3,7 @@
 //! This is the only code that reads the environment and prints; the library returns values and
 //! reports progress through callbacks.
 pub mod chart;
+pub mod guard;
 pub mod keys;
 pub mod merge;
 pub mod movie;

@@ -71,6 +71,9 @@ pub fn run(args: &Args) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
+    if let Err(code) = super::guard::check_writer(out, super::guard::Writer::Run) {
+        return code;
+    }
     // The outputs are written into a staging folder and swapped in when complete: an
     // interrupted or killed rerun leaves the previous results as they were.
     let staging = match output::staging::Staging::new(out) {
