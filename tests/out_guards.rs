@@ -104,8 +104,9 @@ fn a_phase_directory_keeps_one_grid() {
     // The same study again reuses its cells.
     let (o, e) = slither(&[p("phase"), p("--quiet"), &f, p("--out"), &out]);
     assert!(o.status.success(), "{e}");
-    // Another grid into the same directory is refused; phase.csv is untouched.
-    let g = phase_file(&dir, "weight = [300.0, 1000.0]\ntorque = [15.0]\n");
+    // A grid that does not contain the old one is refused; phase.csv is untouched. (A grid
+    // that extends it reuses its cells: tests/phase.rs.)
+    let g = phase_file(&dir, "weight = [1000.0]\ntorque = [15.0]\n");
     let (o, e) = slither(&[p("phase"), p("--quiet"), &g, p("--out"), &out]);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(e.contains("another grid"), "{e}");

@@ -81,8 +81,9 @@ pub fn check_merge_out(dirs: &[std::path::PathBuf], out: &Path) -> Result<(), Ex
     Ok(())
 }
 
-/// Refuse (exit 2) a phase directory written for another grid of the same study: its
-/// `phase.csv` would keep the old grid's rows beside the new ones.
+/// Refuse (exit 2) a phase directory written for another grid that the new grid does not
+/// contain: its `phase.csv` would keep the old grid's rows beside the new ones. A grid that
+/// extends the old one (every old weight and torque kept) reuses its cells.
 pub fn check_phase_grid(out: &Path, ph: &design::phase::Phase) -> Result<(), ExitCode> {
     let Ok(text) = std::fs::read_to_string(out.join("phase.json")) else {
         return Ok(());
@@ -90,11 +91,15 @@ pub fn check_phase_grid(out: &Path, ph: &design::phase::Phase) -> Result<(), Exi
     let Ok(info) = serde_json::from_str::<design::phase::RunInfo>(&text) else {
         return Ok(()); // not ours to judge: the sweep reports an unreadable file itself
     };
-    if info.weight == ph.weight && info.torque == ph.torque {
+    let within = |old: &[f64], new: &[f64]| {
+        old.iter()
+            .all(|x| new.iter().any(|y| x.to_bits() == y.to_bits()))
+    };
+    if within(&info.weight, &ph.weight) && within(&info.torque, &ph.torque) {
         return Ok(());
     }
     eprintln!(
-        "error: --out {}: holds a phase study of another grid (W {:?} x G {:?}, now W {:?} x G {:?}); its phase.csv would mix the two: choose another directory",
+        "error: --out {}: holds a phase study of another grid (W {:?} x G {:?}, now W {:?} x G {:?}, which does not contain it); its phase.csv would mix the two: choose another directory (a grid that keeps every old weight and torque reuses the cells)",
         out.display(),
         info.weight,
         info.torque,
