@@ -73,8 +73,7 @@ fn slither_row(path: &Path) -> Result<Row, String> {
     if let Some(e) = &o.error {
         return Err(format!("{}: {e}", path.display()));
     }
-    let fl = observe::fields(&m, &o.frames);
-    let ob = observe::observe(&m, &o.frames, &fl);
+    let ob = observe::of_outcome(&m, &o);
     Ok(Row {
         v_s_over_v_m: ob.v_s_over_v_m,
         angle_deg: ob.displacement_angle_deg,

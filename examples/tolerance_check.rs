@@ -39,11 +39,7 @@ fn run(p: &problem::Problem) -> Result<Run, String> {
         return Err(e.to_string());
     }
     let (value, what) = if m.gait.couple > 0.0 {
-        let fields = observe::fields(&m, &o.frames);
-        (
-            observe::observe(&m, &o.frames, &fields).v_s_over_v_m,
-            "v_s/v_m",
-        )
+        (observe::of_outcome(&m, &o).v_s_over_v_m, "v_s/v_m")
     } else {
         let d = output::centroid_displacement(&o.frames);
         (

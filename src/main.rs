@@ -56,7 +56,9 @@ enum Cmd {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    cli::configure_from_env();
+    if let Err(code) = cli::configure_from_env() {
+        return code;
+    }
     match cli.cmd {
         Cmd::Run(a) => cli::run::run(&a),
         Cmd::Topology(a) => cli::topology::topo(&a),

@@ -1,6 +1,17 @@
 //! The run loop: steps a [`Model`] from its initial state to the end of the run (dynamic) or
 //! through its load increments (static), records frames at the output interval and keeps
-//! everything computed so far when a step fails. Every time stepper ([`Stepper`]: implicit,
+//! everything computed so far when a step fails.
+//!
+//! Two series of frames are kept. [`Outcome::frames`] are the frames the user asked for
+//! (`[output] interval`): the trajectory, the kymographs and the figures. [`Outcome::observed`]
+//! are the frames every observable and the regime are measured on ([`crate::observe`]): a
+//! grid set by the physics, independent of the output interval, so that asking for fewer
+//! frames never changes a measured value. Its spacing is [`observation_interval`]: the pulse
+//! time `T = L / v_m` (or the duration, if shorter or without a gait) over
+//! [`OBSERVATIONS_PER_PULSE`]; with fixed steps it is rounded to a whole number of steps
+//! (the bundled S-start: 9 steps of 2 ms, 0.018 s); with adaptive steps a frame is taken at
+//! the first accepted step that reaches each grid time. Both series start at t = 0 and end
+//! with the last step of a finished run. Every time stepper ([`Stepper`]: implicit,
 //! explicit) runs through [`drive`]; the charts run it with their own [`Schedule`].
 
 use crate::integrator::adaptive::{Adapted, Controller, StepStats};
@@ -11,7 +22,18 @@ use crate::model::Model;
 use crate::problem::Mode;
 use crate::rod::dof;
 use crate::state::State;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
+
+/// Set (by the command line's SIGINT handler, or any caller) to stop the running simulations
+/// after their current step: [`drive`] then returns what it computed with
+/// [`Outcome::interrupted`] set. A single atomic store, safe inside a signal handler.
+pub static INTERRUPT: AtomicBool = AtomicBool::new(false);
+
+/// Whether [`INTERRUPT`] is set.
+pub fn interrupt_requested() -> bool {
+    INTERRUPT.load(Ordering::Relaxed)
+}
 
 /// One recorded instant of the real rod.
 #[derive(Clone, Debug)]
@@ -48,8 +70,11 @@ impl Frame {
 pub struct Outcome {
     /// Final (or last good) state.
     pub state: State,
-    /// Recorded frames.
+    /// Recorded frames, at the output interval (what the user asked for).
     pub frames: Vec<Frame>,
+    /// Frames on the observation grid ([`observation_interval`], module doc): every measured
+    /// observable and the regime come from these, never from [`Outcome::frames`].
+    pub observed: Vec<Frame>,
     /// Solver statistics.
     pub stats: Stats,
     /// Wall-clock time of the integration (s).
@@ -60,6 +85,8 @@ pub struct Outcome {
     pub energies: Energies,
     /// The failure that stopped the run, if any.
     pub error: Option<StepError>,
+    /// Stopped early by [`INTERRUPT`] (Ctrl-C) after the last accepted step.
+    pub interrupted: bool,
     /// Largest penetration of a node below `z = a/2` over all accepted steps (m).
     pub max_penetration: f64,
     /// Largest slip speed of a node in contact over all accepted steps (m/s).
@@ -76,6 +103,8 @@ pub enum RunStatus {
     Completed,
     /// Stopped by a failed step ([`Outcome::error`]).
     Failed,
+    /// Stopped by the user (Ctrl-C, [`INTERRUPT`]) before the end.
+    Interrupted,
 }
 
 impl Outcome {
@@ -83,10 +112,31 @@ impl Outcome {
     pub fn status(&self) -> RunStatus {
         if self.error.is_some() {
             RunStatus::Failed
+        } else if self.interrupted {
+            RunStatus::Interrupted
         } else {
             RunStatus::Completed
         }
     }
+}
+
+/// Observation frames per pulse time `T = L / v_m` (module doc): 200, so a travelling pulse
+/// is seen at 200 positions along the body and the peak of a lift that lasts a tenth of `T`
+/// at 20 instants.
+pub const OBSERVATIONS_PER_PULSE: f64 = 200.0;
+
+/// Spacing of the observation grid (s): `min(T, duration) / OBSERVATIONS_PER_PULSE`, with the
+/// pulse time `T = L / v_m` of a gait, or the duration without one (static mode: every load
+/// increment is observed). It depends on the physics (rod, gait, duration), never on
+/// `[output] interval`.
+pub fn observation_interval(model: &Model) -> f64 {
+    let g = &model.gait;
+    let pulse = if g.kind != crate::gait::Kind::None && g.speed > 0.0 {
+        g.pulse_time(model.length)
+    } else {
+        f64::INFINITY
+    };
+    pulse.min(model.duration) / OBSERVATIONS_PER_PULSE
 }
 
 /// Progress callback: fraction done in [0, 1].
@@ -110,6 +160,10 @@ pub struct Schedule {
     pub last: f64,
     /// Steps between recorded frames.
     pub every: usize,
+    /// Steps between observation frames ([`observation_interval`] in steps, at least 1).
+    pub observe_every: usize,
+    /// Observation grid spacing of an adaptive run (s).
+    pub observe_interval: f64,
     /// Error-controlled steps (`[time] adaptive`), else `None`.
     pub adaptive: Option<Controller>,
     /// End time of an adaptive run (s).
@@ -136,32 +190,39 @@ impl Schedule {
             steps,
             last,
             every: ((model.output_interval / dt).round() as usize).max(1),
+            observe_every: ((observation_interval(model) / dt).round() as usize).max(1),
+            observe_interval: observation_interval(model),
             adaptive: model.adaptive.map(|settings| Controller { settings }),
             duration,
             interval: model.output_interval,
         }
     }
 
-    /// `steps` steps of `dt`, recording only the first and last frames.
+    /// `steps` steps of `dt`, recording (and observing) only the first and last frames.
     pub fn fixed(dt: f64, steps: usize) -> Self {
         Schedule {
             dt,
             steps,
             last: dt,
             every: steps.max(1),
+            observe_every: steps.max(1),
+            observe_interval: dt * steps as f64,
             adaptive: None,
             duration: dt * steps as f64,
             interval: dt * steps as f64,
         }
     }
 
-    /// Error-controlled steps with `control` from t = 0 to `duration`, frames every `interval`.
+    /// Error-controlled steps with `control` from t = 0 to `duration`, frames every `interval`,
+    /// observed every `duration / OBSERVATIONS_PER_PULSE`.
     pub fn adaptive(control: Controller, duration: f64, interval: f64) -> Self {
         Schedule {
             dt: control.settings.dt_first,
             steps: 0,
             last: control.settings.dt_first,
             every: 1,
+            observe_every: 1,
+            observe_interval: duration / OBSERVATIONS_PER_PULSE,
             adaptive: Some(control),
             duration,
             interval,
@@ -222,12 +283,14 @@ fn run_static(
     let energies = integ.energies(&s);
     Outcome {
         state: s,
+        observed: frames.clone(),
         frames,
         stats: integ.stats().clone(),
         wall_time_s: start.elapsed().as_secs_f64(),
         max_strain,
         energies,
         error,
+        interrupted: false,
         max_penetration: 0.0,
         slip_speed_max: 0.0,
         steps: StepStats::default(),
@@ -247,11 +310,16 @@ pub fn drive(
     let mut s = State::initial(model);
     let mut watch = Watch::new(model, integ, &s);
     let mut error = None;
+    let mut interrupted = false;
     let mut steps = StepStats::default();
     match schedule.adaptive {
         None => {
             let n_steps = schedule.steps;
             for k in 1..=n_steps {
+                if interrupt_requested() {
+                    interrupted = true;
+                    break;
+                }
                 let h = if k == n_steps {
                     schedule.last
                 } else {
@@ -268,7 +336,8 @@ pub fn drive(
                     ..Default::default()
                 });
                 let frame = k % schedule.every == 0 || k == n_steps;
-                watch.after_step(model, integ, &s, frame);
+                let observed = k % schedule.observe_every == 0 || k == n_steps;
+                watch.after_step(model, integ, &s, frame, observed);
                 on_step(&s);
                 progress(k as f64 / n_steps as f64);
             }
@@ -281,7 +350,13 @@ pub fn drive(
             let slack = 1e-9;
             let mut next = control.settings.dt_first;
             let mut frame_index = 1usize;
+            let grid = schedule.observe_interval.max(f64::MIN_POSITIVE);
+            let mut observe_index = 1usize;
             while s.t < t_end * (1.0 - 1e-12) {
+                if interrupt_requested() {
+                    interrupted = true;
+                    break;
+                }
                 let target = (frame_index as f64 * interval).min(t_end);
                 let left = target - s.t;
                 let proposal = next.min(control.settings.dt_max);
@@ -309,31 +384,52 @@ pub fn drive(
                         frame_index += 1;
                     }
                 }
-                watch.after_step(model, integ, &s, landed);
+                // An observation at the first step reaching the next grid time (the grid is
+                // not landed on: the steps do not depend on it).
+                let end = s.t >= t_end * (1.0 - 1e-12);
+                let observed = end || s.t >= observe_index as f64 * grid * (1.0 - slack);
+                while observe_index as f64 * grid <= s.t * (1.0 + slack) {
+                    observe_index += 1;
+                }
+                watch.after_step(model, integ, &s, landed, observed);
                 on_step(&s);
                 progress((s.t / t_end).min(1.0));
             }
+        }
+    }
+    if interrupted {
+        // The last accepted step, so the saved results end where the run stopped.
+        let last = Frame::of(model, &s, s.t, watch.normal.clone());
+        if watch.observed.last().is_some_and(|f| f.t < s.t) {
+            watch.observed.push(last.clone());
+        }
+        if watch.frames.last().is_some_and(|f| f.t < s.t) {
+            watch.frames.push(last);
         }
     }
     let energies = integ.energies(&s);
     Outcome {
         state: s,
         frames: watch.frames,
+        observed: watch.observed,
         stats: integ.stats().clone(),
         wall_time_s: start.elapsed().as_secs_f64(),
         max_strain: watch.max_strain,
         energies,
         error,
+        interrupted,
         max_penetration: watch.max_penetration,
         slip_speed_max: watch.slip_speed_max,
         steps,
     }
 }
 
-/// What the run loop records after every accepted step: frames and the contact statistics.
+/// What the run loop records after every accepted step: frames, observation frames and the
+/// contact statistics.
 struct Watch {
     normal: Vec<f64>,
     frames: Vec<Frame>,
+    observed: Vec<Frame>,
     max_strain: f64,
     max_penetration: f64,
     slip_speed_max: f64,
@@ -343,8 +439,10 @@ impl Watch {
     fn new(model: &Model, integ: &dyn Stepper, s: &State) -> Self {
         let mut normal = vec![0.0; model.real.len()];
         integ.normal_forces_into(&mut normal);
+        let first = Frame::of(model, s, 0.0, normal.clone());
         Watch {
-            frames: vec![Frame::of(model, s, 0.0, normal.clone())],
+            observed: vec![first.clone()],
+            frames: vec![first],
             normal,
             max_strain: s.max_strain(model),
             max_penetration: 0.0,
@@ -352,7 +450,14 @@ impl Watch {
         }
     }
 
-    fn after_step(&mut self, model: &Model, integ: &dyn Stepper, s: &State, frame: bool) {
+    fn after_step(
+        &mut self,
+        model: &Model,
+        integ: &dyn Stepper,
+        s: &State,
+        frame: bool,
+        observed: bool,
+    ) {
         self.max_strain = self.max_strain.max(s.max_strain(model));
         integ.normal_forces_into(&mut self.normal);
         if integ.has_contact() {
@@ -367,9 +472,14 @@ impl Watch {
                 }
             }
         }
-        if frame {
-            self.frames
-                .push(Frame::of(model, s, s.t, self.normal.clone()));
+        if frame || observed {
+            let fr = Frame::of(model, s, s.t, self.normal.clone());
+            if observed {
+                self.observed.push(fr.clone());
+            }
+            if frame {
+                self.frames.push(fr);
+            }
         }
     }
 }

@@ -19,8 +19,7 @@ fn run(path: &str) -> (Model, Observables, sim::Outcome) {
         &mut |_| {},
     );
     assert!(o.error.is_none(), "{path}: {:?}", o.error);
-    let fl = observe::fields(&m, &o.frames);
-    let ob = observe::observe(&m, &o.frames, &fl);
+    let ob = observe::of_outcome(&m, &o);
     println!("{path}: {ob:?}\n  max strain {:.2e}, max penetration {:.2e} m, {} steps in {:.1} s, {} halvings", o.max_strain, o.max_penetration, o.stats.steps, o.wall_time_s, o.stats.step_halvings);
     (m, ob, o)
 }

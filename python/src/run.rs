@@ -6,7 +6,7 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use slither::model::Model;
-use slither::observe::Fields;
+use slither::observe::{Fields, Measure, Observed};
 use slither::output::{self, Summary};
 use slither::sim::Outcome;
 use slither::{observe, problem, sim};
@@ -126,8 +126,19 @@ pub fn run(
         .or(p.accuracy.as_ref().map(|a| (a.target, a.max_elements)));
     let quiet = progress.is_none();
     detached(py, move |watch| {
-        let mut bar = Progress::new(progress, "simulated");
-        let (model, o, report) = if let Some((target, max_elements)) = target {
+        let bar = std::cell::RefCell::new(Progress::new(progress, "simulated"));
+        // The post-processing shows a line but does not call a callable (its fractions would
+        // start again from 0).
+        let mut post: Option<Progress> = None;
+        let mut post_update = |f: f64| {
+            let p = post.get_or_insert_with(|| {
+                let mut b = bar.borrow_mut();
+                let line = b.show.take().filter(|_| !b.callable);
+                Progress::new(line, "post-processing (topology of every frame)")
+            });
+            p.update(watch, f)
+        };
+        let (model, observed, report) = if let Some((target, max_elements)) = target {
             let mut log = |line: &str| {
                 watch.now();
                 if !quiet {
@@ -135,27 +146,33 @@ pub fn run(
                 }
             };
             let sel = slither::chart::accuracy::select(&p, target, max_elements, &mut log);
-            (sel.model, sel.outcome, Some(sel.report))
+            let (fields, observables) =
+                observe::measure(&sel.model, &sel.outcome, Measure::Full, &mut post_update);
+            let observed = Observed {
+                outcome: sel.outcome,
+                fields,
+                observables,
+            };
+            (sel.model, observed, Some(sel.report))
         } else {
             let model = Model::new(&p);
-            let o = sim::run_gait(
+            let observed = observe::evaluate(
                 &model,
-                p.solver.integrator,
-                &mut |f| bar.update(watch, f),
-                &mut |_| {},
+                Measure::Full,
+                &mut |f| bar.borrow_mut().update(watch, f),
+                &mut post_update,
             )
             .map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))?;
-            (model, o, None)
+            (model, observed, None)
         };
+        let Observed {
+            outcome: o,
+            fields,
+            observables,
+        } = observed;
         let mut summary = Summary::new(&path, &model, &o);
         summary.accuracy = report;
-        // The post-processing shows a line but does not call a callable (its fractions would
-        // start again from 0).
-        let line = bar.show.take().filter(|_| !bar.callable);
-        let mut post = Progress::new(line, "post-processing (topology of every frame)");
-        let fields =
-            observe::fields_with_progress(&model, &o.frames, &mut |f| post.update(watch, f));
-        summary.observables = Some(observe::observe(&model, &o.frames, &fields));
+        summary.observables = Some(observables);
         Ok(NativeRun {
             model,
             outcome: o,

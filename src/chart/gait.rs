@@ -115,10 +115,10 @@ pub struct GaitRun {
 /// `v_s/v_m` of a run by the definition of [`crate::observe`], measured on its first and last
 /// frame ([`Measure::Ends`]); NaN without frames.
 pub fn speed_ratio(model: &Model, o: &Outcome) -> f64 {
-    if o.frames.is_empty() {
+    if o.observed.is_empty() {
         return f64::NAN;
     }
-    measure(model, &o.frames, Measure::Ends, &mut |_| {})
+    measure(model, o, Measure::Ends, &mut |_| {})
         .1
         .v_s_over_v_m
 }
@@ -132,7 +132,7 @@ pub fn variant(model: &Model, kind: IntegratorKind, dt: f64, tol: Option<f64>) -
         tolerance,
         dt_first: dt,
         dt_min: dt * crate::problem::time::DEFAULT_DT_MIN_FRACTION,
-        dt_max: m.output_interval.max(dt),
+        dt_max: crate::problem::time::default_dt_max(dt, m.duration),
     });
     m
 }
@@ -289,9 +289,13 @@ pub fn gait_reference(
         let r = gait_run(&variant(model, kind, dt, None), name);
         log_run(log, "reference", &r);
         if r.status != "ok" || !r.v_ratio.is_finite() {
+            let why = if r.status == "ok" {
+                "the run finished but v_s/v_m is not finite (a scene without a gait has no speed ratio to compare)".to_string()
+            } else {
+                r.status.clone()
+            };
             return Err(ChartError::Reference(format!(
-                "{name} at dt = {dt:e} s: {}",
-                r.status
+                "{name} at dt = {dt:e} s: {why}"
             )));
         }
         if let Some(prev) = runs.last() {

@@ -57,6 +57,14 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
     });
     let mut log = |line: &str| eprintln!("{line}");
     let gait_scene = p.ground.is_some() && p.time.mode == problem::Mode::Dynamic;
+    let has_gait = p.gait.kind != problem::Kind::None && p.gait.stress > 0.0;
+    if gait_scene && !has_gait && matches!(which, ChartCmd::WorkPrecision { .. }) {
+        eprintln!(
+            "error: {}: the work-precision chart of a scene with [ground] measures the error of v_s/v_m and needs a [gait] with stress > 0; this scene has none (a scene without [ground] is compared by its final centreline)",
+            scene.display()
+        );
+        return ExitCode::from(2);
+    }
     if gait_scene && matches!(which, ChartCmd::WorkPrecision { .. }) {
         // A scene with ground: implicit Euler, BDF2 and adaptive BDF2 against a fine implicit
         // Euler reference.

@@ -18,10 +18,16 @@ pub struct Args {
 
 pub fn merge(args: &Args) -> ExitCode {
     let (dirs, out) = (args.dirs.as_slice(), args.out.as_path());
+    if let Err(code) = super::guard::check_merge_out(dirs, out) {
+        return code;
+    }
     let _lock = match lock_out(out) {
         Ok(l) => l,
         Err(code) => return code,
     };
+    if let Err(code) = super::guard::check_writer(out, super::guard::Writer::Phase) {
+        return code;
+    }
     let t0 = Instant::now();
     let report = |done: usize, c: &design::phase::Cell| eprintln!("{}", refine_line(done, c));
     match design::phase::merge(dirs, out, &report) {

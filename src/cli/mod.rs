@@ -3,6 +3,7 @@
 //! This is the only code that reads the environment and prints; the library returns values and
 //! reports progress through callbacks.
 pub mod chart;
+pub mod guard;
 pub mod keys;
 pub mod merge;
 pub mod movie;
@@ -31,8 +32,10 @@ impl log::Log for StderrLog {
     fn flush(&self) {}
 }
 
-/// Read the environment once: the logger and the solver overrides.
-pub fn configure_from_env() {
+/// Read the environment once: the logger and the solver overrides. An override with a value
+/// this build does not know (`SLITHER_CONTACT=bogus`, `SLITHER_CLARABEL_METHOD=xyz`, or
+/// `faer` without the cargo feature) is refused: `Err` is exit code 2 after the message.
+pub fn configure_from_env() -> Result<(), ExitCode> {
     static LOGGER: StderrLog = StderrLog;
     if log::set_logger(&LOGGER).is_ok() {
         log::set_max_level(if std::env::var_os("SLITHER_DEBUG").is_some() {
@@ -41,20 +44,51 @@ pub fn configure_from_env() {
             log::LevelFilter::Warn
         });
     }
-    problem::set_overrides(problem::Overrides {
-        contact: std::env::var("SLITHER_CONTACT")
-            .ok()
-            .map(|v| match v.as_str() {
-                "conic" => problem::ContactKind::Conic,
-                _ => problem::ContactKind::ActiveSet,
-            }),
-        clarabel_method: std::env::var("SLITHER_CLARABEL_METHOD").ok(),
-    });
+    let var = |name: &str| std::env::var(name).ok();
+    let contact = var("SLITHER_CONTACT");
+    let method = var("SLITHER_CLARABEL_METHOD");
+    match problem::Overrides::from_env_values(contact.as_deref(), method.as_deref()) {
+        Ok(o) => {
+            problem::set_overrides(o);
+            Ok(())
+        }
+        Err(message) => {
+            eprintln!("error: {message}");
+            Err(ExitCode::from(2))
+        }
+    }
+}
+
+#[cfg(unix)]
+const ELOOP: i32 = libc::ELOOP;
+#[cfg(not(unix))]
+const ELOOP: i32 = -1;
+
+/// Why `out` cannot be an output directory although creating it failed or would fail: a
+/// file, a dangling symbolic link or a symbolic link loop (`None`: something else).
+fn not_a_directory(out: &Path) -> Option<&'static str> {
+    let link = std::fs::symlink_metadata(out).ok()?;
+    if link.file_type().is_symlink() {
+        return match std::fs::metadata(out) {
+            Ok(m) if m.is_dir() => None,
+            Ok(_) => Some("is a symbolic link to a file, not a directory"),
+            Err(e) if e.raw_os_error() == Some(ELOOP) => Some("is a symbolic link loop (ELOOP)"),
+            Err(_) => Some("is a dangling symbolic link (its target does not exist)"),
+        };
+    }
+    (!link.is_dir()).then_some("is a file, not a directory")
 }
 
 /// Create `out` and lock it for this process: exit 2 if another live run holds it, 1 if it
 /// cannot be created or written (found before any simulation).
 pub fn lock_out(out: &Path) -> Result<output::lock::OutLock, ExitCode> {
+    if let Some(why) = not_a_directory(out) {
+        eprintln!(
+            "error: --out {}: {why}; choose a directory (it is created if absent)",
+            out.display()
+        );
+        return Err(ExitCode::from(1));
+    }
     if let Err(e) = std::fs::create_dir_all(out) {
         eprintln!(
             "error: {}: cannot create output directory: {e}",

@@ -95,6 +95,9 @@ pub fn optimize(args: &Args) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
+    if let Err(code) = super::guard::check_writer(out, super::guard::Writer::Optimize) {
+        return code;
+    }
     let prepared = design::accuracy::prepare_study(&mut study, out, &mut selection_log(quiet));
     if let Err(code) = study_accuracy(out, quiet, prepared, study.chosen.as_ref()) {
         return code;

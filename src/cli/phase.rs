@@ -22,6 +22,9 @@ pub struct Args {
     /// for a job array; `slither merge` combines the shard directories. No figures.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<design::phase::Shard>,
+    /// Run even above the size limits (10 000 cells, 2e7 time steps in all).
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn phase(args: &Args) -> ExitCode {
@@ -38,10 +41,22 @@ pub fn phase(args: &Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let cells = ph.weight.len() * ph.torque.len();
+    let steps = slither::problem::limits::run_size(&ph.base).steps;
+    let (total_steps, too_big) = super::guard::phase_size(path, cells, steps);
+    if let (Some(why), false) = (too_big, args.force) {
+        eprintln!("error: {why}");
+        return ExitCode::from(2);
+    }
     let _lock = match lock_out(out) {
         Ok(l) => l,
         Err(code) => return code,
     };
+    if let Err(code) = super::guard::check_writer(out, super::guard::Writer::Phase)
+        .and_then(|_| super::guard::check_phase_grid(out, &ph))
+    {
+        return code;
+    }
     let prepared = design::phase::prepare_accuracy(&mut ph, out, &mut selection_log(quiet));
     if let Err(code) = study_accuracy(out, quiet, prepared, ph.chosen.as_ref()) {
         return code;
@@ -53,12 +68,13 @@ pub fn phase(args: &Args) -> ExitCode {
     };
     if !quiet {
         eprintln!(
-            "{}: {} cells (W in {:?} x G in {:?}) of {}; finished cells in {} are reused",
+            "{}: {} cells (W in {:?} x G in {:?}) of {}, about {:.2e} time steps in all; finished cells in {} are reused",
             path.display(),
             total,
             ph.weight,
             ph.torque,
             ph.base_path.display(),
+            total_steps * total as f64 / grid.max(1) as f64,
             out.join("phase.csv").display()
         );
     }

@@ -3,7 +3,7 @@ use super::{lock_out, model_label};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use slither::model::Model;
 use slither::observe::{self, Measure, Observed};
-use slither::{output, problem};
+use slither::{output, problem, sim};
 use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -71,15 +71,24 @@ pub fn run(args: &Args) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
-    // A previous run's outputs go first, so none is left beside this run's (and a crash never
-    // leaves a stale "finished" summary).
-    if let Err(e) = output::remove_previous(out) {
-        eprintln!(
-            "error: {}: cannot remove the previous run's outputs: {e}",
-            out.display()
-        );
-        return ExitCode::from(1);
+    if let Err(code) = super::guard::check_writer(out, super::guard::Writer::Run) {
+        return code;
     }
+    // The outputs are written into a staging folder and swapped in when complete: an
+    // interrupted or killed rerun leaves the previous results as they were.
+    let staging = match output::staging::Staging::new(out) {
+        Ok(st) => st,
+        Err(e) => {
+            eprintln!(
+                "error: {}: cannot create the staging folder: {e}",
+                out.display()
+            );
+            return ExitCode::from(1);
+        }
+    };
+    let stage = staging.dir().to_path_buf();
+    let stage = stage.as_path();
+    on_interrupt();
     let show = !quiet && std::io::stderr().is_terminal();
     // The stepping's bar, then the post-processing's (topology of every frame), each shown
     // once its part has taken over a second.
@@ -124,7 +133,7 @@ pub fn run(args: &Args) -> ExitCode {
         }
         report = Some(r);
         let (fields, observables) =
-            observe::measure(&model, &sel.outcome.frames, Measure::Full, &mut post);
+            observe::measure(&model, &sel.outcome, Measure::Full, &mut post);
         Observed {
             outcome: sel.outcome,
             fields,
@@ -146,6 +155,15 @@ pub fn run(args: &Args) -> ExitCode {
         fields,
         observables,
     } = observed;
+    if o.interrupted && staging.has_previous() {
+        eprintln!(
+            "{}: interrupted at t = {} s; nothing written, the previous results in {} are kept",
+            path.display(),
+            o.state.t,
+            out.display()
+        );
+        return ExitCode::from(130);
+    }
     let mut summary = output::Summary::new(path, &model, &o);
     summary.accuracy = report;
     summary.observables = Some(observables);
@@ -154,15 +172,15 @@ pub fn run(args: &Args) -> ExitCode {
         ("slip_speed", fields.slip.clone()),
         ("lambda", fields.lambda.clone()),
     ];
-    let written = output::write_final_csv(out, &model, &o)
-        .and_then(|_| output::write_trajectory(out, &model, &o.frames, &extra))
-        .and_then(|_| output::write_summary(out, &summary));
+    let written = output::write_final_csv(stage, &model, &o)
+        .and_then(|_| output::write_trajectory(stage, &model, &o.frames, &extra))
+        .and_then(|_| output::write_summary(stage, &summary));
     if let Err(e) = written {
         eprintln!("error: {}: cannot write results: {e}", out.display());
         return ExitCode::from(1);
     }
     if !no_plots {
-        if let Err(e) = output::write_figures(out, &model, &o.frames, &fields) {
+        if let Err(e) = output::write_figures(stage, &model, &o.frames, &fields) {
             eprintln!("error: {}: cannot write figures: {e}", out.display());
             return ExitCode::from(1);
         }
@@ -177,9 +195,9 @@ pub fn run(args: &Args) -> ExitCode {
             .filter(|_| o.error.is_none())
             .map(|ob| ob.regime.to_string());
         let clip = output::movie::clip_from_run(&model, &o.frames, &fields, &title, regime);
-        let made = output::movie::write_tracks(out, &clip).and_then(|_| {
+        let made = output::movie::write_tracks(stage, &clip).and_then(|_| {
             if want_movie {
-                output::movie::write_movie(out, "movie.gif", &clip, &Default::default()).map(|_| ())
+                output::movie::write_movie(stage, "movie.gif", &clip, &Default::default()).map(|_| ())
             } else {
                 Ok(())
             }
@@ -191,6 +209,22 @@ pub fn run(args: &Args) -> ExitCode {
             );
             return ExitCode::from(1);
         }
+    }
+    if let Err(e) = staging.commit() {
+        eprintln!(
+            "error: {}: cannot move the results into place: {e}",
+            out.display()
+        );
+        return ExitCode::from(1);
+    }
+    if o.interrupted {
+        eprintln!(
+            "{}: interrupted at t = {} s; results up to then written to {} (status \"interrupted\")",
+            path.display(),
+            o.state.t,
+            out.display()
+        );
+        return ExitCode::from(130);
     }
     if let Some(e) = &o.error {
         eprintln!(
@@ -258,6 +292,27 @@ impl LateBar {
     fn clear(&mut self) {
         if let Some(b) = self.bar.take() {
             b.finish_and_clear();
+        }
+    }
+}
+
+/// Ctrl-C (SIGINT) stops the simulation after its current step ([`sim::INTERRUPT`]); the run
+/// then saves what it computed (a fresh directory) or keeps the previous results (a rerun),
+/// and exits 130. A second Ctrl-C ends the process at once.
+fn on_interrupt() {
+    #[cfg(unix)]
+    {
+        extern "C" fn handler(_: libc::c_int) {
+            sim::INTERRUPT.store(true, std::sync::atomic::Ordering::Relaxed);
+            // Async-signal-safe: the next Ctrl-C gets the default action.
+            unsafe {
+                libc::signal(libc::SIGINT, libc::SIG_DFL);
+            }
+        }
+        // SAFETY: the handler only stores an atomic and resets the disposition, both
+        // async-signal-safe.
+        unsafe {
+            libc::signal(libc::SIGINT, handler as *const () as libc::sighandler_t);
         }
     }
 }

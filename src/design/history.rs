@@ -88,24 +88,27 @@ impl Evaluation {
 
     pub(super) fn csv_row(&self, base_hash: &str) -> String {
         let reason = super::csv_field(&self.reason);
+        // Numbers in their shortest round-trip form, with an exponent outside [1e-4, 1e7)
+        // (the failed-run objective is not written as 300 digits).
+        let num = crate::problem::num;
         format!(
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             self.eval,
-            self.point.stress,
-            self.point.sigma,
-            self.point.speed,
-            self.duration,
-            self.g,
-            self.w,
-            self.v_s,
-            self.v_s_over_v_m,
-            self.writhe_max,
-            self.writhe_mean,
-            self.displacement_angle_deg,
+            num(self.point.stress),
+            num(self.point.sigma),
+            num(self.point.speed),
+            num(self.duration),
+            num(self.g),
+            num(self.w),
+            num(self.v_s),
+            num(self.v_s_over_v_m),
+            num(self.writhe_max),
+            num(self.writhe_mean),
+            num(self.displacement_angle_deg),
             self.regime,
             self.status.as_str(),
-            self.wall_time_s,
-            self.objective(),
+            num(self.wall_time_s),
+            num(self.objective()),
             base_hash,
             reason
         )

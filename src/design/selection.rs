@@ -345,11 +345,11 @@ pub fn select(
 /// `v_s/v_m` of a run by the definition of [`crate::observe`], measured on its first and last
 /// frame ([`crate::observe::Measure::Ends`]); NaN without frames.
 fn speed_ratio(model: &Model, o: &Outcome) -> f64 {
-    if o.frames.is_empty() {
+    if o.observed.is_empty() {
         return f64::NAN;
     }
     let ends = crate::observe::Measure::Ends;
-    crate::observe::measure(model, &o.frames, ends, &mut |_| {})
+    crate::observe::measure(model, o, ends, &mut |_| {})
         .1
         .v_s_over_v_m
 }

@@ -494,6 +494,15 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         if !ok {
             return Err(fail("optimize", key, format!("[{lo}, {hi}]"), allowed));
         }
+        // A variable the base's gait does not use would "converge" at once, measuring nothing.
+        if param == Param::Sigma && base.gait.kind == gait::Kind::Serpenoid {
+            return Err(fail(
+                "optimize",
+                key,
+                format!("[{lo}, {hi}]"),
+                "absent for a base whose gait is \"serpenoid\": its travelling curvature wave has no width sigma (it has gait.wavelength), so sigma changes nothing".into(),
+            ));
+        }
         let x0 = initial.unwrap_or(param.get(&fixed));
         if !(x0 >= lo && x0 <= hi) {
             return Err(match initial {

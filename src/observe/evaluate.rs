@@ -9,7 +9,7 @@
 //! only an integrator that cannot run the model ([`Unsupported`]). Panics are not caught here:
 //! the studies catch them per evaluation, `slither run` lets them end the process.
 
-use super::{fields_with_progress, observe, Fields, Observables};
+use super::{fields_with_progress, observe, of_outcome, Fields, Observables};
 use crate::integrator::explicit::Unsupported;
 use crate::model::Model;
 use crate::sim::{self, Frame, Outcome};
@@ -45,7 +45,7 @@ pub fn evaluate(
     post: &mut dyn FnMut(f64),
 ) -> Result<Observed, Unsupported> {
     let outcome = sim::run_gait(model, model.solver.integrator, progress, &mut |_| {})?;
-    let (fields, observables) = measure(model, &outcome.frames, what, post);
+    let (fields, observables) = measure(model, &outcome, what, post);
     Ok(Observed {
         outcome,
         fields,
@@ -53,26 +53,30 @@ pub fn evaluate(
     })
 }
 
-/// The fields and observables of a run's `frames` (all, or the two ends: [`Measure`]); `post`
-/// gets the fraction of the frames done.
+/// The fields and observables of a run. [`Measure::Full`]: the fields of the output frames
+/// (`outcome.frames`, for the kymographs and figures) and the observables of the observation
+/// frames (`outcome.observed`, set by the physics: [`super::of_outcome`]). [`Measure::Ends`]:
+/// both from the first and the last observation frame. `post` gets the fraction of the output
+/// frames done.
 pub fn measure(
     model: &Model,
-    frames: &[Frame],
+    outcome: &Outcome,
     what: Measure,
     post: &mut dyn FnMut(f64),
 ) -> (Fields, Observables) {
-    let ends: Vec<Frame>;
-    let frames = match what {
-        Measure::Full => frames,
+    match what {
+        Measure::Full => {
+            let fields = fields_with_progress(model, &outcome.frames, post);
+            (fields, of_outcome(model, outcome))
+        }
         Measure::Ends => {
-            ends = match (frames.first(), frames.last()) {
+            let frames: Vec<Frame> = match (outcome.observed.first(), outcome.observed.last()) {
                 (Some(a), Some(b)) => vec![a.clone(), b.clone()],
                 _ => Vec::new(),
             };
-            &ends
+            let fields = fields_with_progress(model, &frames, post);
+            let observables = observe(model, &frames, &fields);
+            (fields, observables)
         }
-    };
-    let fields = fields_with_progress(model, frames, post);
-    let observables = observe(model, frames, &fields);
-    (fields, observables)
+    }
 }

@@ -14,6 +14,19 @@
 //! is compressed slightly (strain ~1e-4) keeps its last window, shortened to end at the tail
 //! ([`topology::densities_shortened`]) instead of a NaN.
 //!
+//! Resolution: every scalar observable and the regime are measured on the run's observation
+//! frames ([`crate::sim::Outcome::observed`], use [`of_outcome`]): a grid of
+//! [`crate::sim::OBSERVATIONS_PER_PULSE`] instants per pulse time `T = L / v_m`, set by the
+//! physics and independent of `[output] interval`, which only sets the frames written for the
+//! user (trajectory, kymographs, figures). Fewer output frames never change a measured value.
+//! [`observe`] itself measures whatever frames it is given.
+//!
+//! Lift: `max_elevation_over_a` is the body's highest point at any instant, which may be an
+//! end (a tail tip standing up); `arc_lift_max_over_a` is the highest point of an arc, a lifted
+//! stretch with ground contact on both sides; `two_arc_lift_over_a` is the lower of two such
+//! arcs at one instant. The S criterion uses the two arcs; the flailing test of U uses the
+//! body's highest point (a body thrown up by its end flails too).
+//!
 //! The writhe snapshot (the paper's Fig. 3a plots the writhe at one instant of the motion) is
 //! taken at the frame nearest to the instant the centre of couple b, the middle of the
 //! triplet, passes mid-body: `t* = (L/2 - s_b0) / v_m` (`s_b0` its initial arc length), clamped
@@ -29,7 +42,7 @@ pub use regime::{classify, Regime, RegimeInputs, RegimeReason};
 
 use crate::model::Model;
 use crate::rod::vec3::f;
-use crate::sim::Frame;
+use crate::sim::{Frame, Outcome};
 use crate::topology::{self, FramedCurve};
 use serde::Serialize;
 
@@ -87,8 +100,11 @@ pub struct Observables {
     pub lambda_pulse_r2: f64,
     /// `(max - min) / max` of the peak |lambda| over the fitted frames.
     pub lambda_amplitude_variation: f64,
-    /// Largest elevation over `a`.
+    /// Largest elevation over `a` of any node: the body's highest point, possibly an end.
     pub max_elevation_over_a: f64,
+    /// Largest elevation over `a` of a node between two ground contacts: the highest arc (an
+    /// end lifted from the ground is not an arc; 0 with fewer than two contacts).
+    pub arc_lift_max_over_a: f64,
     /// Largest elevation over `L`.
     pub max_elevation_over_length: f64,
     /// Most separate arcs lifted at least `a/2` at one instant.
@@ -235,6 +251,26 @@ pub fn fields_with_progress(m: &Model, frames: &[Frame], progress: &mut dyn FnMu
     out
 }
 
+/// The observables of a run, measured on its observation frames ([`Outcome::observed`], module
+/// doc), never on the output frames.
+pub fn of_outcome(m: &Model, o: &Outcome) -> Observables {
+    let fl = fields(m, &o.observed);
+    observe(m, &o.observed, &fl)
+}
+
+/// Highest elevation in `e` strictly between the first and the last node for which
+/// `contact` holds (`-inf` without two contacts): the top of the highest arc.
+fn arc_height(e: &[f64], contact: impl Fn(usize) -> bool) -> f64 {
+    let first = (0..e.len()).find(|&j| contact(j));
+    let last = (0..e.len()).rev().find(|&j| contact(j));
+    match (first, last) {
+        (Some(i), Some(j)) if j > i + 1 => {
+            e[i + 1..j].iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b))
+        }
+        _ => f64::NEG_INFINITY,
+    }
+}
+
 /// Scalar observables from the frames and fields.
 pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
     let mut o = Observables::default();
@@ -316,6 +352,12 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
             .iter()
             .zip(&fl.elevation)
             .map(|(fr, e)| two_arc_height(e, |j| in_contact(fr.normal[j])))
+            .fold(0.0, f64::max)
+            / a;
+        o.arc_lift_max_over_a = frames
+            .iter()
+            .zip(&fl.elevation)
+            .map(|(fr, e)| arc_height(e, |j| in_contact(fr.normal[j])))
             .fold(0.0, f64::max)
             / a;
         o.contact_slip_over_v_m = median(slips) / vm;
@@ -423,5 +465,18 @@ mod tests {
         assert_eq!(two_arc_height(&e, on), 0.7);
         // No contact.
         assert_eq!(two_arc_height(&[1.0, 2.0], |_| false), f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn an_arc_lies_between_two_contacts() {
+        // A tail tip standing up (6) beyond the last contact is not an arc; the arc is 3 high.
+        let e = [0.5, 0.0, 3.0, 1.0, 0.0, 0.0, 2.0, 6.0];
+        let on = |j: usize| e[j] == 0.0;
+        assert_eq!(arc_height(&e, on), 3.0);
+        // One contact patch: the lifted ends are no arcs.
+        let e = [4.0, 0.0, 0.0, 5.0];
+        let on = |j: usize| e[j] == 0.0;
+        assert_eq!(arc_height(&e, on), f64::NEG_INFINITY);
+        assert_eq!(arc_height(&[1.0, 2.0], |_| false), f64::NEG_INFINITY);
     }
 }

@@ -6,13 +6,16 @@
 //! Every file is written under a temporary name in the same directory (`.NAME.tmp`, synced)
 //! and renamed over its final name only when complete, so a full disk or a crash never leaves
 //! a truncated file under a result's name; an I/O error names the file. [`lock`] keeps two
-//! runs out of one output directory, and [`remove_previous`] clears a previous run's outputs
-//! ([`RUN_OUTPUTS`]) before a new run writes its own. [`schema`] lists every key of
-//! `summary.json` and every column of the studies' CSV files with its unit and meaning.
+//! runs out of one output directory. A run writes into a [`staging`] folder and swaps its
+//! outputs in when they are complete ([`staging::Staging::commit`], which clears the previous
+//! run's [`RUN_OUTPUTS`] with [`remove_previous`]), so an interrupted rerun never destroys
+//! the previous results. [`schema`] lists every key of `summary.json` and every column of the
+//! studies' CSV files with its unit and meaning.
 
 pub mod lock;
 pub mod movie;
 pub mod schema;
+pub mod staging;
 pub mod vtk;
 
 use crate::model::Model;
@@ -446,6 +449,19 @@ pub fn centroid_displacement(frames: &[Frame]) -> [f64; 3] {
     }
 }
 
+/// Horizontal axis of the kymographs: which end is the head.
+const S_DESC: &str = "arc length s (m), head at s = 0";
+
+/// The slip kymograph's colours end at this quantile of the slip speeds (one fast node at the
+/// body's end does not set the scale); the colour bar notes the clip.
+pub const SLIP_CLIP_QUANTILE: f64 = 0.99;
+
+/// Slip speed below which a contact counts as stuck in the slip kymograph (m/s): the
+/// solver's own sticking test, a slip over one step below `contact_tolerance * a`.
+pub fn stuck_speed(m: &Model) -> f64 {
+    m.solver.contact_tolerance * m.diameter / m.dt.max(f64::MIN_POSITIVE)
+}
+
 /// Figures and ParaView files of a run: kymographs of elevation, slip speed and local link
 /// density over s and t/T, top and side snapshots, Tw/Wr/Lk over time (PNG), and `vtk/`.
 pub fn write_figures(
@@ -458,10 +474,26 @@ pub fn write_figures(
     if frames.len() < 2 {
         return Ok(());
     }
-    let period = if m.gait.kind != crate::gait::Kind::None {
+    let has_gait = m.gait.kind != crate::gait::Kind::None;
+    let period = if has_gait {
         m.gait.pulse_time(m.length)
     } else {
         fl.t.last().copied().unwrap_or(1.0).max(1e-300)
+    };
+    // Every kymograph says which end is the head and what T is.
+    let t_desc = if has_gait {
+        format!(
+            "t/T (T = L/v_m = {} s, the pulse time)",
+            crate::problem::num(period)
+        )
+    } else {
+        format!("t/T (T = {} s, the duration)", crate::problem::num(period))
+    };
+    let style = |diverging: bool| plot::KymographStyle {
+        diverging,
+        s_desc: Some(S_DESC),
+        t_desc: Some(&t_desc),
+        ..Default::default()
     };
     let t_over: Vec<f64> = fl.t.iter().map(|t| t / period).collect();
     let a = m.diameter;
@@ -471,38 +503,49 @@ pub fn write_figures(
         .map(|r| r.iter().map(|e| e / a).collect())
         .collect();
     figure(&dir.join("kymograph_elevation.png"), |p| {
-        plot::kymograph(
+        plot::kymograph_styled(
             p,
             "Elevation",
             "(z - a/2) / a",
             &fl.s,
             &t_over,
             &elev_a,
-            false,
+            &style(false),
         )
+        .map(|_| ())
     })?;
+    let stuck = stuck_speed(m);
+    let stuck_label = format!("stuck (< {} m/s)", crate::problem::num(stuck));
     figure(&dir.join("kymograph_slip.png"), |p| {
-        plot::kymograph(
+        plot::kymograph_styled(
             p,
-            "Slip speed",
+            "Slip speed of the nodes in contact",
             "|v| (m/s)",
             &fl.s,
             &t_over,
             &fl.slip,
-            false,
+            &plot::KymographStyle {
+                from_zero: true,
+                clip_quantile: Some(SLIP_CLIP_QUANTILE),
+                nan_label: Some("in the air"),
+                floor: Some((stuck, &stuck_label)),
+                ..style(false)
+            },
         )
+        .map(|_| ())
     })?;
     if !fl.s_window.is_empty() {
         figure(&dir.join("kymograph_lambda.png"), |p| {
-            plot::kymograph(
+            plot::kymograph_styled(
                 p,
                 "Local link density (window L/10)",
                 "lambda (turns/m)",
                 &fl.s_window,
                 &t_over,
                 &fl.lambda,
-                true,
+                &style(true),
             )
+            .map(|_| ())
         })?;
     }
     let picks: Vec<usize> = {

@@ -1,9 +1,64 @@
 //! The kymograph: a heat map over arc length and `t/T` with a colour bar.
+//!
+//! [`KymographStyle`] sets how values become colours: a robust scale (the colour range ends
+//! at a quantile of the finite values, e.g. the 99th percentile, so one extreme cell does not
+//! wash out the rest; the colour bar's label says where it clips and what the maximum was),
+//! a legend entry for the grey NaN cells (e.g. "in the air"), and a floor drawn in its own
+//! colour (e.g. zero slip, "stuck", distinguishable from slow slip).
 
 use super::axes::{canvas, edges, finite_range, frame_plot, pad, tick_label};
 use super::{colormap, draw_err, PlotError, DESC_PX, FONT, SIZE, TICK_PX};
 use plotters::prelude::*;
 use std::path::Path;
+
+/// Colour of the cells at or below [`KymographStyle::floor`] (red: not in either colour map).
+pub const FLOOR_COLOR: RGBColor = RGBColor(215, 25, 28);
+/// Colour of NaN cells.
+pub const NAN_COLOR: RGBColor = RGBColor(200, 200, 200);
+
+/// How a kymograph draws its values (the default: the whole finite range, nothing special).
+#[derive(Clone, Debug, Default)]
+pub struct KymographStyle<'a> {
+    /// Blue-white-red symmetric about 0, else viridis-like from the lower to the upper end.
+    pub diverging: bool,
+    /// Sequential scale from 0 (not from the smallest value).
+    pub from_zero: bool,
+    /// End the colour range at this quantile of the finite magnitudes (e.g. 0.99); larger
+    /// values are drawn in the end colour and the colour bar label notes the clip.
+    pub clip_quantile: Option<f64>,
+    /// Legend entry for the grey NaN cells (e.g. "in the air").
+    pub nan_label: Option<&'a str>,
+    /// Values at or below this threshold are drawn in [`FLOOR_COLOR`], with this legend entry.
+    pub floor: Option<(f64, &'a str)>,
+    /// Horizontal axis description (default "arc length s (m)").
+    pub s_desc: Option<&'a str>,
+    /// Vertical axis description (default "t/T").
+    pub t_desc: Option<&'a str>,
+}
+
+/// The colour range a kymograph used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KymographScale {
+    /// Value at the low end of the colour bar.
+    pub lo: f64,
+    /// Value at the high end of the colour bar.
+    pub hi: f64,
+    /// Largest finite value (beyond `hi` when clipped).
+    pub max: f64,
+    /// Finite cells beyond the colour range (drawn in the end colour).
+    pub clipped: usize,
+}
+
+/// The `q` quantile (0..1, nearest rank) of the finite values (`None` if there is none).
+pub fn quantile(values: impl Iterator<Item = f64>, q: f64) -> Option<f64> {
+    let mut v: Vec<f64> = values.filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    let k = ((q.clamp(0.0, 1.0) * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1;
+    Some(v[k])
+}
 
 /// Kymograph: a heat map of `values[frame][node]` over arc length `s` (m, horizontal axis, head
 /// `s[0]` at the left) and `t_over_t` = t/T (dimensionless, vertical axis, time increasing upward),
@@ -24,6 +79,24 @@ pub fn kymograph(
     values: &[Vec<f64>],
     diverging: bool,
 ) -> Result<(), PlotError> {
+    let style = KymographStyle {
+        diverging,
+        ..Default::default()
+    };
+    kymograph_styled(path, title, label, s, t_over_t, values, &style).map(|_| ())
+}
+
+/// [`kymograph()`] drawn with `style`; returns the colour range it used.
+pub fn kymograph_styled(
+    path: &Path,
+    title: &str,
+    label: &str,
+    s: &[f64],
+    t_over_t: &[f64],
+    values: &[Vec<f64>],
+    style: &KymographStyle,
+) -> Result<KymographScale, PlotError> {
+    let diverging = style.diverging;
     if values.len() != t_over_t.len() {
         return Err(PlotError::Mismatch(format!(
             "kymograph: values has {} frames (rows) but t_over_t has {} entries",
@@ -41,16 +114,43 @@ pub fn kymograph(
     let xe = edges("s", s)?;
     let ye = edges("t_over_t", t_over_t)?;
     let vr = finite_range(values.iter().flatten().copied());
+    let vr = match (vr, style.from_zero) {
+        (Some((a, b)), true) => Some((a.min(0.0), b.max(0.0))),
+        (r, _) => r,
+    };
+    let max = vr.map_or(f64::NAN, |r| r.1);
+    // The robust end: a quantile of the magnitudes, never beyond the extreme.
+    let robust = style
+        .clip_quantile
+        .and_then(|q| quantile(values.iter().flatten().map(|v| v.abs()), q).filter(|&x| x > 0.0));
     let (lo, hi) = if diverging {
         let m = vr.map(|(a, b)| a.abs().max(b.abs())).unwrap_or(0.0);
+        let m = robust.map_or(m, |r| r.min(m));
         let m = if m > 0.0 { m } else { 1.0 };
         (-m, m)
     } else {
         match vr {
-            Some((a, b)) if b > a => (a, b),
+            Some((a, b)) if b > a => (a, robust.map_or(b, |r| r.min(b).max(a + 1e-12 * (b - a)))),
             r => pad(r, 0.0),
         }
     };
+    let clipped = values
+        .iter()
+        .flatten()
+        .filter(|v| v.is_finite() && (**v > hi || **v < lo))
+        .count();
+    let label = if clipped > 0 {
+        format!(
+            "{label}; colours clipped at {} ({} of {} cells beyond, max {})",
+            tick_label(hi, hi - lo),
+            clipped,
+            values.iter().flatten().filter(|v| v.is_finite()).count(),
+            tick_label(max, hi - lo)
+        )
+    } else {
+        label.to_string()
+    };
+    let label = label.as_str();
     let cmap = |u: f64| {
         if diverging {
             colormap::diverging(u)
@@ -58,12 +158,10 @@ pub fn kymograph(
             colormap::sequential(u)
         }
     };
-    let color = |v: f64| {
-        if v.is_finite() {
-            cmap((v - lo) / (hi - lo))
-        } else {
-            RGBColor(200, 200, 200)
-        }
+    let color = |v: f64| match style.floor {
+        _ if !v.is_finite() => NAN_COLOR,
+        Some((floor, _)) if v <= floor => FLOOR_COLOR,
+        _ => cmap((v - lo) / (hi - lo)),
     };
 
     let (root, body) = canvas(path, SIZE, title)?;
@@ -86,8 +184,8 @@ pub fn kymograph(
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_desc("arc length s (m)")
-        .y_desc("t/T")
+        .x_desc(style.s_desc.unwrap_or("arc length s (m)"))
+        .y_desc(style.t_desc.unwrap_or("t/T"))
         .x_label_formatter(&xfmt)
         .y_label_formatter(&yfmt)
         .axis_desc_style((FONT, DESC_PX))
@@ -144,5 +242,32 @@ pub fn kymograph(
         .draw()
         .map_err(draw_err)?;
     frame_plot(&mut cbar)?;
-    root.present().map_err(draw_err)
+    // Legend patches for the special colours, under the colour bar.
+    let (_, bh) = bar.dim_in_pixel();
+    let patches: Vec<(RGBColor, &str)> = [
+        style.floor.map(|(_, l)| (FLOOR_COLOR, l)),
+        style.nan_label.map(|l| (NAN_COLOR, l)),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    for (k, (c, text)) in patches.iter().enumerate() {
+        let y = bh as i32 - (mb + xl) + 12 + 26 * k as i32;
+        bar.draw(&Rectangle::new([(15, y), (33, y + 18)], c.filled()))
+            .map_err(draw_err)?;
+        bar.draw(&Rectangle::new(
+            [(15, y), (33, y + 18)],
+            BLACK.stroke_width(1),
+        ))
+        .map_err(draw_err)?;
+        bar.draw(&Text::new(text.to_string(), (39, y), (FONT, 15)))
+            .map_err(draw_err)?;
+    }
+    root.present().map_err(draw_err)?;
+    Ok(KymographScale {
+        lo,
+        hi,
+        max,
+        clipped,
+    })
 }

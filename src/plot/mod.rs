@@ -31,7 +31,7 @@ mod snapshots;
 mod tracks;
 
 pub use charts::{series, xy};
-pub use kymograph::kymograph;
+pub use kymograph::{kymograph, kymograph_styled, quantile, KymographScale, KymographStyle};
 pub use scatter::scatter;
 pub use snapshots::snapshots;
 pub use tracks::tracks;

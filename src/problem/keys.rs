@@ -307,7 +307,7 @@ keys! {
         "Error-controlled steps: each step is sized so that its local error estimate stays below `error_tolerance`.";
     TIME_ERROR_TOLERANCE = "time.error_tolerance", "fraction of rod.length per step", Real(5e-6), closed(1e-12, 0.1), "with time.adaptive = true",
         "Adaptive steps: allowed local error of any node position per step (twist angles count as the surface displacement `a/2 * angle`).";
-    TIME_DT_MAX = "time.dt_max", "s", Rule("the output interval (at least dt)"), Text("a number in [time.dt, time.duration] (s)"), "with time.adaptive = true",
+    TIME_DT_MAX = "time.dt_max", "s", Rule("duration / 50 (at least dt)"), Text("a number in [time.dt, time.duration] (s)"), "with time.adaptive = true",
         "Adaptive steps: largest step.";
     TIME_DT_MIN = "time.dt_min", "s", Rule("dt * 1e-4"), Text("a number in (0, time.dt] (s)"), "with time.adaptive = true",
         "Adaptive steps: smallest step; a step that would have to be smaller stops the run (exit 3).";

@@ -76,7 +76,7 @@ pub fn check_run_size(p: &Problem, text: &str, path: &Path) -> Result<(), Proble
         value,
         allowed: format!("{what} (or run with --force)"),
     };
-    let dt = p.time.dt.map_or("(none)".into(), |v| format!("{v}"));
+    let dt = p.time.dt.map_or("(none)".into(), super::num);
     if z.steps > MAX_STEPS {
         return Err(fail(
             "time",
@@ -91,7 +91,7 @@ pub fn check_run_size(p: &Problem, text: &str, path: &Path) -> Result<(), Proble
     let interval = p
         .output
         .interval
-        .map_or("(default duration/100)".into(), |v| format!("{v}"));
+        .map_or("(default duration/100)".into(), super::num);
     if z.frames > MAX_FRAMES {
         return Err(fail(
             "output",

@@ -4,6 +4,7 @@
 //! omitted where a default exists; unknown keys are rejected. [`load`] parses and validates a
 //! file and returns errors that name the file, the key, its line and the allowed range.
 
+mod derived;
 mod gait;
 pub mod keys;
 pub mod limits;
@@ -67,11 +68,7 @@ fn d_max_elements() -> usize {
 /// own, or a study's base problem): `Err((key, value as written, allowed range))`.
 pub fn check_accuracy(a: &AccuracySpec, p: &Problem) -> Result<(), (&'static str, String, String)> {
     if !keys::ACCURACY_TARGET.check_real(a.target) {
-        return Err((
-            "target",
-            format!("{}", a.target),
-            keys::ACCURACY_TARGET.allowed(),
-        ));
+        return Err(("target", num(a.target), keys::ACCURACY_TARGET.allowed()));
     }
     let n = p.rod.elements;
     if !(n..=100_000).contains(&a.max_elements) {
@@ -84,7 +81,7 @@ pub fn check_accuracy(a: &AccuracySpec, p: &Problem) -> Result<(), (&'static str
     if p.time.mode != Mode::Dynamic || p.ground.is_none() || p.gait.kind == Kind::None {
         return Err((
             "target",
-            format!("{}", a.target),
+            num(a.target),
             "given only for a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)".into(),
         ));
     }
@@ -287,8 +284,8 @@ pub struct TimeSpec {
     /// `rod.length` (twist angles count with the surface displacement `a/2 * angle`). Default
     /// [`time::DEFAULT_TOLERANCE`] ([`keys::TIME_ERROR_TOLERANCE`]).
     pub error_tolerance: Option<f64>,
-    /// Adaptive only: largest step (s). Default the output interval (at least `dt`); in
-    /// [dt, duration].
+    /// Adaptive only: largest step (s). Default `duration / 50` (at least `dt`,
+    /// [`time::default_dt_max`]), independent of the output interval; in [dt, duration].
     pub dt_max: Option<f64>,
     /// Adaptive only: smallest step (s); a step that would have to be smaller stops the run
     /// (exit 3) naming the time, step and error. Default `dt * 1e-4`; in (0, dt].
@@ -551,6 +548,17 @@ pub fn key_line(text: &str, table: &str, key: &str) -> usize {
     header_line.unwrap_or(1)
 }
 
+/// A number for messages and CSV files: the shortest text that reads back to the same `f64`,
+/// in scientific notation outside `[1e-4, 1e7)` (Rust's `{}` writes 1e308 with 309 digits).
+pub fn num(v: f64) -> String {
+    let m = v.abs();
+    if m != 0.0 && m.is_finite() && !(1e-4..1e7).contains(&m) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 struct Checker<'a> {
     text: &'a str,
     path: &'a Path,
@@ -562,7 +570,7 @@ impl Checker<'_> {
         if k.check_real(v) {
             Ok(())
         } else {
-            Err(self.fail_key(k, format!("{v}")))
+            Err(self.fail_key(k, num(v)))
         }
     }
     /// Every entry of `v` finite (array keys), or the error naming `k`.
@@ -604,7 +612,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     c.key(&ROD_LENGTH, r.length)?;
     c.key(&ROD_DIAMETER, r.diameter)?;
     if r.diameter >= r.length {
-        return Err(c.fail_key(&ROD_DIAMETER, format!("{}", r.diameter)));
+        return Err(c.fail_key(&ROD_DIAMETER, num(r.diameter)));
     }
     c.int(&ROD_ELEMENTS, r.elements)?;
     c.key(&ROD_DENSITY, r.density)?;
@@ -645,7 +653,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             })?;
             c.key(&TIME_DURATION, d)?;
             if dt > d {
-                return Err(c.fail("time", "dt", format!("{dt}"), "at most time.duration (s)"));
+                return Err(c.fail("time", "dt", num(dt), "at most time.duration (s)"));
             }
         }
         Mode::Static => {
@@ -680,6 +688,14 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
                 "\"dynamic\" when a [ground] is present (friction needs time)",
             ));
         }
+        if p.gravity.g == 0.0 {
+            return Err(c.fail(
+                "gravity",
+                "g",
+                "0".into(),
+                "> 0 when a [ground] is present (the normal contact forces, and so friction, come from the weight)",
+            ));
+        }
     }
     let g = &p.gait;
     c.key(&GAIT_STRESS, g.stress)?;
@@ -698,7 +714,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             return Err(c.fail(
                 "gait",
                 "sigma",
-                format!("{}", g.sigma),
+                num(g.sigma),
                 &format!(
                     "at least one element length, 1/rod.elements = {min_sigma} (fraction of rod.length), and at most 1"
                 ),
@@ -741,5 +757,13 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     if let Err((k, value)) = p.solver.check_settings() {
         return Err(c.fail_key(k, value));
     }
-    Ok(())
+    if let Err(allowed) = solver::check_clarabel_method(&p.solver.clarabel_method) {
+        return Err(c.fail(
+            "solver",
+            "clarabel_method",
+            format!("{:?}", p.solver.clarabel_method),
+            allowed,
+        ));
+    }
+    derived::check(p, &c)
 }

@@ -255,7 +255,7 @@ impl SolverSpec {
         ];
         for (k, v) in reals {
             if !k.check_real(v) {
-                return Err((k, v.to_string()));
+                return Err((k, super::num(v)));
             }
         }
         for (k, v) in ints {
@@ -282,6 +282,50 @@ pub struct Overrides {
     pub contact: Option<ContactKind>,
     /// Replaces `[solver] clarabel_method`.
     pub clarabel_method: Option<String>,
+}
+
+/// Whether this build can use Clarabel's faer KKT solver (cargo feature `clarabel-faer`).
+pub const HAS_CLARABEL_FAER: bool = cfg!(feature = "clarabel-faer");
+
+/// `Err(allowed values)` unless `method` is a Clarabel KKT solver this build has: "qdldl", or
+/// "faer" in a build with the cargo feature `clarabel-faer` (without it every conic solve
+/// would fail and each fallback become a step halving).
+pub(crate) fn check_clarabel_method(method: &str) -> Result<(), &'static str> {
+    match method {
+        "qdldl" => Ok(()),
+        "faer" if HAS_CLARABEL_FAER => Ok(()),
+        "faer" => Err("\"qdldl\" in this build (\"faer\" needs the cargo feature clarabel-faer: cargo build --release --features clarabel-faer)"),
+        _ if HAS_CLARABEL_FAER => Err("\"qdldl\" or \"faer\""),
+        _ => Err("\"qdldl\" or \"faer\" (\"faer\" only in a build with the cargo feature clarabel-faer)"),
+    }
+}
+
+impl Overrides {
+    /// The overrides from the values of `SLITHER_CONTACT` and `SLITHER_CLARABEL_METHOD`
+    /// (`None`: unset), or a message naming the variable, its value and the allowed values.
+    pub fn from_env_values(contact: Option<&str>, method: Option<&str>) -> Result<Self, String> {
+        let contact = match contact {
+            None => None,
+            Some("conic") => Some(ContactKind::Conic),
+            Some("active-set") => Some(ContactKind::ActiveSet),
+            Some(v) => {
+                return Err(format!(
+                    "SLITHER_CONTACT = {v:?} is not allowed: must be \"active-set\" or \"conic\" (or unset)"
+                ))
+            }
+        };
+        if let Some(m) = method {
+            if let Err(allowed) = check_clarabel_method(m) {
+                return Err(format!(
+                    "SLITHER_CLARABEL_METHOD = {m:?} is not allowed: must be {allowed} (or unset)"
+                ));
+            }
+        }
+        Ok(Overrides {
+            contact,
+            clarabel_method: method.map(str::to_string),
+        })
+    }
 }
 
 static OVERRIDES: std::sync::OnceLock<Overrides> = std::sync::OnceLock::new();

@@ -6,7 +6,7 @@
 //! duration = 3.572
 //! adaptive = true         # default false: fixed steps of dt
 //! error_tolerance = 5e-6  # local error per step, fraction of rod.length; default DEFAULT_TOLERANCE
-//! dt_max = 0.02           # largest step (s); default: the output interval
+//! dt_max = 0.02           # largest step (s); default: duration / 50 (at least dt)
 //! dt_min = 1e-7           # smallest step before the run stops (s); default dt * 1e-4
 //! ```
 //!
@@ -22,6 +22,16 @@ pub const DEFAULT_TOLERANCE: f64 = super::keys::TIME_ERROR_TOLERANCE.real();
 
 /// Smallest allowed step by default, as a fraction of the first step `dt`.
 pub const DEFAULT_DT_MIN_FRACTION: f64 = 1e-4;
+
+/// Default `[time] dt_max`: `duration / 50`, at least `dt`. It used to be the output interval,
+/// which made the physics of an adaptive run depend on how often frames are stored; it is now
+/// set by the duration alone. Adaptive steps also land on the frame times, so no step exceeds
+/// the output interval either: wherever the interval is at most `duration / 50` (the bundled
+/// S-start, 0.036 s against 0.071 s; the cantilever swing, 0.01 s against 0.01 s) the steps
+/// are exactly those of the old default.
+pub fn default_dt_max(dt: f64, duration: f64) -> f64 {
+    (duration / 50.0).max(dt)
+}
 
 /// The error-controlled step settings of a problem (`[time] adaptive = true`).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -49,9 +59,7 @@ impl Adaptive {
             tolerance: t.error_tolerance.unwrap_or(DEFAULT_TOLERANCE),
             dt_first: dt,
             dt_min: t.dt_min.unwrap_or(dt * DEFAULT_DT_MIN_FRACTION),
-            dt_max: t
-                .dt_max
-                .unwrap_or_else(|| p.output.interval_for(duration).max(dt)),
+            dt_max: t.dt_max.unwrap_or_else(|| default_dt_max(dt, duration)),
         })
     }
 }
@@ -69,7 +77,7 @@ pub(super) fn check(p: &Problem, c: &Checker) -> Result<(), ProblemError> {
                 return Err(c.fail(
                     "time",
                     key,
-                    format!("{v}"),
+                    super::num(v),
                     "given only with time.adaptive = true (fixed steps use time.dt)",
                 ));
             }
@@ -101,7 +109,7 @@ pub(super) fn check(p: &Problem, c: &Checker) -> Result<(), ProblemError> {
             return Err(c.fail(
                 "time",
                 "dt_max",
-                format!("{v}"),
+                super::num(v),
                 &format!("in [time.dt, time.duration] = [{dt}, {duration}] (s)"),
             ));
         }
@@ -111,7 +119,7 @@ pub(super) fn check(p: &Problem, c: &Checker) -> Result<(), ProblemError> {
             return Err(c.fail(
                 "time",
                 "dt_min",
-                format!("{v}"),
+                super::num(v),
                 &format!("in (0, time.dt] = (0, {dt}] (s)"),
             ));
         }

@@ -11,6 +11,13 @@ pub const REPEAT_TOL: f64 = 1e-9;
 /// that component, so it would be round-off.
 pub const ALONG_TANGENT_TOL: f64 = 1e-6;
 
+/// [`parse_curve_csv`] rejects a curve that doubles back on itself: two consecutive edges
+/// whose unit tangents satisfy `1 + t_prev . t_next` at most this (a turn within about
+/// 1.4e-3 rad of a full reversal). Parallel transport from an edge to its antiparallel
+/// successor is undefined (the curvature binormal `2 e x f / (|e||f| + e.f)` divides by zero),
+/// so twist and writhe would be arbitrary there.
+pub const ANTIPARALLEL_TOL: f64 = 1e-6;
+
 /// Parse CSV text: a header row, then rows `x,y,z,d1x,d1y,d1z` (row `i`'s
 /// `d1` is the director of the edge starting at node `i`; for an open curve
 /// the last row's `d1` is ignored). Blank lines are skipped; fields may be
@@ -20,8 +27,10 @@ pub const ALONG_TANGENT_TOL: f64 = 1e-6;
 /// Errors carry the 1-based line number and say what is wrong: wrong field
 /// count, a field that is not a number, a non-finite value, a zero director
 /// (for rows whose director is used), a first line that looks like data
-/// instead of a header, fewer than 3 data rows, a zero-length edge (a node repeated), or a
-/// director along its edge's tangent (see [`ALONG_TANGENT_TOL`]).
+/// instead of a header, fewer than 3 data rows, a zero-length edge (a node repeated), a
+/// director along its edge's tangent (see [`ALONG_TANGENT_TOL`]), or a curve that doubles
+/// back (antiparallel consecutive edges, see [`ANTIPARALLEL_TOL`]). A UTF-8 byte order mark
+/// before the header is skipped.
 ///
 /// With `closed`, a last row that repeats the first node (within [`REPEAT_TOL`] of the mean
 /// edge length) is dropped: the closing edge is implied and must not be written twice.
@@ -33,6 +42,7 @@ pub fn parse_curve_csv(text: &str, closed: bool) -> Result<FramedCurve, CsvError
     let mut last_line = 0;
     // A leading `s` column (as in `slither run`'s final.csv: s,x,y,z,d1x,d1y,d1z) is skipped.
     let mut skip = 0;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (idx, raw) in text.lines().enumerate() {
         let line_no = idx + 1;
         last_line = line_no;
@@ -137,6 +147,25 @@ pub fn parse_curve_csv(text: &str, closed: bool) -> Result<FramedCurve, CsvError
                     "director d1 = {d:?} lies along its edge's tangent {t:?}; it must have a component perpendicular to the edge (more than {ALONG_TANGENT_TOL} of its length)"
                 ),
             });
+        }
+    }
+    // Consecutive edges must not reverse: edge k-1 into node k and edge k out of it.
+    let edges = if closed { n } else { n - 1 };
+    let tangent = |k: usize| unit(&sub(&nodes[(k + 1) % n], &nodes[k]));
+    let first = if closed { 0 } else { 1 };
+    for k in first..edges {
+        let prev = (k + edges - 1) % edges;
+        if let (Some(a), Some(b)) = (tangent(prev), tangent(k)) {
+            let c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+            if 1.0 + c <= ANTIPARALLEL_TOL {
+                return Err(CsvError {
+                    line: row_lines[k],
+                    message: format!(
+                        "the curve doubles back at this row's node (node {k}, counting from 0): the edges into and out of it are antiparallel (turning angle {:.4} deg), so parallel transport, twist and writhe are undefined there",
+                        c.clamp(-1.0, 1.0).acos().to_degrees()
+                    ),
+                });
+            }
         }
     }
     Ok(FramedCurve { nodes, d1, closed })

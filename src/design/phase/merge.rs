@@ -91,6 +91,20 @@ pub fn merge(
         let hash = u64::from_str_radix(&info.base_hash, 16)
             .map_err(|_| mismatch(dir, "phase.json: base_hash is not hexadecimal".into()))?;
         for (key, c) in read_phase_csv(&dir.join("phase.csv"), hash)?.cells {
+            // A row's regime is a function of its values: a label that disagrees was edited
+            // (or written by another version) and would enter the map unchecked.
+            if let (crate::design::Status::Ok, Some(stated)) = (c.status, c.regime) {
+                let computed = crate::observe::classify(&c.regime_inputs()).0;
+                if computed != stated {
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "cell W = {}, G = {}: phase.csv says regime {stated} but its values give {computed} (a row edited by hand, or written by another version): re-run the shard",
+                            c.weight, c.torque
+                        ),
+                    ));
+                }
+            }
             let row = comparable_row(&c, hash);
             match found.get(&key) {
                 Some((_, seen)) if *seen == row => duplicates += 1,

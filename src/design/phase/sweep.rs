@@ -211,6 +211,11 @@ pub(super) fn finish(
     refine: Option<(&Problem, u64, usize)>,
     refine_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Option<Refinement>, PhaseError> {
+    // A grid in which every cell failed has nothing to fit or draw: the command line reports
+    // it (exit 3, "every cell failed") instead of a plot error.
+    if cells.iter().all(|c| c.status != crate::design::Status::Ok) {
+        return Ok(None);
+    }
     let refinement = match refine {
         Some((base, hash, steps)) => Some(refine::refine(
             base,
