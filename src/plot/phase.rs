@@ -139,6 +139,30 @@ pub fn boundary_segment(
     })
 }
 
+/// The part of the box `lw x lg` (log10 W, log10 G) that the fitted `points` span: a
+/// boundary line is drawn only where cells support it. An axis the points do not spread
+/// along (one weight, or one torque) keeps the box's range.
+pub fn supported_box(
+    points: &[(f64, f64)],
+    lw: (f64, f64),
+    lg: (f64, f64),
+) -> ((f64, f64), (f64, f64)) {
+    let span = |v: Vec<f64>, (a, b): (f64, f64)| {
+        let v: Vec<f64> = v.into_iter().filter(|x| x.is_finite()).collect();
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if hi > lo {
+            (a.max(lo), b.min(hi))
+        } else {
+            (a, b)
+        }
+    };
+    let logs = |f: fn(&(f64, f64)) -> f64| -> Vec<f64> {
+        points.iter().map(f).filter(|x| *x > 0.0).map(f64::log10).collect()
+    };
+    (span(logs(|p| p.0), lw), span(logs(|p| p.1), lg))
+}
+
 /// The regime map (`phase.png` / `phase.svg`, by the extension of `path`): one coloured
 /// rectangle per cell on log-log axes (log W across, log G up; a linear G axis when the grid
 /// has `G = 0`), each labelled with the regime and `v_s / v_m` (and, for `M`, the S criteria it
@@ -297,7 +321,9 @@ where
             continue;
         };
         let col = BOUNDARY_COLORS[k % BOUNDARY_COLORS.len()];
-        if let Some(seg) = boundary_segment(s, c, lw, lg) {
+        // Drawn only across the cells that support it: the span of its fitted points.
+        let (sw, sg) = supported_box(&b.points, lw, lg);
+        if let Some(seg) = boundary_segment(s, c, sw, sg) {
             chart
                 .draw_series(LineSeries::new(seg, col.stroke_width(4)))
                 .map_err(|e| err(&e))?;
@@ -494,9 +520,9 @@ pub fn writhe_vs_ratio(path: &Path, torque: &[f64], cells: &[MapCell]) -> Result
         }
         max.sort_by(|a, b| a.0.total_cmp(&b.0));
         snap.sort_by(|a, b| a.0.total_cmp(&b.0));
-        names.push(format!("G = {}: Wr max", short(g)));
+        names.push(format!("G = {}: |Wr| max", short(g)));
         pts.push(max);
-        names.push(format!("G = {}: Wr at snapshot", short(g)));
+        names.push(format!("G = {}: Wr at snapshot (signed)", short(g)));
         pts.push(snap);
     }
     let series: Vec<(&str, Vec<(f64, f64)>)> = names.iter().map(String::as_str).zip(pts).collect();
@@ -504,7 +530,7 @@ pub fn writhe_vs_ratio(path: &Path, torque: &[f64], cells: &[MapCell]) -> Result
         path,
         "Writhe against W/G (Fig. 3a)",
         "W / G",
-        "writhe (turns)",
+        "writhe (turns): largest |Wr|, signed Wr at the snapshot",
         &series,
         true,
         false,
@@ -534,12 +560,18 @@ pub fn speed_vs_writhe(path: &Path, cells: &[MapCell]) -> Result<(), PlotError> 
         .iter()
         .map(|(n, p)| (n.as_str(), p.clone()))
         .collect();
-    super::scatter(
+    // The regime map's colours (one palette for both figures).
+    let colors: Vec<RGBColor> = by_regime
+        .iter()
+        .map(|(n, _)| regime_color(regimes.iter().copied().find(|r| r.as_str() == n)))
+        .collect();
+    super::scatter::scatter_colored(
         path,
         "Speed against writhe, by regime (Fig. 3b)",
-        "largest writhe Wr max (turns)",
+        "largest |writhe|, |Wr| max (turns)",
         "v_s / v_m",
         &series,
+        Some(&colors),
     )
 }
 
@@ -559,6 +591,22 @@ mod tests {
         assert_eq!(short(2.636650898730358), "2.64");
         assert_eq!(short(100.0), "100");
         assert_eq!(short(14.38449888287663), "14.4");
+    }
+
+    #[test]
+    fn boundary_lines_span_only_their_supporting_points() {
+        let (lw, lg) = ((0.0, 4.0), (0.0, 2.0));
+        // Points from W = 100 to 1000 and G = 10 to 30: the box shrinks to them.
+        let pts = [(100.0, 10.0), (300.0, 20.0), (1000.0, 30.0)];
+        let (w, g) = supported_box(&pts, lw, lg);
+        assert!((w.0 - 2.0).abs() < 1e-12 && (w.1 - 3.0).abs() < 1e-12, "{w:?}");
+        assert!((g.0 - 1.0).abs() < 1e-12 && (g.1 - 30f64.log10()).abs() < 1e-12, "{g:?}");
+        // A line through them is cut to W in [100, 1000].
+        let seg = boundary_segment(0.5, 0.0, w, g).unwrap();
+        assert!(seg.iter().all(|p| (99.999..=1000.001).contains(&p.0)), "{seg:?}");
+        // One weight only: that axis keeps the box's range.
+        let (w, _) = supported_box(&[(100.0, 10.0), (100.0, 30.0)], lw, lg);
+        assert_eq!(w, lw);
     }
 
     #[test]

@@ -20,6 +20,18 @@ pub fn scatter(
     y_label: &str,
     series: &[(&str, Vec<(f64, f64)>)],
 ) -> Result<(), PlotError> {
+    scatter_colored(path, title, x_label, y_label, series, None)
+}
+
+/// [`scatter`] with the series' colours given (one per series; the palette without).
+pub fn scatter_colored(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[(&str, Vec<(f64, f64)>)],
+    colors: Option<&[RGBColor]>,
+) -> Result<(), PlotError> {
     let pts = || {
         series
             .iter()
@@ -33,7 +45,7 @@ pub fn scatter(
     let yr = pad(finite_range(pts().map(|p| p.1)), 0.08);
     crate::on_backend!(path, SIZE, |area| {
         let (root, body) = canvas_on(area, title)?;
-        scatter_body(&body, xr, yr, x_label, y_label, series)?;
+        scatter_body(&body, xr, yr, x_label, y_label, series, colors)?;
         root.present().map_err(draw_err)
     })
 }
@@ -46,6 +58,7 @@ fn scatter_body<DB: DrawingBackend>(
     x_label: &str,
     y_label: &str,
     series: &[(&str, Vec<(f64, f64)>)],
+    colors: Option<&[RGBColor]>,
 ) -> Result<(), PlotError> {
     let pts = || {
         series
@@ -87,7 +100,9 @@ fn scatter_body<DB: DrawingBackend>(
             .map_err(draw_err)?;
     }
     for (k, (name, p)) in series.iter().enumerate() {
-        let c = colormap::palette(k);
+        let c = colors
+            .and_then(|cs| cs.get(k).copied())
+            .unwrap_or_else(|| colormap::palette(k));
         let finite: Vec<(f64, f64)> = p
             .iter()
             .copied()
