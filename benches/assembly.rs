@@ -3,7 +3,10 @@
 // Index loops over dof indices read as the math does.
 #![allow(clippy::needless_range_loop)]
 use criterion::{criterion_group, criterion_main, Criterion};
-use slither::energy::{self, Assembly, Ctx};
+use slither::band::Assembly;
+use slither::energy::reference::closed::Closed;
+use slither::energy::reference::terms::{Bend, Twist};
+use slither::energy::{self, Ctx};
 use slither::model::Model;
 use slither::problem;
 use slither::rod::dof;
@@ -88,8 +91,8 @@ fn bench_assembly(c: &mut Criterion) {
         // stencil), for the ratio in one run.
         let separate: Vec<Box<dyn energy::Term>> = vec![
             Box::new(energy::stretch::Stretch),
-            Box::new(energy::bend::Bend(energy::closed::Closed)),
-            Box::new(energy::twist::Twist(energy::closed::Closed)),
+            Box::new(Bend(Closed)),
+            Box::new(Twist(Closed)),
             Box::new(energy::gravity::Gravity),
         ];
         g.bench_function(format!("{n}_elements_project_false_separate"), |b| {
@@ -116,11 +119,10 @@ fn bench_assembly(c: &mut Criterion) {
 /// does), by the staged jets and by the closed forms, averaged over the 49
 /// interior nodes of the 50-element rod of [`setup`].
 fn bench_stencil(c: &mut Criterion) {
-    use slither::energy::autodiff::intrinsic;
-    use slither::energy::bend::BendStencil;
-    use slither::energy::closed::Closed;
-    use slither::energy::stencil::{EdgeJets, Jets, StencilDerivatives};
-    use slither::energy::twist::TwistStencil;
+    use slither::energy::local::intrinsic;
+    use slither::energy::reference::jets::EdgeJets;
+    use slither::energy::reference::terms::{Jets, StencilDerivatives};
+    use slither::energy::stencil::{BendStencil, TwistStencil};
     let mut g = c.benchmark_group("stencil_per_node");
     let (m, s, q, kappa0, m0) = setup(50);
     let nodes: Vec<usize> = (1..m.nodes - 1).collect();

@@ -1,8 +1,8 @@
 //! The step Hessian's factorisation and solve: faer's sparse (simplicial) Cholesky against the
 //! band Cholesky, on a band matrix of the assembly's pattern at 50 and 200 elements.
 use criterion::{criterion_group, criterion_main, Criterion};
-use slither::energy::Assembly;
-use slither::newton::linsolve::{FaerLlt, LinSolver};
+use slither::band::cholesky::{FaerLlt, LinSolver};
+use slither::band::Assembly;
 use slither::rod::dof;
 use std::hint::black_box;
 

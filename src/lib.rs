@@ -17,15 +17,19 @@
 //! top-level modules import each other without cycles.
 //!
 //! 0. [`rod`] (dof layout, vectors, frames) and [`fd`] (the finite-difference checker of the
-//!    tests): leaves.
+//!    tests): leaves; [`band`] (the gradient and band Hessian every term and contact model adds
+//!    into, and the band Cholesky that solves with it; it knows only the bandwidth of
+//!    [`rod::dof`]).
 //! 1. [`problem`]: problem files (TOML schema with defaults, validation, the `[gait]` and
 //!    `[solver]` tables).
 //! 2. [`model`] (the immutable model: geometry, masses, ground, the compiled gait) and
 //!    [`state`] (positions, velocities, reference frames).
-//! 3. Physics: [`energy`] (stretch, bend, twist, gravity; the per-node stencil and its
-//!    derivatives), [`gait`] (muscles as time-dependent rest strains: [`gait::Actuation`]).
-//! 4. [`newton`]: Newton's method on an objective (assembly, band Cholesky, line search,
-//!    statistics, typed failures), and the incremental potential of a step.
+//! 3. Physics: [`energy`] (stretch, bending and twist of each node together, gravity; the
+//!    reference derivatives the node's closed form is tested against are compiled for tests
+//!    and benches only), [`gait`] (muscles as time-dependent rest strains:
+//!    [`gait::Actuation`]).
+//! 4. [`newton`]: Newton's method on an objective (assembly, factorisation by [`band`], line
+//!    search, statistics, typed failures), and the incremental potential of a step.
 //! 5. [`contact`]: contact models behind [`contact::ContactModel`] (conic program by Clarabel,
 //!    active set), solving a step's problem with Newton's building blocks.
 //! 6. [`integrator`]: time steppers behind [`integrator::Stepper`]: the implicit stepper with
@@ -45,13 +49,17 @@
 //!   variant of [`problem::IntegratorKind`] (mapped in [`integrator::scheme_for`]); the
 //!   names [`integrator::Stepper`], [`integrator::Integrator`] and [`integrator::Scheme`] are
 //!   explained together in [`integrator`];
-//! * an energy term: a [`energy::Term`] in one new file under `energy/` plus a line in
+//! * an energy term: a [`energy::Term`] (value; gradient and Hessian added into the
+//!   [`band::Assembly`]) in one new file under `energy/` plus a line in
 //!   [`energy::rod_terms`], the one list the implicit, static and explicit steppers use (per
-//!   edge like `stretch.rs`, per node like `gravity.rs`). Bending and twist run as one fused
-//!   closed-form node stencil, [`energy::node::BendTwist`]; a term that changes the node's
-//!   strains goes there, checked against the reference derivatives of `bend.rs`, `twist.rs`,
-//!   `closed.rs` and the jets of `stencil.rs` and `autodiff.rs` (which real runs do not use
-//!   for Hessians) and against finite differences;
+//!   edge like `stretch.rs`, per node like `gravity.rs`), and its check against finite
+//!   differences in `tests/derivatives.rs`. A term over a node's stencil takes its
+//!   coordinates from [`energy::local::intrinsic`] and adds its derivatives with
+//!   [`energy::local::add_local`]. Bending and twist run as one fused closed-form node
+//!   stencil, [`energy::node::BendTwist`]; a change to the node's strains goes there and into
+//!   the generic energies of [`energy::stencil`] (the value, the explicit gradient and the
+//!   hyper-dual reference), and is checked against the references of `energy/reference/`
+//!   (`cargo test` builds them; real runs never do);
 //! * a contact model: a [`contact::ContactModel`] in one new file under `contact/` plus a
 //!   variant of [`problem::ContactKind`] (mapped in [`contact::model_for`]);
 //! * a study kind: a module under `design/` (as [`design::phase`]) that builds each run's
@@ -63,6 +71,7 @@
 #![allow(clippy::needless_range_loop)]
 // `!(x > y)` is deliberate where a NaN must take the "not satisfied" branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+pub mod band;
 pub mod chart;
 pub mod contact;
 pub mod design;

@@ -6,7 +6,7 @@
 //! [`Conic::iterate`] runs the Newton iterations around it.
 
 use super::{ContactFailure, ContactModel, ContactStats, Contacts, Ground};
-use crate::energy::Assembly;
+use crate::band::Assembly;
 use crate::model::Model;
 use crate::newton::{Failure, Newton, Objective, Path, Potential};
 use crate::rod::{dof, vec3::f};

@@ -24,7 +24,7 @@
 //!   converging with the wrong status.
 
 use super::{Contacts, Mode};
-use crate::energy::Assembly;
+use crate::band::Assembly;
 use crate::newton::Newton;
 use crate::rod::dof::{self, HALF_BANDWIDTH as W};
 

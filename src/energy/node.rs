@@ -32,22 +32,21 @@
 //! `Psi = sum_a delta_a psi_a = t0 . U1 + t1 . U0`, `U` a rotation in `theta` of the edge's
 //! `(a1, a2)`: two contracted frame Hessians per edge instead of twelve products of jets.
 //!
-//! **Twist** uses the solid-angle form of the reference twist of [`super::closed`].
+//! **Twist** uses the solid-angle form of the reference twist of [`super::reftwist`].
 //!
-//! Tested against the staged jets ([`super::stencil::Jets`], themselves checked against
-//! hyper-dual numbers) on random, strongly bent stencils with frozen frames away from the
-//! current tangents, and through the rod's whole energy against finite differences
+//! Tested against the staged jets of the references (`reference/jets.rs`, themselves checked
+//! against hyper-dual numbers) on random, strongly bent stencils with frozen frames away from
+//! the current tangents, and through the rod's whole energy against finite differences
 //! (`tests/derivatives.rs`).
 
-use super::autodiff::{self, StencilEnergy};
-use super::bend::BendStencil;
-use super::closed::{ref_twist_tangent_derivatives, ref_twist_value};
-use super::stencil::{self, Jets, Local, StencilDerivatives};
-use super::twist::TwistStencil;
+use super::local::{add_local, intrinsic, Local};
+use super::reftwist::{ref_twist_tangent_derivatives, ref_twist_value};
+use super::stencil::{self, BendStencil, StencilEnergy, TwistStencil};
 use super::{Assembly, Ctx, Term};
 use crate::rod::frames::StencilFrame;
 use crate::rod::{dof, vec3::f};
 use nalgebra::{SMatrix, SVector};
+use std::sync::{Mutex, TryLockError};
 
 type M3 = [[f64; 3]; 3];
 
@@ -418,7 +417,13 @@ fn tangents_to_edges_8(
 
 /// Bending and twist as one term, each node's stencil by [`node_local`] and scattered once;
 /// its energy alone and its gradient alone (explicit integration) as the separate terms.
-pub struct BendTwist;
+/// Holds the edge frames of the last assembly as scratch, so that an assembly allocates
+/// nothing (a term evaluated from two threads at once computes the second into a fresh
+/// vector).
+#[derive(Default)]
+pub struct BendTwist {
+    edges: Mutex<Vec<EdgeFrame>>,
+}
 
 impl Term for BendTwist {
     fn name(&self) -> &'static str {
@@ -430,12 +435,18 @@ impl Term for BendTwist {
             let mut e = 0.0;
             for i in 1..nodes - 1 {
                 let (b, t) = split(&NodeStencil::of(ctx, i));
-                let y = autodiff::intrinsic(q, i);
+                let y = intrinsic(q, i);
                 e += b.eval(&y) + t.eval(&y);
             }
             return e;
         };
-        let mut edges = std::mem::take(&mut asm.node_edges);
+        let mut fresh = Vec::new();
+        let mut guard = match self.edges.try_lock() {
+            Ok(g) => Some(g),
+            Err(TryLockError::Poisoned(p)) => Some(p.into_inner()),
+            Err(TryLockError::WouldBlock) => None,
+        };
+        let edges = guard.as_deref_mut().unwrap_or(&mut fresh);
         edges.clear();
         edges.extend((0..nodes - 1).map(|j| {
             let (e, t_old, a1_old) = super::edge_at(ctx, q, j);
@@ -444,9 +455,8 @@ impl Term for BendTwist {
         let mut e = 0.0;
         for i in 1..nodes - 1 {
             let local = node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]]);
-            e += autodiff::add_local(asm, i, local, project);
+            e += add_local(asm, i, local, project);
         }
-        asm.node_edges = edges;
         e
     }
     fn gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64], _scratch: &mut Assembly) -> f64 {
@@ -456,8 +466,8 @@ impl Term for BendTwist {
             grad,
             |i| split(&NodeStencil::of(ctx, i)),
             |(b, t), y| {
-                let (vb, gb) = Jets.bend_gradient(b, y);
-                let (vt, gt) = Jets.twist_gradient(t, y);
+                let (vb, gb) = stencil::bend_gradient(b, y);
+                let (vt, gt) = stencil::twist_gradient(t, y);
                 (vb + vt, std::array::from_fn(|k| gb[k] + gt[k]))
             },
         )
@@ -483,7 +493,7 @@ fn split<'a>(st: &NodeStencil<'a>) -> (BendStencil<'a>, TwistStencil<'a>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::energy::autodiff::testing::{assert_matches, stencil};
+    use crate::energy::reference::testing::{assert_matches, stencil};
 
     /// The fused closed form equals the sum of the staged jets' bending and twist (themselves
     /// checked against hyper-dual numbers and finite differences) on random, strongly bent

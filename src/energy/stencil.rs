@@ -1,61 +1,29 @@
-//! The per-node stencil of bending and twist, and the one place its derivatives come from.
+//! The per-node stencil of bending and twist: its two energies written once, generically over
+//! the scalar, and their gradient.
 //!
 //! Node `i`'s stencil has the 8 intrinsic coordinates `y = (e^{i-1}, e^i, theta^{i-1},
-//! theta^i)`; both the bending and the twist energy of the node are functions of `y` and of
-//! the frozen reference frames of its two edges. Each edge's frame as a function of its edge
-//! vector (length, tangent, transported reference directors, with first and second
-//! derivatives: [`EdgeJets`]) is computed once per assembly and shared by the bending and the
-//! twist stencils of both nodes it belongs to ([`crate::energy::Assembly`] caches them).
+//! theta^i)` ([`super::local::intrinsic`]); both the bending and the twist energy of the node
+//! are functions of `y` and of the frozen reference frames of its two edges. [`BendStencil`]
+//! and [`TwistStencil`] are those energies ([`StencilEnergy::eval`] with `f64` is the value
+//! every run uses; with dual numbers it differentiates itself).
 //!
-//! [`StencilDerivatives`] is the seam for the derivatives: value, gradient and Hessian of one
-//! node's bending and twist, and the gradient alone (explicit integration). [`Jets`] is the
-//! implementation: staged second-order jets for the Hessians; for the gradient, the closed
-//! form of Bergou et al. 2010 when the frames are current, first-order dual numbers otherwise.
-//! The node's two energies ([`BendStencil`], [`TwistStencil`]) are defined here, their
-//! derivative methods in `bend.rs` and `twist.rs`; [`super::closed::Closed`] is the per-term
-//! closed form; the implicit integrator's default
-//! is the fused bending-and-twist stencil of [`super::node`] (chosen in
-//! [`crate::energy::rod_terms`]), tested against both.
+//! The gradient alone (explicit integration, [`super::node::BendTwist`]'s
+//! [`super::Term::gradient`]): [`bend_gradient`] and [`twist_gradient`], the closed form of
+//! Bergou et al. 2010 when the frames are current ([`frames_current`]), first-order dual
+//! numbers otherwise. The Hessians of real runs come from the fused closed form of
+//! [`super::node`]; the per-term references (staged jets, per-term closed forms, hyper-dual
+//! numbers) live in `energy/reference/` and are compiled for tests and benches only.
 
-use super::autodiff::jet::{edge_frame, Jet, JV};
-use super::autodiff::StencilEnergy;
+use super::local::{add_gradient, intrinsic};
 use crate::rod::frames::{self, StencilFrame};
 use crate::rod::{vec3::f, V3};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 use num_dual::{DualNum, DualSVec64};
 
-/// Value, gradient and Hessian in the 8 intrinsic coordinates of a stencil.
-pub type Local = (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>);
-
-/// One edge's reference frame as a function of its edge vector `e` (3 variables): length
-/// `|e|`, tangent `t`, reference director `a1` transported in time from the frozen frame,
-/// and `a2 = t x a1`.
-#[derive(Clone, Copy, Debug)]
-pub struct EdgeJets {
-    /// `|e|`.
-    pub len: Jet<3>,
-    /// `t = e / |e|`.
-    pub t: JV<3>,
-    /// Transported reference director `a1`.
-    pub a1: JV<3>,
-    /// `a2 = t x a1`.
-    pub a2: JV<3>,
-}
-
-impl EdgeJets {
-    /// The frame jets of edge vector `e` with frozen tangent `t_old` and director `a1_old`.
-    pub fn new(e: [f64; 3], t_old: [f64; 3], a1_old: [f64; 3]) -> Self {
-        let (len, t, a1, a2) = edge_frame(e, t_old, a1_old);
-        EdgeJets { len, t, a1, a2 }
-    }
-
-    /// The jets of both edges of a stencil at `y`.
-    pub fn of_stencil(frame: &StencilFrame, y: &[f64; 8]) -> [EdgeJets; 2] {
-        [
-            EdgeJets::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0]),
-            EdgeJets::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1]),
-        ]
-    }
+/// A scalar function of the 8 stencil coordinates, generic over the number type.
+pub trait StencilEnergy {
+    /// Evaluate.
+    fn eval<T: DualNum<Primitive = f64>>(&self, y: &[T; 8]) -> T;
 }
 
 /// One node's bending energy.
@@ -100,40 +68,21 @@ impl StencilEnergy for TwistStencil<'_> {
     }
 }
 
-/// Derivatives of one node's bending and twist energies.
-pub trait StencilDerivatives: Send + Sync {
-    /// Bending: value, gradient and Hessian at `y`, with the two edges' frame jets.
-    fn bend(&self, st: &BendStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local;
-    /// Twist: value, gradient and Hessian at `y`, with the two edges' frame jets.
-    fn twist(&self, st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local;
-    /// Bending: value and gradient at `y`.
-    fn bend_gradient(&self, st: &BendStencil, y: &[f64; 8]) -> (f64, [f64; 8]);
-    /// Twist: value and gradient at `y`.
-    fn twist_gradient(&self, st: &TwistStencil, y: &[f64; 8]) -> (f64, [f64; 8]);
+/// Bending: value and gradient at `y`, in closed form when the stencil's frames are current,
+/// by first-order dual numbers otherwise.
+pub fn bend_gradient(st: &BendStencil, y: &[f64; 8]) -> (f64, [f64; 8]) {
+    match Current::of(st.frame, y) {
+        Some(c) => c.bend(st),
+        None => dual_gradient(st, y),
+    }
 }
 
-/// Staged jets (Hessians); closed form or dual numbers (gradients).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Jets;
-
-impl StencilDerivatives for Jets {
-    fn bend(&self, st: &BendStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
-        st.derivatives_with(edges, y)
-    }
-    fn twist(&self, st: &TwistStencil, edges: [&EdgeJets; 2], y: &[f64; 8]) -> Local {
-        st.derivatives_with(edges, y)
-    }
-    fn bend_gradient(&self, st: &BendStencil, y: &[f64; 8]) -> (f64, [f64; 8]) {
-        match Current::of(st.frame, y) {
-            Some(c) => c.bend(st),
-            None => dual_gradient(st, y),
-        }
-    }
-    fn twist_gradient(&self, st: &TwistStencil, y: &[f64; 8]) -> (f64, [f64; 8]) {
-        match Current::of(st.frame, y) {
-            Some(c) => c.twist(st),
-            None => dual_gradient(st, y),
-        }
+/// Twist: value and gradient at `y`, in closed form when the stencil's frames are current,
+/// by first-order dual numbers otherwise.
+pub fn twist_gradient(st: &TwistStencil, y: &[f64; 8]) -> (f64, [f64; 8]) {
+    match Current::of(st.frame, y) {
+        Some(c) => c.twist(st),
+        None => dual_gradient(st, y),
     }
 }
 
@@ -266,40 +215,6 @@ impl Current {
     }
 }
 
-/// Sum of one stencil energy over the interior nodes, with its derivatives added to `out`
-/// when given (the edge frames taken once per assembly): the body of the bending and twist
-/// terms. `make(i)` is node `i`'s stencil, `local` its value, gradient and Hessian.
-pub(crate) fn assemble_nodes<S: StencilEnergy>(
-    ctx: &crate::energy::Ctx,
-    q: &[f64],
-    out: Option<&mut crate::energy::Assembly>,
-    project: bool,
-    make: impl Fn(usize) -> S,
-    local: impl Fn(&S, [&EdgeJets; 2], &[f64; 8]) -> Local,
-) -> f64 {
-    use super::autodiff::{add_local, intrinsic};
-    let nodes = ctx.model.nodes;
-    let mut e = 0.0;
-    let Some(asm) = out else {
-        for i in 1..nodes - 1 {
-            e += make(i).eval(&intrinsic(q, i));
-        }
-        return e;
-    };
-    let edges = asm.take_edges(ctx, q);
-    for i in 1..nodes - 1 {
-        let y = intrinsic(q, i);
-        e += add_local(
-            asm,
-            i,
-            local(&make(i), [&edges[i - 1], &edges[i]], &y),
-            project,
-        );
-    }
-    asm.put_edges(edges);
-    e
-}
-
 /// Sum of one stencil energy over the interior nodes, its gradient added to `grad`.
 pub(crate) fn gradient_nodes<S>(
     ctx: &crate::energy::Ctx,
@@ -308,7 +223,6 @@ pub(crate) fn gradient_nodes<S>(
     make: impl Fn(usize) -> S,
     gradient: impl Fn(&S, &[f64; 8]) -> (f64, [f64; 8]),
 ) -> f64 {
-    use super::autodiff::{add_gradient, intrinsic};
     let mut e = 0.0;
     for i in 1..ctx.model.nodes - 1 {
         let (v, g) = gradient(&make(i), &intrinsic(q, i));

@@ -50,9 +50,10 @@
 //! and reported as [`StepError::Unstable`] with its start time and step.
 
 use super::{Actuation, Energies, Stats, StepError};
-use crate::energy::autodiff::intrinsic;
+use crate::band::Assembly;
+use crate::energy::local::intrinsic;
 use crate::energy::stencil::frames_current;
-use crate::energy::{Assembly, Ctx, Term};
+use crate::energy::{Ctx, Term};
 use crate::model::Model;
 use crate::problem::Mode;
 use crate::state::State;

@@ -46,8 +46,9 @@ pub mod euler;
 pub mod explicit;
 pub mod statics;
 
+use crate::band::Assembly;
 use crate::contact::{ContactFailure, ContactModel, ContactStats};
-use crate::energy::{self, Assembly, Ctx, Term};
+use crate::energy::{self, Ctx, Term};
 use crate::model::Model;
 use crate::newton::{self, Inertia, Newton, Potential};
 use crate::state::State;

@@ -4,7 +4,8 @@
 
 use super::Failure;
 use super::{Energies, Loads, Stats, StepError};
-use crate::energy::{self, Assembly, Term};
+use crate::band::Assembly;
+use crate::energy::{self, Term};
 use crate::model::Model;
 use crate::newton::{Newton, Objective, Potential};
 use crate::state::State;

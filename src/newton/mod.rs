@@ -21,9 +21,10 @@
 //! Every tolerance and cap is a `[solver]` setting ([`crate::problem::SolverSpec`]).
 //! Failures are typed ([`Failure`]); diagnostics go to the `log` crate (`debug` level).
 
-pub mod linsolve;
+pub use crate::band::cholesky as linsolve;
 
-use crate::energy::{self, Assembly, Ctx, Term};
+use crate::band::Assembly;
+use crate::energy::{self, Ctx, Term};
 use crate::model::Model;
 use crate::rod::dof;
 use crate::rod::frames::StencilFrame;

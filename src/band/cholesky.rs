@@ -1,4 +1,4 @@
-//! The step Hessian's factorisation. Every assembled Hessian is a band of half-width
+//! The band Hessian's factorisation. Every assembled Hessian is a band of half-width
 //! [`crate::rod::dof::HALF_BANDWIDTH`] (node-centred stencils on the interleaved coordinates),
 //! so Newton factorises it with a band Cholesky ([`LinSolver`]) in preallocated storage, without
 //! allocating. faer's general sparse Cholesky ([`FaerLlt`], natural ordering, symbolic analysis
@@ -6,7 +6,7 @@
 //! elimination-tree reach and the column copies around it cost three times the band
 //! arithmetic (`cargo bench --bench linsolve`; `scripts/bench.sh` keeps a record).
 
-use crate::energy::Assembly;
+use super::Assembly;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering,

@@ -1,0 +1,181 @@
+//! The Newton system's storage and its factorisation: a gradient and a symmetric band
+//! Hessian, and the band Cholesky that solves with it.
+//!
+//! Every Hessian the simulator assembles couples only coordinates within one node-centred
+//! stencil of the interleaved layout (`x_{i-1}, theta^{i-1}, x_i, theta^i, x_{i+1}`: 11
+//! consecutive coordinates), so it is a band of half-width [`dof::HALF_BANDWIDTH`]. An
+//! [`Assembly`] keeps the upper triangle of that band in compressed-column form with a
+//! pattern fixed at construction: energy terms and contact models add into it
+//! ([`Assembly::add_h`], [`Assembly::grad`]), Newton holds coordinates ([`Assembly::fix`]) and
+//! factorises it ([`cholesky::LinSolver`]), the conic program reads it as a sparse matrix.
+//! Nothing here knows what the coordinates mean beyond the bandwidth.
+
+pub mod cholesky;
+
+use crate::rod::dof;
+
+/// Gradient and upper-triangular banded Hessian in compressed-column form, with a pattern
+/// fixed at construction (half-bandwidth [`dof::HALF_BANDWIDTH`]) so that the symbolic
+/// factorisation is computed once.
+#[derive(Clone, Debug)]
+pub struct Assembly {
+    /// Gradient.
+    pub grad: Vec<f64>,
+    /// Column pointers of the upper triangle.
+    pub col_ptr: Vec<usize>,
+    /// Row indices of the upper triangle.
+    pub row_idx: Vec<usize>,
+    /// Values of the upper triangle.
+    pub values: Vec<f64>,
+    w: usize,
+}
+
+impl Assembly {
+    /// An empty assembly for `n` coordinates.
+    pub fn new(n: usize) -> Self {
+        let w = dof::HALF_BANDWIDTH;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for j in 0..n {
+            for i in j.saturating_sub(w)..=j {
+                row_idx.push(i);
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let values = vec![0.0; row_idx.len()];
+        Assembly {
+            grad: vec![0.0; n],
+            col_ptr,
+            row_idx,
+            values,
+            w,
+        }
+    }
+    /// Half-bandwidth of the pattern.
+    pub fn half_bandwidth(&self) -> usize {
+        self.w
+    }
+    /// Dimension.
+    pub fn n(&self) -> usize {
+        self.grad.len()
+    }
+    /// Zero gradient and Hessian.
+    pub fn clear(&mut self) {
+        self.grad.fill(0.0);
+        self.values.fill(0.0);
+    }
+
+    #[inline]
+    fn pos(&self, i: usize, j: usize) -> usize {
+        let (i, j) = if i <= j { (i, j) } else { (j, i) };
+        debug_assert!(j - i <= self.w, "entry ({i},{j}) outside the band");
+        self.col_ptr[j] + i - j.saturating_sub(self.w)
+    }
+    /// Add `v` to the symmetric entry `(i, j)` (once; the transpose is implied).
+    #[inline]
+    pub fn add_h(&mut self, i: usize, j: usize, v: f64) {
+        let p = self.pos(i, j);
+        self.values[p] += v;
+    }
+    /// Symmetric entry `(i, j)`.
+    pub fn h(&self, i: usize, j: usize) -> f64 {
+        if i.abs_diff(j) > self.w {
+            0.0
+        } else {
+            self.values[self.pos(i, j)]
+        }
+    }
+    /// Hold coordinate `k` fixed: zero its gradient, row and column, and put 1 on the diagonal.
+    pub fn fix(&mut self, k: usize) {
+        self.grad[k] = 0.0;
+        let n = self.n();
+        // Column k's upper part is contiguous (rows k - w ..= k); the rest of row k lies one
+        // entry in each later column.
+        let diag = self.col_ptr[k + 1] - 1;
+        self.values[self.col_ptr[k]..diag].fill(0.0);
+        self.values[diag] = 1.0;
+        for j in k + 1..=(k + self.w).min(n - 1) {
+            self.values[self.col_ptr[j] + k - j.saturating_sub(self.w)] = 0.0;
+        }
+    }
+
+    /// Row `k` of the symmetric matrix over columns `k - w ..= k + w` into `out` (zero outside
+    /// the matrix).
+    pub fn row(&self, k: usize, out: &mut [f64]) {
+        let w = self.w;
+        debug_assert_eq!(out.len(), 2 * w + 1);
+        let n = self.n();
+        // Columns k - w ..= k: column k's upper part, right-aligned at out[w].
+        let col = &self.values[self.col_ptr[k]..self.col_ptr[k + 1]];
+        out[..w + 1 - col.len()].fill(0.0);
+        out[w + 1 - col.len()..=w].copy_from_slice(col);
+        for r in w + 1..=2 * w {
+            let j = k + r - w;
+            out[r] = if j < n {
+                self.values[self.col_ptr[j] + k - j.saturating_sub(w)]
+            } else {
+                0.0
+            };
+        }
+    }
+    /// `y = H x` for the symmetric matrix.
+    pub fn mul(&self, x: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        for j in 0..self.n() {
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let i = self.row_idx[p];
+                let v = self.values[p];
+                y[i] += v * x[j];
+                if i != j {
+                    y[j] += v * x[i];
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `row` and `fix` address the band as `h` and `add_h` do.
+    #[test]
+    fn row_and_fix_match_entrywise_access() {
+        let n = dof::count(6);
+        let mut asm = Assembly::new(n);
+        let w = asm.half_bandwidth();
+        for j in 0..n {
+            for i in j.saturating_sub(w)..=j {
+                asm.add_h(i, j, ((i * 31 + j * 7) as f64).sin());
+            }
+        }
+        let mut row = vec![0.0; 2 * w + 1];
+        for k in 0..n {
+            asm.row(k, &mut row);
+            for (r, &x) in row.iter().enumerate() {
+                let j = (k + r).wrapping_sub(w);
+                let want = if j < n { asm.h(k, j) } else { 0.0 };
+                assert_eq!(x, want, "row {k}, column {j}");
+            }
+        }
+        for k in [0, 5, 12, n - 1] {
+            let mut fixed = asm.clone();
+            fixed.fix(k);
+            for i in 0..n {
+                for j in 0..n {
+                    let want = if i == k || j == k {
+                        if i == j {
+                            1.0
+                        } else {
+                            0.0
+                        }
+                    } else {
+                        asm.h(i, j)
+                    };
+                    assert_eq!(fixed.h(i, j), want, "fix {k}: ({i}, {j})");
+                }
+            }
+        }
+    }
+}
