@@ -118,9 +118,7 @@ pub fn speed_ratio(model: &Model, o: &Outcome) -> f64 {
     if o.observed.is_empty() {
         return f64::NAN;
     }
-    measure(model, o, Measure::Ends, &mut |_| {})
-        .1
-        .v_s_over_v_m
+    measure(model, o, Measure::Ends, &mut |_| {}).1.v_s_over_v_m
 }
 
 /// `model` with the given integrator and step; adaptive with `tol` when given.
