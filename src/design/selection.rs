@@ -183,8 +183,9 @@ impl std::fmt::Display for Resolution {
 /// `min(rho_obs, fastest)` and `rho`, the limit lies between `b + s t_fast` and `b + s t_slow`
 /// (`s` the sign of `b - a`, `t` the tails at those rates):
 /// [`PairEstimate::correction`] is the middle of that interval and [`PairEstimate::spread`]
-/// its half-width. Without a previous pair, or when the differences change sign, the
-/// direction of the remaining error is unknown: the interval is `b -+ t_slow`, correction 0.
+/// its half-width. Without a previous pair, when the differences change sign or when they do
+/// not shrink, the direction of the remaining error is unknown: the interval is
+/// `b -+ t_slow`, correction 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairEstimate {
     /// Estimated relative error of the coarser run.
@@ -225,7 +226,7 @@ impl PairEstimate {
         let rho = ratio.map_or(slowest, |q| q.max(slowest)).min(RATE_CAP);
         let tail = |r: f64| d * r / (1.0 - r);
         let slow = tail(rho);
-        let monotone = previous.is_some_and(|dp| dp * signed > 0.0);
+        let monotone = trusted && previous.is_some_and(|dp| dp * signed > 0.0);
         let (correction, spread) = if monotone {
             let fast = tail(fastest.min(ratio.unwrap_or(fastest)));
             let s = (b - a).signum() * b.abs();
