@@ -118,9 +118,7 @@ pub fn speed_ratio(model: &Model, o: &Outcome) -> f64 {
     if o.observed.is_empty() {
         return f64::NAN;
     }
-    measure(model, o, Measure::Ends, &mut |_| {})
-        .1
-        .v_s_over_v_m
+    measure(model, o, Measure::Ends, &mut |_| {}).1.v_s_over_v_m
 }
 
 /// `model` with the given integrator and step; adaptive with `tol` when given.
@@ -436,7 +434,8 @@ pub fn gait_precision(
     if let Some(target) = opts.accuracy_target {
         let mut p = problem.clone();
         p.time.duration = Some(model.duration);
-        let sel = crate::design::selection::select(&p, target, finest.max(400), log);
+        // Up to the reference's mesh: a model finer than the reference cannot be judged by it.
+        let sel = crate::design::selection::select(&p, target, finest, log);
         let r = &sel.report;
         let o = &sel.outcome;
         let run = GaitRun {
@@ -512,7 +511,50 @@ impl GaitPrecision {
                 if q.status == "ok" { "" } else { "  failed" }
             );
         }
+        s.push_str(&self.first_within(0.01));
         s
+    }
+
+    /// For each method and mesh, its cheapest run within `error` of the converged `v_s/v_m`
+    /// (one line each, cheapest first; the lines that never get there last).
+    pub fn first_within(&self, error: f64) -> String {
+        let mut keys: Vec<(&str, usize)> = self
+            .points
+            .iter()
+            .map(|p| (p.run.method.as_str(), p.run.elements))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let mut rows: Vec<(f64, String)> = keys
+            .into_iter()
+            .map(|(method, n)| {
+                let best = self
+                    .points
+                    .iter()
+                    .filter(|p| p.run.method == method && p.run.elements == n)
+                    .filter(|p| p.v_error <= error)
+                    .min_by(|a, b| a.run.wall_s.total_cmp(&b.run.wall_s));
+                match best {
+                    Some(p) => (
+                        p.run.wall_s,
+                        format!(
+                            "{method} {n} el.: within {:.1} % at {:.2} s (dt {:.1e} s, tol {:.0e}, error {:.2} %)",
+                            100.0 * error,
+                            p.run.wall_s,
+                            p.run.dt,
+                            p.run.tolerance.unwrap_or(f64::NAN),
+                            100.0 * p.v_error
+                        ),
+                    ),
+                    None => (
+                        f64::INFINITY,
+                        format!("{method} {n} el.: never within {:.1} %", 100.0 * error),
+                    ),
+                }
+            })
+            .collect();
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        rows.into_iter().map(|(_, l)| l + "\n").collect()
     }
 }
 

@@ -5,41 +5,49 @@
 //! from time and from mesh is below the target, and keep the cheapest model that meets it.
 //!
 //! **Time resolution** ([`Resolution`]) follows the file's `[solver] integrator`: implicit
-//! Euler (the default, and for an explicit file) at fixed steps, refined by halving `dt`
-//! (first order: the coarser of two runs errs by `2d`, the finer by `d`, `d` their relative
-//! difference); `"bdf2"` as adaptive BDF2, refined by dividing the error tolerance by ten
-//! (with local error control the global error scales as `tol^(2/3)`, so with `r = 10^(2/3)`:
-//! `e(tol) = d r / (r - 1)`, `e(tol/10) = d / (r - 1)`).
+//! Euler (the default, and for an explicit file) at fixed steps, refined by halving `dt`;
+//! `"bdf2"` as adaptive BDF2, refined by dividing the error tolerance by ten.
+//!
+//! **Estimates** ([`PairEstimate`]). Every estimate comes from a pair of runs one refinement
+//! apart, difference `d` (relative). It assumes the error shrinks per refinement at least as
+//! fast as first order does (by 1/2 per halving of the step or the element length; by
+//! `10^(-2/3)` per decade of BDF2's tolerance, whose global error goes as `tol^(2/3)`), or at
+//! the slower rate the runs show when a third run is there: the finer run errs by at most the
+//! geometric tail (`d` at first order), the coarser by `d` more. At second order the finer
+//! run's actual error is `d/3`: where a scene's rates lie between first and second order the
+//! estimate bounds the error and is at most three times it. The mesh estimate used to assume
+//! second order (`d/3`), and on the S-start, whose mesh differences shrink at observed orders
+//! from 0.5 to 2.3 (contacts at nodes), it fell below the actual error. Differences that do not
+//! shrink from one pair to the next are not converging: such a pair is never accepted.
 //!
 //! 1. **Time.** At the mesh `N` (first the file's), runs at the current resolution and the
 //!    next finer one. The coarser is kept when its estimate is at most `target/2`, else the
 //!    finer when its estimate is; otherwise the pair moves one refinement down (at most
-//!    [`Resolution::max_refinements`] times). A pair is only trusted when its difference is
-//!    no larger than the previous pair's (differences that grow are not converging yet).
+//!    [`Resolution::max_refinements`] times).
 //! 2. **Mesh.** At that resolution, runs at `N` and `2N` (from `N/2` and `N` when `N` is
-//!    already refined). The discrete elastic rod is second order in the element length, so
-//!    with `d = |v(N) - v(2N)|`: `e(N) = 4d/3`, `e(2N) = d/3`. `N` is kept when `e_time +
-//!    e(N) <= target`, else `2N` when `e_time + e(2N) <= target`, else the pair moves to
-//!    `2N, 4N` (up to `[accuracy] max_elements`).
+//!    already refined). `N` is kept when `e_time + e(N) <= target`, else `2N` when `e_time +
+//!    e(2N) <= target`, else the pair moves to `2N, 4N` (up to `[accuracy] max_elements`).
 //! 3. **Again on the chosen mesh.** The time error of step 1 was measured on the mesh of that
 //!    round; when step 2 chose another mesh, steps 1 and 2 run again from there, step 2 now
 //!    choosing that mesh or a finer one (at most [`MAX_ROUNDS`] rounds), so the time estimate
-//!    is the chosen mesh's own (`time_error_elements` reports where it was measured). On the S-start
-//!    this matters: 50 elements at 5e-4 s look converged in time (0.14 % to 2.5e-4 s) while
-//!    100 elements at 5e-4 s still move 0.45 %.
+//!    is the chosen mesh's own (`time_error_elements` reports where it was measured). On the
+//!    S-start this matters: 50 elements at 5e-4 s look converged in time (0.14 % to 2.5e-4 s)
+//!    while 100 elements at 5e-4 s still move 0.45 %. Every run is made once: later rounds
+//!    reuse earlier runs, and a run one refinement coarser than a pair, when it was made,
+//!    supplies that pair's observed rate.
 //! 4. The chosen model's run (already made) is the result; `summary.json` carries the
-//!    estimates, the chosen model and every run ([`crate::output::AccuracyReport`]), their
-//!    total wall time, and the Richardson extrapolation of `v_s/v_m` to the limits of time
-//!    and mesh refinement with its uncertainty (the whole time correction plus the change of
-//!    the mesh correction between mesh orders 2 and 1).
+//!    estimates, the observed orders, the chosen model and every run
+//!    ([`crate::output::AccuracyReport`]), their total wall time, and the Richardson
+//!    extrapolation of `v_s/v_m` to the limits of time and mesh refinement with its
+//!    uncertainty (the middle and half-width of the interval of limits that rates between
+//!    first and second order, or the observed slower rate, allow).
 //!
 //! **Which value is the answer.** The chosen run's `v_s/v_m`: it is a simulated motion that
 //! every other output (frames, kymographs, topology) describes, and its error is bounded by
-//! the estimate. The extrapolation is the better estimate of the converged number when the
-//! orders hold, but on contact scenes they do not reliably: the S-start's mesh differences
-//! shrink at observed orders between 0.5 and 2 (the mesh-error budget in the guide), so the
-//! extrapolation is reported beside the answer with an uncertainty that covers orders 1 to
-//! 2, not in its place.
+//! the estimate under the stated assumption. The extrapolation is often closer to the
+//! converged number, but its error cannot be bounded from the same runs as tightly (its
+//! uncertainty is the spread of the orders, and on contact scenes the order itself is
+//! irregular), so it is reported beside the answer, not in its place.
 //!
 //! **Why implicit Euler is the default.** On gait scenes with stick-slip, BDF2 at fine steps
 //! is sensitive: any perturbation (the step, the tolerance, the 7th digit of a friction
@@ -49,7 +57,7 @@
 //! BDF2 at a fixed 2.5e-4 s on the chosen 100-element mesh. Implicit Euler is deterministic
 //! at the steps the selection visits (perturbations of 1e-7 leave 6 digits unchanged), so its
 //! estimates are reproducible; it is not monotone in the step on the S-start either (README),
-//! and the measured estimate and actual error are in the README's "Time stepping".
+//! and the measured estimate and actual error are in the guide's "Speed against accuracy".
 
 use crate::model::Model;
 use crate::output::{AccuracyReport, AccuracyRun};
@@ -154,6 +162,130 @@ impl std::fmt::Display for Resolution {
     }
 }
 
+/// The error estimates of one refinement pair: runs `a` (coarser) and `b` (finer, one
+/// refinement further) with relative difference `d = |b - a| / |b|`.
+///
+/// **The assumption.** The error shrinks by at least the factor `slowest` per refinement
+/// (1/2: at least first order in the step or the element length), unless the runs show a
+/// slower rate: with a previous pair (one refinement coarser, difference `d_prev`), the
+/// observed ratio `rho_obs = d / d_prev` replaces `slowest` when it is larger. The finer run's
+/// error is then at most the geometric tail `d rho / (1 - rho)` (`d` at `rho = 1/2`) and the
+/// coarser run's at most `d` more. When the error in fact shrinks at the formal rate of a
+/// second-order discretization (`rho = 1/4`) the finer run's error is `d/3`, so the estimate
+/// is at most three times the error wherever the true rate lies between 1/4 and 1/2.
+///
+/// A pair whose difference is not smaller than the previous pair's (`rho_obs >= 1`) is not
+/// converging yet: it is marked untrusted and its estimate uses `rho = 0.9` (nine times
+/// `d`), which the selection never accepts as meeting a target.
+///
+/// **Extrapolation** (Richardson, where the runs allow it). When a previous pair moved the
+/// same way (the convergence looks monotone) and the error shrinks at a rate between
+/// `min(rho_obs, fastest)` and `rho`, the limit lies between `b + s t_fast` and `b + s t_slow`
+/// (`s` the sign of `b - a`, `t` the tails at those rates):
+/// [`PairEstimate::correction`] is the middle of that interval and [`PairEstimate::spread`]
+/// its half-width. Without a previous pair, when the differences change sign or when they do
+/// not shrink, the direction of the remaining error is unknown: the interval is
+/// `b -+ t_slow`, correction 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairEstimate {
+    /// Estimated relative error of the coarser run.
+    pub coarse: f64,
+    /// Estimated relative error of the finer run.
+    pub fine: f64,
+    /// Signed correction from the finer run's value to the extrapolated limit (absolute).
+    pub correction: f64,
+    /// Half-width of the interval of limits (absolute).
+    pub spread: f64,
+    /// Observed ratio of this pair's difference to the previous pair's (`None` without one).
+    pub ratio: Option<f64>,
+    /// Whether the differences shrink (always true without a previous pair).
+    pub trusted: bool,
+}
+
+/// Largest rate of error decrease an estimate uses: an untrusted pair's.
+const RATE_CAP: f64 = 0.9;
+
+impl PairEstimate {
+    /// The estimates of the pair `a` (coarser), `b` (finer); `previous` the signed relative
+    /// difference `(b' - a') / |b'|` of the pair one refinement coarser, when it was run;
+    /// `slowest` and `fastest` the slowest and fastest rates of error decrease per refinement
+    /// assumed (see the type's doc).
+    pub fn new(a: f64, b: f64, previous: Option<f64>, slowest: f64, fastest: f64) -> Self {
+        let signed = (b - a) / b.abs();
+        let d = signed.abs();
+        let ratio = previous.map(|dp| {
+            if dp != 0.0 {
+                d / dp.abs()
+            } else if d > 0.0 {
+                f64::INFINITY
+            } else {
+                0.0
+            }
+        });
+        let trusted = ratio.is_none_or(|q| q < 1.0);
+        let rho = ratio.map_or(slowest, |q| q.max(slowest)).min(RATE_CAP);
+        let tail = |r: f64| d * r / (1.0 - r);
+        let slow = tail(rho);
+        let monotone = trusted && previous.is_some_and(|dp| dp * signed > 0.0);
+        let (correction, spread) = if monotone {
+            let fast = tail(fastest.min(ratio.unwrap_or(fastest)));
+            let s = (b - a).signum() * b.abs();
+            (s * 0.5 * (slow + fast), b.abs() * 0.5 * (slow - fast))
+        } else {
+            (0.0, b.abs() * slow)
+        };
+        PairEstimate {
+            coarse: d + slow,
+            fine: slow,
+            correction,
+            spread,
+            ratio,
+            trusted,
+        }
+    }
+
+    /// The observed order `-log2(ratio) / log2(refinement)` for a refinement by `factor`
+    /// (`None` without a previous pair or when the differences do not shrink).
+    pub fn order(&self, factor: f64) -> Option<f64> {
+        self.ratio
+            .filter(|&q| q > 0.0 && q < 1.0)
+            .map(|q| -q.ln() / factor.ln())
+    }
+}
+
+/// Slowest and fastest assumed rates of error decrease per mesh halving: first and second
+/// order in the element length.
+pub const MESH_RATES: (f64, f64) = (0.5, 0.25);
+
+impl Resolution {
+    /// Slowest and fastest assumed rates of error decrease per refinement: implicit Euler's
+    /// first order in the step (1/2), down to 1/4 where a scene's step error is not yet
+    /// asymptotic; adaptive BDF2's `tol^(2/3)` (`10^(-2/3)`), down to first order in the
+    /// tolerance (1/10).
+    pub fn rates(self) -> (f64, f64) {
+        match self {
+            Resolution::Step(_) => (0.5, 0.25),
+            Resolution::Tolerance(_) => (1.0 / self.error_ratio(), 0.1),
+        }
+    }
+
+    /// The next coarser resolution: twice the step, ten times the tolerance.
+    pub fn coarsened(self) -> Self {
+        match self {
+            Resolution::Step(h) => Resolution::Step(2.0 * h),
+            Resolution::Tolerance(t) => Resolution::Tolerance(10.0 * t),
+        }
+    }
+
+    /// The refinement factor of the resolution (2 for steps, 10 for tolerances).
+    pub fn factor(self) -> f64 {
+        match self {
+            Resolution::Step(_) => 2.0,
+            Resolution::Tolerance(_) => 10.0,
+        }
+    }
+}
+
 /// The chosen model and its run.
 pub struct Selection {
     /// The chosen model.
@@ -196,6 +328,43 @@ struct Done {
     outcome: Outcome,
 }
 
+/// The value of a run already made (`None` when it was not).
+fn made(done: &[Done], elements: usize, res: Resolution) -> Option<f64> {
+    done.iter()
+        .find(|d| d.elements == elements && d.res == res)
+        .map(|d| d.v)
+}
+
+/// Signed relative difference of two runs' values, `(b - a) / |b|`.
+fn rel(a: f64, b: f64) -> f64 {
+    (b - a) / b.abs()
+}
+
+/// What one stage (time or mesh) chose: whether the coarser member of its last pair is the
+/// chosen one, the pair's estimates.
+#[derive(Clone, Copy)]
+struct Stage {
+    coarse: bool,
+    est: PairEstimate,
+    /// The finer member's value minus the coarser's.
+    diff: f64,
+}
+
+impl Stage {
+    /// Estimated relative error of the chosen member.
+    fn error(&self) -> f64 {
+        if self.coarse {
+            self.est.coarse
+        } else {
+            self.est.fine
+        }
+    }
+    /// Signed correction from the chosen member's value to the extrapolated limit.
+    fn correction(&self) -> f64 {
+        self.est.correction + if self.coarse { self.diff } else { 0.0 }
+    }
+}
+
 /// Choose the model for `target` (relative error of `v_s/v_m`) and run it; `log` gets one line
 /// per run.
 pub fn select(
@@ -206,8 +375,8 @@ pub fn select(
 ) -> Selection {
     let mut done: Vec<Done> = Vec::new();
     let mut run = |elements: usize, res: Resolution, done: &mut Vec<Done>| -> f64 {
-        if let Some(d) = done.iter().find(|d| d.elements == elements && d.res == res) {
-            return d.v;
+        if let Some(v) = made(done, elements, res) {
+            return v;
         }
         let model = Model::new(&accuracy_problem(p, elements, res));
         let muscles = Box::new(crate::gait::Muscles {
@@ -239,54 +408,68 @@ pub fn select(
     };
     let n0 = p.rod.elements;
     let res0 = Resolution::of(p);
-    let r = res0.error_ratio();
+    let (t_slow, t_fast) = res0.rates();
+    let (x_slow, x_fast) = MESH_RATES;
     let mut n = n0;
     let mut res = res0;
     let mut round = 0;
-    let (n_c, res_c, n_time, e_time, dv_time, e_mesh, dv_mesh, mesh_spread) = loop {
+    let (n_c, res_c, n_time, time, mesh) = loop {
         round += 1;
-        // 1. Time, at mesh `n`, from `res`.
-        let mut previous: Option<f64> = None;
+        // 1. Time, at mesh `n`, from `res`; the pair one refinement coarser, when it was run
+        // (an earlier round), gives the observed rate.
+        let mut previous = made(&done, n, res.coarsened())
+            .map(|c| rel(c, made(&done, n, res).unwrap_or(f64::NAN)));
         let mut refinements = 0;
-        let (res_t, e_time, dv_time) = loop {
+        let (res_t, time) = loop {
             let fine = res.refined();
             let (a, b) = (run(n, res, &mut done), run(n, fine, &mut done));
-            let d = (a - b).abs() / b.abs();
-            let (e_coarse, e_fine) = (d * r / (r - 1.0), d / (r - 1.0));
-            // Differences that grow are not converging yet: such a pair is not trusted.
-            let trusted = previous.is_none_or(|dp| d <= dp);
+            let est = PairEstimate::new(a, b, previous.filter(|x| x.is_finite()), t_slow, t_fast);
             refinements += 1;
-            if trusted && e_coarse <= 0.5 * target {
-                break (res, e_coarse, (b - a) * r / (r - 1.0));
+            let stage = |coarse| Stage {
+                coarse,
+                est,
+                diff: b - a,
+            };
+            if est.trusted && est.coarse <= 0.5 * target {
+                break (res, stage(true));
             }
-            if (trusted && e_fine <= 0.5 * target) || refinements >= res0.max_refinements() {
-                break (fine, e_fine, (b - a) / (r - 1.0));
+            if (est.trusted && est.fine <= 0.5 * target) || refinements >= res0.max_refinements() {
+                break (fine, stage(false));
             }
-            previous = Some(d);
+            previous = Some(rel(a, b));
             res = fine;
         };
+        let e_time = time.error();
         // 2. Mesh, at `res_t`, from the pair ending at `n` (or starting at the file's mesh),
         // choosing `n` or finer (a coarser mesh than the time error was measured on could
         // have a larger time error).
         let mut m = if n > n0 { n / 2 } else { n0 };
-        // `spread`: how far the mesh correction moves at order 1 instead of 2 (`d` and `2d`
-        // instead of `d/3` and `4d/3`): `2d/3` for either member of the pair.
-        let (n_m, e_mesh, dv_mesh, spread) = loop {
+        let mut previous = if m % 2 == 0 {
+            made(&done, m / 2, res_t).map(|c| rel(c, made(&done, m, res_t).unwrap_or(f64::NAN)))
+        } else {
+            None
+        };
+        let (n_m, mesh) = loop {
             let (a, b) = (run(m, res_t, &mut done), run(2 * m, res_t, &mut done));
-            let d = (a - b).abs() / b.abs();
-            let (e_coarse, e_fine) = (4.0 * d / 3.0, d / 3.0);
-            if m >= n && e_time + e_coarse <= target {
-                break (m, e_coarse, 4.0 * (b - a) / 3.0, 2.0 * (b - a).abs() / 3.0);
+            let est = PairEstimate::new(a, b, previous.filter(|x| x.is_finite()), x_slow, x_fast);
+            let stage = |coarse| Stage {
+                coarse,
+                est,
+                diff: b - a,
+            };
+            if est.trusted && m >= n && e_time + est.coarse <= target {
+                break (m, stage(true));
             }
-            if e_time + e_fine <= target || 4 * m > max_elements {
-                break (2 * m, e_fine, (b - a) / 3.0, 2.0 * (b - a).abs() / 3.0);
+            if (est.trusted && e_time + est.fine <= target) || 4 * m > max_elements {
+                break (2 * m, stage(false));
             }
+            previous = Some(rel(a, b));
             m *= 2;
         };
         // The time estimate holds for the mesh it was measured on: done when that is the
         // chosen one, else measure time again on the chosen mesh.
         if n_m == n || round >= MAX_ROUNDS {
-            break (n_m, res_t, n, e_time, dv_time, e_mesh, dv_mesh, spread);
+            break (n_m, res_t, n, time, mesh);
         }
         n = n_m;
         res = res_t;
@@ -313,13 +496,12 @@ pub fn select(
         .position(|d| d.elements == n_c && d.res == res_c)
         .expect("the chosen model was run");
     let chosen = done.swap_remove(k);
-    // The chosen value plus the signed Richardson corrections toward the limits of time and
-    // mesh refinement (mesh order 2). Its uncertainty: the whole time correction, plus how far
-    // the mesh correction moves when the mesh order is 1 instead of 2 (the S-start's observed
-    // orders lie between them: point contacts one diameter apart land and lift node by node).
-    let v_extrapolated = chosen.v + dv_time + dv_mesh;
-    let uncertainty = dv_time.abs() + mesh_spread;
-    let estimated = e_time + e_mesh;
+    // The chosen value plus the signed corrections toward the limits of time and mesh
+    // refinement; its uncertainty the half-widths of the two intervals of limits.
+    let v_extrapolated = chosen.v + time.correction() + mesh.correction();
+    let uncertainty = time.est.spread + mesh.est.spread;
+    let estimated = time.error() + mesh.error();
+    let trusted = time.est.trusted && mesh.est.trusted;
     Selection {
         report: AccuracyReport {
             target,
@@ -327,11 +509,13 @@ pub fn select(
             elements: n_c,
             dt: res_c.dt(),
             error_tolerance: res_c.tolerance(),
-            time_error: e_time,
+            time_error: time.error(),
             time_error_elements: n_time,
-            mesh_error: e_mesh,
+            mesh_error: mesh.error(),
             estimated_error: estimated,
-            met: estimated <= target,
+            met: trusted && estimated <= target,
+            time_order_observed: time.est.order(res_c.factor()),
+            mesh_order_observed: mesh.est.order(2.0),
             v_s_over_v_m_extrapolated: v_extrapolated,
             v_s_over_v_m_extrapolated_uncertainty: uncertainty,
             runs,

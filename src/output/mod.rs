@@ -115,17 +115,27 @@ pub struct AccuracyReport {
     pub mesh_error: f64,
     /// `time_error + mesh_error`.
     pub estimated_error: f64,
-    /// Whether the estimate is below the target (false: the refinement hit its limits and the
-    /// finest model was run).
+    /// Whether the estimate is below the target and both estimates come from converging
+    /// runs (false: the refinement hit its limits, or its last differences did not shrink).
     pub met: bool,
-    /// Richardson extrapolation of `v_s/v_m` (the chosen value corrected by both estimates'
-    /// signed differences).
+    /// Observed order of the time estimate's runs (in the step, or in the tolerance for
+    /// adaptive BDF2), from three successive resolutions; absent with two, or when the
+    /// differences did not shrink.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_order_observed: Option<f64>,
+    /// Observed order in the element length of the mesh estimate's runs, from three meshes;
+    /// absent with two, or when the differences did not shrink.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh_order_observed: Option<f64>,
+    /// Richardson extrapolation of `v_s/v_m` to the limits of time and mesh refinement: the
+    /// chosen value plus the middle of each interval of limits the estimates allow
+    /// ([`crate::design::selection::PairEstimate`]).
     pub v_s_over_v_m_extrapolated: f64,
-    /// Uncertainty of the extrapolation (absolute): the whole time correction plus how far the
-    /// mesh correction moves at mesh order 1 instead of 2. The answer of the run is the chosen
-    /// model's `v_s/v_m` (a simulated motion, which every other output describes, with the
-    /// error estimate `estimated_error`); the extrapolation is the best estimate of the
-    /// converged value, within this uncertainty.
+    /// Uncertainty of the extrapolation (absolute): the half-widths of those intervals (error
+    /// rates between first and second order, or the observed rate when slower). The answer of
+    /// the run is the chosen model's `v_s/v_m` (a simulated motion, which every other output
+    /// describes, with the error estimate `estimated_error`); the extrapolation is reported
+    /// beside it.
     pub v_s_over_v_m_extrapolated_uncertainty: f64,
     /// Every run of the selection, in order.
     pub runs: Vec<AccuracyRun>,

@@ -1,0 +1,291 @@
+//! The accuracy selection (`--accuracy`, `[accuracy]`): its estimates follow from its runs,
+//! and they bound the actual error.
+//!
+//! Does `--accuracy`'s error estimate bound the actual error? On a scene whose converged
+//! `v_s/v_m` is known, the selection runs for several targets; the chosen run's actual error
+//! must lie below the estimate and above a third of it, and the reported extrapolation must lie
+//! within its uncertainty of the converged value.
+//!
+//! **The scene.** The bundled lateral undulation (`problems/serpenoid.toml`) cut to its first
+//! second, started from 20 elements at dt 4e-3 s (implicit Euler). All of its body stays on
+//! the ground, so unlike the S-start (landings and lift-offs at nodes) its mesh error becomes
+//! regular within the meshes the selection visits.
+//!
+//! **The known answer** ([`CONVERGED`]): `v_s/v_m` by implicit Euler at 160 and 320 elements and
+//! dt 1e-3, 5e-4, 2.5e-4 s (`cargo run --release --example convergence_scan --
+//! problems/serpenoid.toml 1.0 160,320 1e-3,5e-4,2.5e-4`, recomputed by the ignored test
+//! below):
+//!
+//! | elements | 1e-3 s | 5e-4 s | 2.5e-4 s |
+//! |---|---|---|---|
+//! | 160 | 0.183616 | 0.183660 | 0.183658 |
+//! | 320 | 0.183515 | 0.183557 | 0.183553 |
+//!
+//! The step moves it by 0.02 % below 1e-3 s. The mesh differences at 1e-3 s from 10 to 320
+//! elements are +0.00257, +0.00181, -0.00109, -0.00039, -0.00010 (ratios 0.36 and 0.26 on
+//! the last three: second order from 80 elements on), so the limit is 0.183553 - 0.000035 =
+//! 0.18352 within 0.0001 (0.05 %, a twentieth of the smallest estimate tested).
+use slither::design::selection::select;
+use slither::model::Model;
+use slither::{observe, problem, sim};
+
+/// The converged `v_s/v_m` of the scene (module doc) and its uncertainty.
+const CONVERGED: (f64, f64) = (0.18352, 1e-4);
+
+fn scene() -> problem::Problem {
+    let mut p = problem::load(std::path::Path::new("problems/serpenoid.toml")).unwrap();
+    p.rod.elements = 20;
+    p.time.dt = Some(4e-3);
+    p.time.duration = Some(1.0);
+    p
+}
+
+#[test]
+fn accuracy_estimates_bound_the_errors_and_are_at_most_three_times_them() {
+    let p = scene();
+    let slack = CONVERGED.1 / CONVERGED.0;
+    for target in [0.02, 0.01, 0.005] {
+        let sel = select(&p, target, 320, &mut |l| println!("{l}"));
+        let r = &sel.report;
+        let h = r.dt.expect("implicit Euler");
+        let v = r
+            .runs
+            .iter()
+            .find(|x| x.elements == r.elements && x.dt == r.dt)
+            .unwrap()
+            .v_s_over_v_m;
+        // The chosen mesh's converged step (its error is below 0.02 %, module doc), taken as
+        // a slack on the time error.
+        let fine = v_ratio(&p, r.elements, FINE_DT);
+        let actual = (v / CONVERGED.0 - 1.0).abs();
+        let actual_time = (v / fine - 1.0).abs();
+        let actual_mesh = (fine / CONVERGED.0 - 1.0).abs();
+        println!(
+            "target {target}: chose {} el. dt {h:e}: {v:.5} in {:.2} s ({} runs); estimate {:.3e} (time {:.2e}, mesh {:.2e}); actual {actual:.3e} (time {actual_time:.2e}, mesh {actual_mesh:.2e}); extrapolated {:.5} +- {:.5}",
+            r.elements,
+            r.wall_time_total_s,
+            r.runs.len(),
+            r.estimated_error,
+            r.time_error,
+            r.mesh_error,
+            r.v_s_over_v_m_extrapolated,
+            r.v_s_over_v_m_extrapolated_uncertainty,
+        );
+        assert!(r.met, "target {target} not met: {r:?}");
+        assert!(r.estimated_error <= target);
+        // The whole estimate bounds the whole error.
+        assert!(
+            actual <= r.estimated_error + slack,
+            "target {target}: actual error {actual:.3e} above the estimate {:.3e}",
+            r.estimated_error
+        );
+        // Each part bounds its part and is at most three times it. (The whole estimate can
+        // be more than three times the whole error where time and mesh errors cancel.)
+        for (what, est, act) in [
+            ("time", r.time_error, actual_time),
+            ("mesh", r.mesh_error, actual_mesh),
+        ] {
+            let slack = slack + FINE_DT_ERROR;
+            assert!(
+                act <= est + slack,
+                "target {target}: {what} error {act:.3e} above its estimate {est:.3e}"
+            );
+            assert!(
+                est <= 3.0 * (act + slack),
+                "target {target}: {what} estimate {est:.3e} more than three times the error {act:.3e}"
+            );
+        }
+        assert!(
+            (r.v_s_over_v_m_extrapolated - CONVERGED.0).abs()
+                <= r.v_s_over_v_m_extrapolated_uncertainty + CONVERGED.1,
+            "target {target}: extrapolated {} +- {} vs {}",
+            r.v_s_over_v_m_extrapolated,
+            r.v_s_over_v_m_extrapolated_uncertainty,
+            CONVERGED.0
+        );
+    }
+}
+
+/// The step of the runs that stand for a mesh's converged step, and a bound of their time
+/// error (module doc: 5e-4 and 2.5e-4 s differ by 2e-5 at 160 and 320 elements).
+const FINE_DT: f64 = 5e-4;
+const FINE_DT_ERROR: f64 = 2e-4;
+
+fn v_ratio(p: &problem::Problem, elements: usize, dt: f64) -> f64 {
+    let q = slither::design::selection::accuracy_problem(
+        p,
+        elements,
+        slither::design::selection::Resolution::Step(dt),
+    );
+    let m = Model::new(&q);
+    let muscles = Box::new(slither::gait::Muscles {
+        gait: m.gait.clone(),
+    });
+    let o = sim::run(&m, muscles, &mut |_| {}, &mut |_| {});
+    assert!(o.error.is_none(), "{:?}", o.error);
+    observe::measure(&m, &o, observe::Measure::Ends, &mut |_| {})
+        .1
+        .v_s_over_v_m
+}
+
+/// Recomputes [`CONVERGED`] (about 45 s): `cargo test --release --test accuracy_selection --
+/// --ignored --nocapture`.
+#[test]
+#[ignore]
+fn converged_value_of_the_scene() {
+    let p = scene();
+    let mut table = Vec::new();
+    for n in [160, 320] {
+        for dt in [1e-3, 5e-4, 2.5e-4] {
+            let v = v_ratio(&p, n, dt);
+            println!("{n} elements, dt {dt:e}: {v:.6}");
+            table.push(v);
+        }
+    }
+    // Second order in the mesh from 160 to 320 elements at the finest step.
+    let limit = table[5] + (table[5] - table[2]) / 3.0;
+    println!("limit {limit:.6}");
+    assert!((limit - CONVERGED.0).abs() <= CONVERGED.1, "{limit}");
+}
+
+fn small_s_start(elements: usize, duration: f64) -> problem::Problem {
+    let text = std::fs::read_to_string("problems/s_start.toml").unwrap();
+    let mut p = problem::parse(&text, std::path::Path::new("s_start.toml")).unwrap();
+    p.rod.elements = elements;
+    p.time.duration = Some(duration);
+    p.output.interval = Some(duration / 10.0);
+    p
+}
+
+/// The selection's estimates follow from its runs, for both time resolutions: implicit Euler
+/// (the S-start file's integrator: fixed steps, halved) and adaptive BDF2 (tolerances).
+#[test]
+fn accuracy_selection_reports_consistent_estimates() {
+    use slither::design::selection::{PairEstimate, Resolution, MESH_RATES};
+    for bdf2 in [false, true] {
+        let mut p = small_s_start(20, 0.6);
+        if bdf2 {
+            p.solver.integrator = problem::IntegratorKind::Bdf2;
+        }
+        let mut lines = Vec::new();
+        let sel =
+            slither::design::selection::select(&p, 0.05, 80, &mut |l| lines.push(l.to_string()));
+        let r = &sel.report;
+        println!("{}", lines.join("\n"));
+        println!("{}", serde_json::to_string_pretty(r).unwrap());
+        // The file's integrator decides the time resolution; the chosen model is run with it.
+        let res = Resolution::from_parts(r.dt, r.error_tolerance)
+            .unwrap_or_else(|| panic!("a step or a tolerance, not {r:?}"));
+        assert_eq!(
+            r.integrator,
+            if bdf2 { "bdf2-adaptive" } else { "implicit" }
+        );
+        match res {
+            Resolution::Step(h) => {
+                assert!(!bdf2);
+                assert!(sel.model.adaptive.is_none());
+                assert_eq!(sel.model.dt, h);
+                // Halvings of the file's step.
+                let k = (p.time.dt.unwrap() / h).log2();
+                assert!((k - k.round()).abs() < 1e-9 && k.round() <= 5.0, "{h}");
+                assert_eq!(
+                    sel.model.solver.integrator,
+                    problem::IntegratorKind::Implicit
+                );
+            }
+            Resolution::Tolerance(t) => {
+                assert!(bdf2);
+                assert_eq!(sel.model.adaptive.unwrap().tolerance, t);
+            }
+        }
+        // At least the two time resolutions and the two meshes were run.
+        assert!(r.runs.len() >= 3);
+        assert!(r.runs.iter().any(|x| x.elements == 40));
+        assert!((r.estimated_error - (r.time_error + r.mesh_error)).abs() < 1e-15);
+        assert_eq!(r.met, r.estimated_error <= r.target);
+        assert_eq!(sel.model.elements(), r.elements);
+        let same = |x: &slither::output::AccuracyRun| {
+            x.dt == r.dt && x.error_tolerance == r.error_tolerance
+        };
+        // The chosen run is one of the runs and its value is the reported one.
+        let v = slither::chart::speed_ratio(&sel.model, &sel.outcome);
+        assert!(r
+            .runs
+            .iter()
+            .any(|x| x.elements == r.elements && same(x) && x.v_s_over_v_m == v));
+        // The mesh estimate follows from the two mesh runs at the chosen resolution.
+        let at = |n: usize| {
+            r.runs
+                .iter()
+                .find(|x| x.elements == n && same(x))
+                .map(|x| x.v_s_over_v_m)
+        };
+        let (n, other) = if let Some(b) = at(2 * r.elements) {
+            (r.elements, b)
+        } else {
+            (r.elements / 2, at(r.elements / 2).unwrap())
+        };
+        let (vn, v2n) = if n == r.elements {
+            (at(n).unwrap(), other)
+        } else {
+            (other, at(r.elements).unwrap())
+        };
+        // With the pair one mesh coarser, when it was run, for the observed rate.
+        let previous = if n % 2 == 0 {
+            at(n / 2).map(|c| (vn - c) / vn.abs())
+        } else {
+            None
+        };
+        let est = PairEstimate::new(vn, v2n, previous, MESH_RATES.0, MESH_RATES.1);
+        let expected = if n == r.elements {
+            est.coarse
+        } else {
+            est.fine
+        };
+        assert!(
+            (r.mesh_error - expected).abs() <= 1e-12 * expected.max(1e-300),
+            "{} vs {expected}",
+            r.mesh_error
+        );
+        assert_eq!(r.mesh_order_observed, est.order(2.0));
+        // The time estimate follows from the chosen resolution and its neighbour (the finer
+        // one when that was run, else the coarser) on the mesh it was measured on.
+        let at_res = |n: usize, res: Resolution| {
+            r.runs
+                .iter()
+                .find(|x| {
+                    let close = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                        (Some(a), Some(b)) => (a - b).abs() <= 1e-12 * b.abs(),
+                        (None, None) => true,
+                        _ => false,
+                    };
+                    x.elements == n
+                        && close(x.dt, res.dt())
+                        && close(x.error_tolerance, res.tolerance())
+                })
+                .map(|x| x.v_s_over_v_m)
+        };
+        let (slow, fast) = res.rates();
+        let estimate = |n: usize| {
+            let (pair, chosen_coarse) = match at_res(n, res.refined()) {
+                Some(fine) => ((at_res(n, res)?, fine), true),
+                None => ((at_res(n, res.coarsened())?, at_res(n, res)?), false),
+            };
+            let lower = if chosen_coarse { res } else { res.coarsened() };
+            let previous = at_res(n, lower.coarsened()).map(|c| {
+                let a = at_res(n, lower).unwrap();
+                (a - c) / a.abs()
+            });
+            let est = PairEstimate::new(pair.0, pair.1, previous, slow, fast);
+            Some(if chosen_coarse { est.coarse } else { est.fine })
+        };
+        let expected = estimate(r.time_error_elements).expect("the time pair was run");
+        // It was measured on the chosen mesh unless the rounds ran out.
+        assert_eq!(r.time_error_elements, r.elements, "{r:?}");
+        assert!(
+            (r.time_error - expected).abs() <= 1e-9 * expected.max(1e-300),
+            "{} vs {expected}",
+            r.time_error
+        );
+    }
+}
