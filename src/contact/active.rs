@@ -486,7 +486,7 @@ impl Step<'_, '_> {
     fn factor(&mut self, t1: Instant) -> Result<Next, ContactFailure> {
         if self.s.project {
             self.nw.factor_shifted(self.m, self.s.it)?;
-        } else if self.nw.lin.factor(&self.nw.asm).is_err() {
+        } else if self.nw.factor().is_err() {
             // Indefinite: redo this iterate with the projected Hessian.
             self.s.project = true;
             self.s.it -= 1;

@@ -33,10 +33,12 @@ pub mod active;
 pub mod conic;
 mod deferred;
 pub mod reactions;
+pub mod semismooth;
 pub mod status;
 
 pub use active::ActiveSet;
 pub use conic::{Conic, ConicError, ConicStep};
+pub use semismooth::SemiSmooth;
 pub use status::{Mode, Statuses};
 
 pub use crate::model::Ground;
@@ -102,6 +104,10 @@ pub struct ContactStats {
     /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
     /// from the step's start.
     pub warm_conic_restarts: usize,
+    /// Contact steps solved by the semi-smooth Newton ([`semismooth`]; no conic solve).
+    pub semismooth_steps: usize,
+    /// Contact steps where the semi-smooth Newton failed and the conic path ran.
+    pub semismooth_fallbacks: usize,
     /// Fallbacks because the active-set iterates cycled (an exact repeat of iterate and
     /// statuses), sent to the conic path before the iteration cap.
     pub contact_cycles: usize,
@@ -123,6 +129,8 @@ static NO_STATS: ContactStats = ContactStats {
     active_set_fallbacks: 0,
     warm_conic_restarts: 0,
     contact_cycles: 0,
+    semismooth_steps: 0,
+    semismooth_fallbacks: 0,
     residuals: Vec::new(),
 };
 
@@ -183,6 +191,7 @@ pub fn model_for(m: &Model) -> Option<Box<dyn ContactModel>> {
     Some(match m.solver.contact {
         crate::problem::ContactKind::ActiveSet => Box::new(ActiveSet::new(m)),
         crate::problem::ContactKind::Conic => Box::new(Conic::new(m)),
+        crate::problem::ContactKind::SemiSmooth => Box::new(SemiSmooth::new(m)),
     })
 }
 

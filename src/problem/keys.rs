@@ -356,8 +356,8 @@ keys! {
         "Times a rejected step may be halved before the run stops (exit 3).";
     SOLVER_INTEGRATOR = "solver.integrator", "", Word("implicit"), Text("\"implicit\", \"bdf2\" or \"explicit\""), "",
         "Time integrator: implicit Euler, second-order BDF2 (same Newton and contact), or velocity Verlet (the explicit reference: no ground, dynamic mode, stable only below a step limit).";
-    SOLVER_CONTACT = "solver.contact", "", Word("active-set"), Text("\"active-set\" or \"conic\""), "",
-        "Contact model: statuses held and verified with the conic program as fallback, or one Clarabel program per Newton iterate (`SLITHER_CONTACT=conic` overrides it).";
+    SOLVER_CONTACT = "solver.contact", "", Word("active-set"), Text("\"active-set\", \"semi-smooth\" or \"conic\""), "",
+        "Contact model: statuses held and verified with the conic program as fallback, a semi-smooth Newton on the Alart-Curnier conditions (every status from each iterate; the conic program as fallback), or one Clarabel program per Newton iterate (`SLITHER_CONTACT=conic` overrides it).";
     SOLVER_MAX_BACKTRACKS = "solver.max_backtracks", "", Int(40), Range::Int { lo: 1, hi: 200 }, "",
         "Line search: step halvings per Newton iterate before the step fails.";
     SOLVER_ARMIJO = "solver.armijo", "", Real(1e-4), open(0.0, 0.5), "",

@@ -31,8 +31,10 @@ pub struct SolverSpec {
     #[serde(default)]
     pub integrator: IntegratorKind,
     /// Contact model: "active-set" (contact statuses held and verified, the conic program only
-    /// when the checks fail) or "conic" (one Clarabel program per Newton iterate). The CLI's
-    /// environment variable `SLITHER_CONTACT=conic` overrides it ([`keys::SOLVER_CONTACT`]).
+    /// when the checks fail), "semi-smooth" (every contact's status from each iterate, all at
+    /// once: [`crate::contact::semismooth`]; the conic program as the fallback) or "conic"
+    /// (one Clarabel program per Newton iterate). The CLI's environment variable
+    /// `SLITHER_CONTACT=conic` overrides it ([`keys::SOLVER_CONTACT`]).
     #[serde(default)]
     pub contact: ContactKind,
     /// Line search: largest number of step halvings (backtracks) per Newton iterate before
@@ -127,6 +129,10 @@ pub enum ContactKind {
     ActiveSet,
     /// The conic program at every Newton iterate.
     Conic,
+    /// Semi-smooth Newton on the Alart-Curnier contact conditions, every contact's status
+    /// from the current iterate ([`crate::contact::semismooth`]); the conic program as the
+    /// fallback.
+    SemiSmooth,
 }
 
 fn d_tol() -> f64 {
