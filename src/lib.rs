@@ -36,7 +36,8 @@
 //!    (speeds, kymograph fields, regimes), [`output`] (files), [`plot`] (figures).
 //! 9. Studies: [`design`] (gait optimiser, phase diagram) and [`chart`] (speed against
 //!    accuracy).
-//! 10. The command line (`main.rs`), the only place that reads the environment and prints.
+//! 10. The command line (`main.rs` and `cli/`, one file per subcommand; a module of the binary,
+//!     not of this library), the only place that reads the environment and prints.
 //!
 //! Where to add things: a time integrator is a [`integrator::Scheme`] in one new file under
 //! `integrator/` plus a variant of [`problem::IntegratorKind`] (mapped in

@@ -274,8 +274,17 @@ fn incline(heading: f64, mu: f64) {
     let acc = -vx / s.t;
     let b = above.to_radians();
     let expected = G * (b.sin() - mu * b.cos());
-    println!("heading {heading}: {above:.2} deg: acceleration {acc:.6} (analytic {expected:.6})");
-    assert!((acc / expected - 1.0).abs() < 0.01);
+    println!(
+        "heading {heading}: {above:.2} deg: acceleration {acc:.9} (analytic {expected:.9}), rel {:.2e}",
+        acc / expected - 1.0
+    );
+    // Rigid sliding from rest at constant acceleration: BDF2 gives the velocity exactly, so
+    // only the solver's tolerance is left: measured 2.5e-13 (heading 0) and 3e-16 (90). The
+    // bound is the one of tests/contact.rs, whose conic-only path reaches 2.9e-7.
+    assert!(
+        (acc / expected - 1.0).abs() < 1e-6,
+        "acceleration {acc} vs {expected}"
+    );
 }
 
 #[test]
@@ -508,6 +517,10 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
     let p = small_s_start(20, 0.6);
     let m = Model::new(&p);
     let opts = slither::chart::GaitPrecisionOptions {
+        // The scene's mesh only, without the accuracy point (the chart's defaults add two
+        // finer meshes and an accuracy selection).
+        meshes: vec![20],
+        accuracy_target: None,
         euler_dt: vec![8e-3, 2e-3],
         bdf2_dt: vec![8e-3, 2e-3],
         tolerances: vec![1e-3, 1e-5],

@@ -668,8 +668,9 @@ fn topology_non_numeric_field_names_the_line() {
 
 #[test]
 fn topology_planar_square_ring() {
-    // A closed square in the xy-plane, d1 = +z everywhere: writhe 0 (planar) and an integer
-    // Gauss link of the curve with its push-off along d1.
+    // A closed square in the xy-plane, d1 = +z everywhere: writhe 0 (planar), and the push-off
+    // along d1 is the square lifted out of its plane, which does not wind around it: Gauss
+    // link 0 (an integer is not enough: 1 or -1 would be a wrong answer).
     let csv = "x,y,z,d1x,d1y,d1z\n0,0,0,0,0,1\n1,0,0,0,0,1\n1,1,0,0,0,1\n0,1,0,0,0,1\n";
     let dir = scratch("topo_square");
     let (_, out) = run_topology(&dir, csv, true);
@@ -682,8 +683,13 @@ fn topology_planar_square_ring() {
     let lk_gauss = v["lk_gauss"].as_f64().expect("lk_gauss with --closed");
     assert!(wr.abs() <= 1e-12, "wr = {wr}; {stdout}");
     assert!(
-        (lk_gauss - lk_gauss.round()).abs() <= 1e-6,
-        "lk_gauss = {lk_gauss} is not an integer; {stdout}"
+        lk_gauss.abs() <= 1e-6,
+        "lk_gauss = {lk_gauss}, not 0; {stdout}"
+    );
+    let tw = v["tw"].as_f64().expect("tw");
+    assert!(
+        tw.abs() <= 1e-12,
+        "tw = {tw}: d1 does not turn about the tangent; {stdout}"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

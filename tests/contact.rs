@@ -177,8 +177,18 @@ fn incline_with(heading: f64, mu: f64, active: bool, integrator: &str) {
     let acc = -vx / s.t;
     let b = above.to_radians();
     let expected = G * (b.sin() - mu * b.cos());
-    println!("heading {heading}: {above:.2} deg: acceleration {acc:.6} (analytic {expected:.6})");
-    assert!((acc / expected - 1.0).abs() < 0.01);
+    println!(
+        "heading {heading}: {above:.2} deg: acceleration {acc:.9} (analytic {expected:.9}), rel {:.2e}",
+        acc / expected - 1.0
+    );
+    // Rigid sliding from rest at constant acceleration: implicit Euler and BDF2 give the
+    // velocity exactly, so only the solver's tolerance is left: measured 1.4e-11 and 1.8e-12
+    // (active set, implicit Euler), 9e-13 and 1.4e-12 (BDF2), -2.9e-7 (conic program alone,
+    // its interior-point tolerance): 1e-6 is 3.4 times the largest.
+    assert!(
+        (acc / expected - 1.0).abs() < 1e-6,
+        "acceleration {acc} vs {expected}"
+    );
 }
 
 #[test]
@@ -313,45 +323,48 @@ fn s_start_residuals(coupling: bool) -> Vec<Vec<f64>> {
     out
 }
 
+/// The S-start's residual sequences with coupled and with lagged normal forces, computed
+/// once for the convergence test and its pin.
+fn residual_runs() -> &'static (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    static RUNS: std::sync::OnceLock<(Vec<Vec<f64>>, Vec<Vec<f64>>)> = std::sync::OnceLock::new();
+    RUNS.get_or_init(|| (s_start_residuals(true), s_start_residuals(false)))
+}
+
+/// Successive residuals (relative to the weight per contact) near the solution: the first
+/// below 0.1, the second above the round-off floor (positions ~0.5 m carry ~1e-16 m of
+/// round-off, times the stretching stiffness EA / l ~ 3e5 N/m, over W / n_c ~ 0.06 N:
+/// ~1e-9, and so it is observed). Pairs across a status change (NaN) or after a step that
+/// was not a full exact Newton step (-1) are not Newton pairs.
+fn newton_pairs(steps: &[Vec<f64>]) -> Vec<(f64, f64)> {
+    steps
+        .iter()
+        .flat_map(|r| r.windows(2).map(|w| (w[0], w[1])))
+        .filter(|&(a, b)| (0.0..0.1).contains(&a) && b > 1e-8)
+        .collect()
+}
+
+/// Fraction of pairs whose residual at least squared, and the largest `r1 / r0^2`.
+fn squared_fraction(p: &[(f64, f64)]) -> (f64, f64) {
+    let sq = p.iter().filter(|&&(a, b)| b <= a * a).count() as f64 / p.len() as f64;
+    let worst = p.iter().map(|&(a, b)| b / (a * a)).fold(0.0, f64::max);
+    (sq, worst)
+}
+
 /// Contact forces inside the Newton system: on the S-start's contact steps the force
-/// residual at least squares from one iterate to the next near the solution; with the
-/// normal forces lagged by one iterate (`contact_coupling = false`) it only contracts.
+/// residual squares from one iterate to the next near the solution (`r1 <= C r0^2` with a
+/// bounded C on every pair, and `r1 <= r0^2` on most); with the normal forces lagged by one
+/// iterate (`contact_coupling = false`) it only contracts.
 #[test]
 fn contact_newton_converges_quadratically() {
-    // Successive residuals (relative to the weight per contact) near the solution: the first
-    // below 0.1, the second above the round-off floor (positions ~0.5 m carry ~1e-16 m of
-    // round-off, times the stretching stiffness EA / l ~ 3e5 N/m, over W / n_c ~ 0.06 N:
-    // ~1e-9, and so it is observed). Pairs across a status change (NaN) or after a step that
-    // was not a full exact Newton step (-1) are not Newton pairs.
-    let pairs = |steps: &[Vec<f64>]| -> Vec<(f64, f64)> {
-        steps
-            .iter()
-            .flat_map(|r| r.windows(2).map(|w| (w[0], w[1])))
-            .filter(|&(a, b)| (0.0..0.1).contains(&a) && b > 1e-8)
-            .collect()
-    };
-    let raw = s_start_residuals(true);
-    for r in &raw {
-        if r.windows(2)
-            .any(|w| (0.0..0.1).contains(&w[0]) && w[1] > 1e-8 && w[1] > w[0] * w[0])
-        {
-            println!(
-                "DBG {:?}",
-                r.iter().map(|x| format!("{x:.2e}")).collect::<Vec<_>>()
-            );
-        }
-    }
+    let (raw, lagged_raw) = residual_runs();
     let iterations = raw.iter().flatten().filter(|r| **r >= 0.0).count();
     let inexact = raw.iter().flatten().filter(|r| **r < 0.0).count();
     println!("coupled: {inexact} of {iterations} iterations not full exact Newton steps");
     assert!((inexact as f64) < 0.1 * iterations as f64);
-    let coupled = pairs(&raw);
-    let lagged = pairs(&s_start_residuals(false));
-    let squared =
-        |p: &[(f64, f64)]| p.iter().filter(|&&(a, b)| b <= a * a).count() as f64 / p.len() as f64;
-    let worst = |p: &[(f64, f64)]| p.iter().map(|&(a, b)| b / (a * a)).fold(0.0, f64::max);
-    let (sc, sl) = (squared(&coupled), squared(&lagged));
-    let (wc, wl) = (worst(&coupled), worst(&lagged));
+    let coupled = newton_pairs(raw);
+    let lagged = newton_pairs(lagged_raw);
+    let (sc, wc) = squared_fraction(&coupled);
+    let (sl, wl) = squared_fraction(&lagged);
     println!(
         "coupled: {} pairs, {:.0} % squared, largest r1/r0^2 {wc:.2e}; lagged: {} pairs, {:.0} % squared, largest r1/r0^2 {wl:.2e}",
         coupled.len(),
@@ -360,16 +373,211 @@ fn contact_newton_converges_quadratically() {
         100.0 * sl,
     );
     assert!(coupled.len() >= 50 && lagged.len() >= 50);
-    // Quadratic: the residual squares on nine pairs in ten, and on every pair
-    // `r1 <= C r0^2` with a bounded C (a contact crossing between forward and backward
-    // sliding, where the dissipation's Hessian jumps, costs the odd pair its full rate).
+    // Quadratic: on every pair `r1 <= C r0^2` with a bounded C (a contact crossing between
+    // forward and backward sliding, where the dissipation's Hessian jumps, costs the odd pair
+    // its full rate), and most pairs square outright. A linear contraction (the lagged
+    // iteration's) gives neither.
+    assert!(wc <= 100.0, "coupled: r1 / r0^2 up to {wc:e}");
+    assert!(
+        sc >= 0.75,
+        "coupled: only {:.0} % of pairs squared",
+        100.0 * sc
+    );
+    // The lagged iteration does not: the comparison shows what the coupling does.
+    assert!(sl <= 0.5, "lagged: {:.0} % of pairs squared", 100.0 * sl);
+    assert!(wl > 1e3, "lagged: r1 / r0^2 at most {wl:e}");
+}
+
+/// Regression pin: nine pairs in ten square outright on the S-start's first 0.3 s (measured
+/// 91 %, 158 pairs: a 1 % margin). Which pairs cross a forward/backward switch depends on the trajectory's last
+/// digits, so the fraction may differ slightly on another machine; the physics claim
+/// (quadratic convergence, with a margin that survives that) is the test above. Re-pinned by
+/// the lead after the contact work, not here.
+#[test]
+fn pin_contact_newton_squares_nine_pairs_in_ten() {
+    let (raw, _) = residual_runs();
+    let (sc, _) = squared_fraction(&newton_pairs(raw));
     assert!(
         sc >= 0.9,
         "coupled: only {:.0} % of pairs squared",
         100.0 * sc
     );
-    assert!(wc <= 100.0, "coupled: r1 / r0^2 up to {wc:e}");
-    // The lagged iteration does not: the comparison shows what the coupling does.
-    assert!(sl <= 0.5, "lagged: {:.0} % of pairs squared", 100.0 * sl);
-    assert!(wl > 1e3, "lagged: r1 / r0^2 at most {wl:e}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sliding at oblique angles to the body.
+// ---------------------------------------------------------------------------------------------
+
+/// Where a rigid body sliding on anisotropic friction stops (MODEL section 3): per unit mass
+/// the friction force is minus the gradient of `D(v) = g sqrt((mu v_f)^2 + (mu_s v_s)^2)`
+/// (`mu` = `mu_f` forward, `mu_b` backward), so
+/// `dv_f/dt = -g mu^2 v_f / r`, `dv_s/dt = -g mu_s^2 v_s / r`, `r = sqrt(...)`. The velocity
+/// follows `|v_s| = |v_s0| (|v_f| / |v_f0|)^k`, `k = mu_s^2 / mu^2` (the sideways part dies
+/// first: the path curves toward the body axis), and with `v_f` as the variable
+/// `x_f = int_0^|v_f0| r / (g mu^2) du`, `x_s = int_0^|v_f0| v_s(u) r / (g mu^2 u) du` (signs
+/// of `v_f0`, `v_s0`). Simpson's rule, 20 000 intervals. Returns the stop displacement
+/// `(x_f, x_s)`.
+fn anisotropic_stop(vf0: f64, vs0: f64) -> [f64; 2] {
+    let mu = if vf0 > 0.0 { MU[0] } else { MU[1] };
+    let ms = MU[2];
+    let k = (ms / mu).powi(2);
+    let u0 = vf0.abs();
+    let vs = |u: f64| vs0.abs() * (u / u0).powf(k);
+    let r = |u: f64| ((mu * u).powi(2) + (ms * vs(u)).powi(2)).sqrt();
+    let n = 20_000;
+    let h = u0 / n as f64;
+    let (mut xf, mut xs) = (0.0, 0.0);
+    for i in 0..=n {
+        let u = i as f64 * h;
+        let w = if i == 0 || i == n {
+            1.0
+        } else if i % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
+        xf += w * r(u) / (G * mu * mu);
+        // v_s r / u -> 0 as u -> 0 (k > 1).
+        if u > 0.0 {
+            xs += w * vs(u) * r(u) / (G * mu * mu * u);
+        }
+    }
+    [vf0.signum() * xf * h / 3.0, vs0.signum() * xs * h / 3.0]
+}
+
+/// Acceleration (per unit mass) by anisotropic friction at sliding velocity `(v_f, v_s)`:
+/// minus the gradient of `g sqrt((mu v_f)^2 + (mu_s v_s)^2)`.
+fn anisotropic_deceleration(vf: f64, vs: f64) -> [f64; 2] {
+    let mu = if vf > 0.0 { MU[0] } else { MU[1] };
+    let r = (mu * vf).hypot(MU[2] * vs);
+    [-G * mu * mu * vf / r, -G * MU[2] * MU[2] * vs / r]
+}
+
+/// Heading of the sliding rod (degrees): not along an axis, so that the contact frames and
+/// the chain rule from `(v_f, v_s)` to `(x, y)` are exercised.
+const HEADING: f64 = 20.0;
+
+/// Slide a straight rod (heading [`HEADING`], forward toward the head) launched at `alpha`
+/// degrees to its body at `speed`, with step `dt`: returns the stop displacement of the
+/// centroid in the body's frame (forward, sideways), the largest turn of the body (rad) and
+/// the largest rise, and the mean node velocity after the first step (body frame).
+fn oblique_slide(alpha: f64, speed: f64, dt: f64) -> ([f64; 2], f64, f64, [f64; 2]) {
+    let (a, h) = (alpha.to_radians(), HEADING.to_radians());
+    let v = [speed * (a + h).cos(), speed * (a + h).sin(), 0.0];
+    // World (x, y) to body (forward, sideways).
+    let body = |w: [f64; 3]| {
+        [
+            w[0] * h.cos() + w[1] * h.sin(),
+            -w[0] * h.sin() + w[1] * h.cos(),
+        ]
+    };
+    let mut m = scene(HEADING, v, 0.0, 0.0, 1.0);
+    m.dt = dt;
+    let mut integ = Integrator::new(&m, Box::new(Natural));
+    let mut s = State::initial(&m);
+    let c0 = s.centroid(&m);
+    let (mut turn, mut rise) = (0.0f64, 0.0f64);
+    let mut v_probe = [0.0; 2];
+    let mut steps = 0;
+    // Until the rod has stopped (every node below 1e-9 m/s), at most 1 s.
+    loop {
+        integ.step(&mut s, dt).unwrap();
+        steps += 1;
+        let (head, tail) = (s.node(m.real.start), s.node(m.real.end - 1));
+        turn = turn.max(((head[1] - tail[1]).atan2(head[0] - tail[0]) - h).abs());
+        rise = rise.max(max_height(&m, &s) - 0.5 * m.diameter);
+        let vmax = m
+            .real
+            .clone()
+            .map(|i| f::norm(s.node_velocity(i)))
+            .fold(0.0, f64::max);
+        if steps == 1 {
+            let vc: [f64; 3] = m
+                .real
+                .clone()
+                .map(|i| s.node_velocity(i))
+                .fold([0.0; 3], f::add);
+            v_probe = body(f::scale(vc, 1.0 / m.real.len() as f64));
+        }
+        if vmax < 1e-9 || steps as f64 * dt > 1.0 {
+            break;
+        }
+    }
+    (body(f::sub(s.centroid(&m), c0)), turn, rise, v_probe)
+}
+
+/// A straight rod (at 20 degrees to the x axis) launched at 30, 45 and 135 degrees to its body
+/// stops where integrating the
+/// anisotropic dissipation says (not on the line of its launch: the sideways part of the
+/// velocity dies first), decelerates at first along the dissipation's gradient, and never
+/// turns or rises. Implicit Euler is first order in the step, so the stop point is
+/// Richardson-extrapolated from dt = 1 ms and 0.5 ms. Measured: 3.3e-7, 4.7e-7 and 1.5e-6
+/// (30, 45, 135 degrees; 2.5e-3 to 3.2e-3 at 1 ms, half that at 0.5 ms); the launch line
+/// misses the stop point by 0.18 to 0.30 rad. Mutation: `mu_forward` and `mu_backward`
+/// swapped where the model is built (`src/model/mod.rs`, `Ground`): at 30 degrees the stop
+/// point is off by 0.20 and the first step's deceleration by 0.22, fails.
+/// The first step's acceleration is the friction law's at the step's end velocity.
+#[test]
+fn oblique_sliding_stops_where_the_anisotropic_dissipation_says() {
+    let speed = 0.5;
+    for alpha in [30.0f64, 45.0, 135.0] {
+        let a = alpha.to_radians();
+        let (vf0, vs0) = (speed * a.cos(), speed * a.sin());
+        let stop = anisotropic_stop(vf0, vs0);
+        let (d1, turn1, rise1, v1) = oblique_slide(alpha, speed, 1e-3);
+        let (d2, turn2, rise2, _) = oblique_slide(alpha, speed, 5e-4);
+        let rich = [2.0 * d2[0] - d1[0], 2.0 * d2[1] - d1[1]];
+        let err = |d: [f64; 2]| (d[0] - stop[0]).hypot(d[1] - stop[1]) / stop[0].hypot(stop[1]);
+        // Where a force along -v (isotropic direction) would have stopped it: on the launch
+        // line. The test must tell the two apart.
+        let launch_line = (stop[1].atan2(stop[0]) - a).abs();
+        // The first step's acceleration: implicit Euler evaluates the friction force at the
+        // step's end velocity, so it must equal the gradient law at the measured `v_1`.
+        let acc = [(v1[0] - vf0) / 1e-3, (v1[1] - vs0) / 1e-3];
+        let decel = anisotropic_deceleration(v1[0], v1[1]);
+        let acc_err = (acc[0] - decel[0]).hypot(acc[1] - decel[1]) / decel[0].hypot(decel[1]);
+        println!(
+            "{alpha} deg: stop ({:.6}, {:.6}) m, analytic ({:.6}, {:.6}) m; rel. error \
+             {:.2e} (1 ms), {:.2e} (0.5 ms), {:.2e} (extrapolated); off the launch line by \
+             {launch_line:.3} rad; deceleration ({:.5}, {:.5}) vs ({:.5}, {:.5}), rel {acc_err:.1e}; \
+             turn {:.1e} rad, rise {:.1e} m",
+            rich[0],
+            rich[1],
+            stop[0],
+            stop[1],
+            err(d1),
+            err(d2),
+            err(rich),
+            acc[0],
+            acc[1],
+            decel[0],
+            decel[1],
+            turn1.max(turn2),
+            rise1.max(rise2)
+        );
+        assert!(
+            launch_line > 0.05,
+            "{alpha}: the reference is not anisotropic"
+        );
+        // Measured up to 1.5e-6 (135 degrees); the first-order error at 0.5 ms is 1.6e-3.
+        assert!(err(rich) < 1e-5, "{alpha} deg: stop {rich:?} vs {stop:?}");
+        assert!(
+            err(d2) < 5e-3,
+            "{alpha} deg: stop {d2:?} vs {stop:?} at 0.5 ms"
+        );
+        // Measured up to 1.3e-11: the law holds to the Newton tolerance.
+        assert!(
+            acc_err < 1e-8,
+            "{alpha} deg: deceleration {acc:?} vs {decel:?}"
+        );
+        assert!(turn1.max(turn2) < 1e-9, "{alpha} deg: the body turned");
+        assert!(
+            rise1.max(rise2) < 1e-6 * m_diameter(),
+            "{alpha} deg: the body rose"
+        );
+    }
+}
+
+fn m_diameter() -> f64 {
+    0.02
 }

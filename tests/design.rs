@@ -1,5 +1,6 @@
 //! The gait optimiser (`slither optimize`, `slither::design`) on a tiny serpenoid (12 elements,
-//! large step, half a pulse time): the best point found is at least as fast as the start, the
+//! large step, half a pulse time): from a start known to be poor the search finds a clearly
+//! faster gait, the
 //! history has one flushed row per simulation and is reused on a rerun (an interrupted study
 //! loses nothing), failed simulations are recorded as failed, bad study files exit with code 2
 //! naming file, key and range, and the normalised coordinates clamp exactly to the bounds.
@@ -86,6 +87,26 @@ fn col(name: &str) -> usize {
         .unwrap()
 }
 
+/// `v_s` (m/s) of the study's evaluation at (24 kPa, 0.4 m/s): the start of a 3-evaluation
+/// study there. `tag` names the study's folder: tests run in parallel, and two of them measure
+/// this point, so each needs its own folder.
+fn good_point_speed(tag: &str) -> f64 {
+    let study = STUDY
+        .replace("max_evaluations = 8", "max_evaluations = 3")
+        .replace("stress = 9000.0", "stress = 24000.0");
+    let path = setup(&format!("good_point_{tag}"), BASE, &study);
+    let out = path.parent().unwrap().join("out");
+    let r = design::optimize(
+        &design::load_study(&path).unwrap(),
+        &out,
+        &mut design::Silent,
+    )
+    .unwrap();
+    assert_eq!(r.initial.point.stress, 24000.0);
+    assert_eq!(r.initial.status, Status::Ok, "{}", r.initial.reason);
+    r.initial.v_s
+}
+
 #[test]
 fn optimiser_improves_on_the_start_and_writes_every_evaluation() {
     let path = setup("improves", BASE, STUDY);
@@ -104,9 +125,25 @@ fn optimiser_improves_on_the_start_and_writes_every_evaluation() {
     assert!((r.initial.duration - 0.5 * 1.0 / 0.4).abs() < 1e-12);
     assert_eq!(r.initial.status, Status::Ok, "{}", r.initial.reason);
     let best = r.best.as_ref().expect("a finished evaluation");
+    // The start is known to be poor: the same evaluation at a stronger gait (24 kPa, the upper
+    // bound, same speed) goes far faster (a sweep of the 4 x 4 corners and midpoints of the
+    // bounds measured 0.026 to 0.150 m/s, the start 0.082).
+    let good = good_point_speed("nelder_mead");
     assert!(
-        best.v_s >= r.initial.v_s,
-        "best v_s {} < initial {}",
+        r.initial.v_s < 0.6 * good,
+        "start {} not poor against {good}",
+        r.initial.v_s
+    );
+    // A real improvement: the search closes most of the gap within its 8 evaluations
+    // (measured: start 0.0820 m/s, best 0.1596 after 8 evaluations, reference 0.1502), where "best >= start" held for any search, the start being one of
+    // its evaluations.
+    println!(
+        "start v_s {} m/s, best {} m/s after {} evaluations, reference point {good} m/s",
+        r.initial.v_s, best.v_s, r.evaluations
+    );
+    assert!(
+        best.v_s - r.initial.v_s > 0.5 * (good - r.initial.v_s),
+        "best v_s {} from start {} (reference {good})",
         best.v_s,
         r.initial.v_s
     );
@@ -569,10 +606,33 @@ fn particle_swarm_runs_generations_and_resumes_deterministically() {
         assert!((0.3..=0.8).contains(&e.point.speed), "{:?}", e.point);
     }
     let best = r.best.clone().expect("a finished run");
-    assert!(best.v_s >= r.initial.v_s);
-    // The best cost of the swarm never gets worse from one generation to the next.
-    for w in r.iterations.windows(2) {
-        assert!(w[1].best_cost <= w[0].best_cost, "{:?}", r.iterations);
+    // A real improvement on the poor start (see the Nelder-Mead test), not "best >= start",
+    // which any search satisfies.
+    let good = good_point_speed("swarm");
+    println!(
+        "swarm: start v_s {} m/s, best {} m/s, reference {good} m/s; generations {:?}",
+        r.initial.v_s, best.v_s, r.iterations
+    );
+    assert!(
+        best.v_s - r.initial.v_s > 0.5 * (good - r.initial.v_s),
+        "best v_s {} from start {} (reference {good})",
+        best.v_s,
+        r.initial.v_s
+    );
+    // Each generation's best cost is the lowest cost of the evaluations up to it, recomputed
+    // here from the visited points (the report's bookkeeping, checked independently).
+    let per_gen = r.visited.len() / r.iterations.len();
+    for (g, it) in r.iterations.iter().enumerate() {
+        let lowest = r.visited[..(g + 1) * per_gen]
+            .iter()
+            .filter(|v| v.0.status == Status::Ok)
+            .map(|v| -v.0.v_s)
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            (it.best_cost - lowest).abs() <= 1e-12 * lowest.abs(),
+            "generation {g}: best cost {} vs lowest {lowest}",
+            it.best_cost
+        );
     }
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("optimum.json")).unwrap()).unwrap();

@@ -148,3 +148,23 @@ fn problem_files_shown_in_the_docs_parse() {
     }
     assert!(checked >= 2, "{checked} problem files found in the docs");
 }
+
+/// `slither keys --markdown` and `--outputs-markdown` print exactly the generated references.
+#[test]
+fn keys_command_prints_the_references() {
+    for (flag, text) in [
+        ("--markdown", slither::problem::keys::markdown()),
+        ("--outputs-markdown", schema::markdown()),
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_slither"))
+            .args(["keys", flag])
+            .output()
+            .expect("run slither keys");
+        assert!(o.status.success(), "slither keys {flag}: {}", o.status);
+        assert_eq!(
+            String::from_utf8(o.stdout).unwrap(),
+            text,
+            "slither keys {flag}"
+        );
+    }
+}

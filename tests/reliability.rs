@@ -5,10 +5,8 @@ mod common;
 
 use slither::observe;
 use slither::sim::Frame;
-use slither::topology::{self, FramedCurve};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::time::Instant;
 
 const BIN: &str = env!("CARGO_BIN_EXE_slither");
 
@@ -73,45 +71,8 @@ fn rejected_with(name: &str, text: &str, needles: &[&str]) -> String {
 // 1. Post-processing cost and run-size limits
 // ---------------------------------------------------------------------------------------------
 
-#[test]
-fn densities_of_a_fine_mesh_are_not_cubic() {
-    // A 4000-edge helix with windows of a tenth of its length (400 edges each): the direct
-    // per-window writhe took ~3e8 pair evaluations (tens of seconds); sliding takes ~2e6.
-    let n = 4001;
-    let nodes: Vec<[f64; 3]> = (0..n)
-        .map(|i| {
-            let t = 40.0 * std::f64::consts::PI * i as f64 / (n - 1) as f64;
-            [t.cos(), t.sin(), 0.2 * t]
-        })
-        .collect();
-    let d1 = (0..n - 1)
-        .map(|i| {
-            let m = [
-                0.5 * (nodes[i][0] + nodes[i + 1][0]),
-                0.5 * (nodes[i][1] + nodes[i + 1][1]),
-            ];
-            [-m[0], -m[1], 0.0]
-        })
-        .collect();
-    let c = FramedCurve {
-        nodes,
-        d1,
-        closed: false,
-    };
-    let total: f64 = (0..n - 1)
-        .map(|i| {
-            let (a, b) = (c.nodes[i], c.nodes[i + 1]);
-            ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt()
-        })
-        .sum();
-    let t0 = Instant::now();
-    let d = topology::densities(&c, total / 10.0);
-    let secs = t0.elapsed().as_secs_f64();
-    assert!(d.s.len() > 3500, "{} windows", d.s.len());
-    // A right-handed helix writhes positively in every window.
-    assert!(d.omega.iter().all(|&w| w > 0.0));
-    assert!(secs < 3.0, "densities of 4000 edges took {secs} s");
-}
+// The densities' cost is counted in pair evaluations in `src/topology/tests.rs`
+// (`densities_of_a_fine_mesh_are_not_cubic`), not timed here.
 
 #[test]
 fn runs_above_the_size_limits_are_refused_up_front() {
@@ -389,11 +350,48 @@ fn a_live_lock_refuses_a_second_run_and_a_stale_one_is_taken_over() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// A run stopped (SIGSTOP) while it holds its output directory; continued and reaped when
+/// dropped, also when the test fails.
+struct Stopped(Option<std::process::Child>);
+
+impl Stopped {
+    fn child(&mut self) -> &mut std::process::Child {
+        self.0.as_mut().unwrap()
+    }
+    fn signal(&mut self, sig: &str) {
+        let pid = self.child().id().to_string();
+        let ok = Command::new("kill")
+            .args([sig, &pid])
+            .status()
+            .is_ok_and(|s| s.success());
+        assert!(ok, "kill {sig} {pid}");
+    }
+    /// Continue the run and wait for its end.
+    fn finish(mut self) -> Output {
+        self.signal("-CONT");
+        self.0.take().unwrap().wait_with_output().unwrap()
+    }
+}
+
+impl Drop for Stopped {
+    fn drop(&mut self) {
+        if let Some(c) = self.0.as_mut() {
+            let _ = Command::new("kill")
+                .args(["-CONT", &c.id().to_string()])
+                .status();
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
+}
+
 #[test]
 fn concurrent_runs_into_one_directory_do_not_mix() {
+    // No race on start-up order: the first run is stopped while it provably holds the lock
+    // (its process id in `.slither.lock`), the second is started and must be refused, then
+    // the first continues and finishes.
     let d = scratch("concurrent");
     let p = d.join("p.toml");
-    // About half a second of simulation each.
     std::fs::write(
         &p,
         std::fs::read_to_string("problems/slide.toml")
@@ -402,6 +400,7 @@ fn concurrent_runs_into_one_directory_do_not_mix() {
     )
     .unwrap();
     let out = d.join("out");
+    let lock = out.join(slither::output::lock::LOCK_FILE);
     let spawn = || {
         Command::new(BIN)
             .args(["run", s(&p), "--out", s(&out), "--quiet"])
@@ -409,15 +408,34 @@ fn concurrent_runs_into_one_directory_do_not_mix() {
             .spawn()
             .unwrap()
     };
-    let (a, b) = (spawn(), spawn());
-    let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
-    let codes = [a.status.code(), b.status.code()];
+    let mut a = Stopped(Some(spawn()));
+    let pid = a.child().id().to_string();
+    // Wait on the lock file: it is written whole (hard-linked from a private name) before
+    // the run simulates, and removed only when the run ends.
+    loop {
+        if std::fs::read_to_string(&lock).is_ok_and(|t| t.trim() == pid) {
+            break;
+        }
+        if let Some(st) = a.child().try_wait().unwrap() {
+            panic!(
+                "the first run ended ({st}) without holding {}",
+                lock.display()
+            );
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    a.signal("-STOP");
     assert!(
-        codes.contains(&Some(0)) && codes.contains(&Some(2)),
-        "one runs, one is refused: {codes:?} {} {}",
-        stderr(&a),
-        stderr(&b)
+        a.child().try_wait().unwrap().is_none()
+            && std::fs::read_to_string(&lock).is_ok_and(|t| t.trim() == pid),
+        "the first run finished before it could be stopped (its run takes ~0.5 s)"
     );
+    let b = spawn().wait_with_output().unwrap();
+    assert_eq!(b.status.code(), Some(2), "refused: {}", stderr(&b));
+    assert!(stderr(&b).contains(&pid), "names the owner: {}", stderr(&b));
+    let a = a.finish();
+    assert_eq!(a.status.code(), Some(0), "{}", stderr(&a));
+    assert!(!lock.exists(), "the lock is released at the end");
     // The directory holds one run: as many .vtp files as the .pvd lists.
     let pvd = std::fs::read_to_string(out.join("vtk/frames.pvd")).unwrap();
     let listed = pvd.matches("<DataSet").count();

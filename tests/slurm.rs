@@ -3,13 +3,20 @@
 //! localhost, and the merged `phase.csv` must equal a single-machine run cell for cell (every
 //! column but the wall time).
 //!
-//! The test installs Debian's `slurm-wlm` and `munge` with apt-get when their binaries are
-//! missing (as root; `apt-get update` first), starts `munged` unless one already answers,
-//! and starts `slurmctld` and `slurmd` in the foreground as its own children, on free ports,
-//! with every state, spool, log and pid file in a scratch directory. It never skips: a missing
-//! scheduler that cannot be installed, a daemon that does not start or a job that does not
-//! finish within its timeout fails the test with the daemon and job logs. The daemons it
-//! started are stopped by their process ids when it ends (also on failure).
+//! Where it runs. As root, the test installs Debian's `slurm-wlm` and `munge` with apt-get
+//! when their binaries are missing (`apt-get update` first) and starts `munged` unless one
+//! already answers. As another user it runs only when Slurm is already installed and a
+//! `munged` already answers `munge -n | unmunge` (the daemons then run as that user). It
+//! starts `slurmctld` and `slurmd` in the foreground as its own children, on free ports, with
+//! every state, spool, log and pid file in a scratch directory.
+//!
+//! Where it cannot run (not root and Slurm or munge missing, or the install failed), it
+//! prints one line `slurm test SKIPPED: <why>` to the terminal and passes, so
+//! `cargo test --release` on a laptop stays green. With `SLITHER_REQUIRE_SLURM=1` in the
+//! environment (CI sets it in `.ci/run`) a skip is a failure instead. Once the scheduler is
+//! available, nothing skips: a daemon that does not start or a job that does not finish within
+//! its timeout fails the test with the daemon and job logs. The daemons it started are stopped
+//! by their process ids when it ends (also on failure).
 //!
 //! Timeouts (generous for a loaded 2-core machine; the whole test takes seconds when Slurm is
 //! installed): [`NODE_TIMEOUT`] for the node to come up idle, [`JOBS_TIMEOUT`] for the array
@@ -74,21 +81,70 @@ fn is_root() -> bool {
         .unwrap_or(false)
 }
 
-/// apt-get the scheduler unless every program is already there (idempotent).
-fn ensure_installed() {
+/// The user the test runs as (`id -un`); the Slurm daemons run as this user.
+fn user() -> String {
+    Command::new("id")
+        .arg("-un")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .ok()
+        .filter(|u| !u.is_empty())
+        .unwrap_or_else(|| "root".to_string())
+}
+
+/// Whether a running munged answers: `munge -n | unmunge` succeeds.
+fn munge_works() -> bool {
+    let (Some(munge), Some(unmunge)) = (find("munge"), find("unmunge")) else {
+        return false;
+    };
+    let m = Command::new(munge)
+        .arg("-n")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn();
+    let Ok(mut m) = m else { return false };
+    let ok = Command::new(unmunge)
+        .stdin(m.stdout.take().unwrap())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    let _ = m.wait();
+    ok
+}
+
+/// The variable that turns a skip into a failure (CI sets it).
+const REQUIRE: &str = "SLITHER_REQUIRE_SLURM";
+
+/// Make the scheduler's programs available: `Ok` when the test can run, `Err(why)` when it
+/// cannot (apt-get as root when programs are missing; idempotent).
+fn availability() -> Result<(), String> {
     let missing: Vec<&str> = PROGRAMS
         .iter()
         .copied()
         .filter(|p| find(p).is_none())
         .collect();
-    if missing.is_empty() {
-        return;
+    let root = is_root();
+    if !root {
+        if !missing.is_empty() {
+            return Err(format!(
+                "not root and Slurm is not installed (missing {}); run as root, or install \
+                 slurm-wlm and munge and start munged",
+                missing.join(", ")
+            ));
+        }
+        if !munge_works() {
+            return Err(
+                "not root and no munged answers `munge -n | unmunge`; start munged \
+                        (as root) or run the test as root"
+                    .to_string(),
+            );
+        }
+        return Ok(());
     }
-    assert!(
-        is_root(),
-        "Slurm is not installed (missing {missing:?}) and the test is not root: run as root \
-         or `apt-get install -y slurm-wlm munge` first"
-    );
+    if missing.is_empty() {
+        return Ok(());
+    }
     let t = Instant::now();
     for args in [
         &["update"][..],
@@ -98,16 +154,49 @@ fn ensure_installed() {
             .args(args)
             .env("DEBIAN_FRONTEND", "noninteractive")
             .output()
-            .expect("apt-get runs");
-        assert!(o.status.success(), "apt-get {args:?} failed:\n{}", text(&o));
+            .map_err(|e| format!("Slurm is missing and apt-get cannot run: {e}"))?;
+        if !o.status.success() {
+            let err = String::from_utf8_lossy(&o.stderr);
+            let last = err
+                .lines()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("");
+            return Err(format!(
+                "Slurm is missing and `apt-get {}` failed ({}: {last})",
+                args.join(" "),
+                o.status
+            ));
+        }
     }
     eprintln!(
         "installed slurm-wlm and munge in {:.0} s",
         t.elapsed().as_secs_f64()
     );
-    for p in PROGRAMS {
-        prog(p);
+    match PROGRAMS.iter().find(|p| find(p).is_none()) {
+        Some(p) => Err(format!(
+            "{p} not found after installing slurm-wlm and munge"
+        )),
+        None => Ok(()),
     }
+}
+
+/// Whether to run: `true` when the scheduler is available. Otherwise one line on the terminal
+/// (written past the test harness's capture, so it shows in a passing run) and `false`, or a
+/// failure when [`REQUIRE`] is `1`.
+fn should_run() -> bool {
+    let Err(why) = availability() else {
+        return true;
+    };
+    if std::env::var(REQUIRE).is_ok_and(|v| v == "1") {
+        panic!("{REQUIRE}=1 but the Slurm test cannot run: {why}");
+    }
+    use std::io::Write;
+    let _ = writeln!(
+        std::io::stderr().lock(),
+        "slurm test SKIPPED: {why} (set {REQUIRE}=1 to make this a failure)"
+    );
+    false
 }
 
 /// A free TCP port on localhost (bound, read and released).
@@ -178,13 +267,14 @@ impl Scheduler {
         let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
         let d = s.dir.display();
         let (ctld_port, d_port) = (free_port(), free_port());
+        let user = user();
         let conf = format!(
             "ClusterName=slithertest\n\
              SlurmctldHost={host}\n\
              SlurmctldPort={ctld_port}\n\
              SlurmdPort={d_port}\n\
-             SlurmUser=root\n\
-             SlurmdUser=root\n\
+             SlurmUser={user}\n\
+             SlurmdUser={user}\n\
              AuthType=auth/munge\n\
              StateSaveLocation={d}/state\n\
              SlurmdSpoolDir={d}/spool\n\
@@ -228,22 +318,7 @@ impl Scheduler {
 
     /// Start munged as the `munge` user unless a running one already answers `munge -n`.
     fn start_munge(&mut self) {
-        let works = || {
-            let m = Command::new(prog("munge"))
-                .arg("-n")
-                .stdout(Stdio::piped())
-                .stderr(Stdio::null())
-                .spawn();
-            let Ok(mut m) = m else { return false };
-            let ok = Command::new(prog("unmunge"))
-                .stdin(m.stdout.take().unwrap())
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .status()
-                .is_ok_and(|s| s.success());
-            let _ = m.wait();
-            ok
-        };
+        let works = munge_works;
         if works() {
             return;
         }
@@ -352,7 +427,9 @@ fn rows(csv: &Path) -> std::collections::BTreeMap<(String, String), String> {
 #[test]
 fn job_array_on_one_node_slurm_merges_to_the_single_machine_run() {
     let t0 = Instant::now();
-    ensure_installed();
+    if !should_run() {
+        return;
+    }
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
         .join(format!("slurm-study-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);

@@ -57,6 +57,10 @@ ARRAYS: Dict[str, tuple] = {
     "elevation": ("(F, N)", "m, z - a/2"),
     "slip_speed": ("(F, N)", "m/s, horizontal speed of nodes in contact, NaN in the air"),
     "lambda_": ("(F, W)", "turns/m, local link density"),
+    "diameter": ("(1,)", "m, the rod's diameter a (for the movie renderer)"),
+    "gait_period": ("(1,)", "s, the gait's pulse time (NaN without a gait)"),
+    "gait_speed": ("(1,)", "m/s, the gait's v_m (NaN without a gait)"),
+    "stuck_speed": ("(1,)", "m/s, the slip speed below which a contact counts as stuck"),
 }
 
 

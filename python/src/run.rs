@@ -229,6 +229,11 @@ impl NativeRun {
             let k = data.first().map_or(0, |r| r.len());
             d.set_item(name, array(py, data.concat(), &[data.len(), k])?)?;
         }
+        // The one-element arrays the movie renderer reads (`diameter`, `gait_period`, ...),
+        // as `trajectory.npz` stores them.
+        for (name, v) in output::movie::movie_scalars(m) {
+            d.set_item(name, array(py, vec![v], &[1])?)?;
+        }
         Ok(d)
     }
 

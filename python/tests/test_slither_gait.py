@@ -180,7 +180,9 @@ def test_arrays_have_the_documented_shapes_and_units():
         assert getattr(r, name).shape == shape, name
         assert getattr(r, name).dtype == np.float64
     assert r.lambda_.shape[0] == f and r.lambda_.ndim == 2
-    assert set(sg.ARRAYS) == set(shapes) | {"t", "lambda_"}
+    assert set(sg.ARRAYS) == set(shapes) | {"t", "lambda_", "diameter", "gait_period",
+                                            "gait_speed", "stuck_speed"}
+    assert r.diameter.shape == (1,) and r.diameter[0] == a
     # Metres: arc length from the head to the tail is L; the initial rod lies straight on
     # the ground at z = a/2, and the elevation is z - a/2.
     assert r.s[0] == 0.0 and r.s[-1] == pytest.approx(length, rel=1e-12)

@@ -1,9 +1,14 @@
-//! The work-precision chart of a gait scene (ground, contact, muscles): the error of `v_s/v_m`
-//! and of the final centreline against wall time, for implicit Euler over fixed steps, BDF2
-//! over fixed steps and BDF2 with error-controlled steps over tolerances
-//! ([`crate::integrator::adaptive`]), at the scene's mesh.
+//! The work-precision chart of a gait scene (ground, contact, muscles): what does an answer
+//! within a given error of the converged `v_s/v_m` cost? The error of `v_s/v_m` (and of the
+//! final centreline) against the converged value, mesh and step together, over wall time on
+//! log-log axes, one line per method and mesh (implicit Euler over fixed steps, BDF2 over fixed
+//! steps, BDF2 with error-controlled steps over tolerances ([`crate::integrator::adaptive`]);
+//! by default at the scene's mesh, twice and four times it), each line's points in order of
+//! cost, the `--accuracy` selection as one point (its whole wall time, probes included), and a
+//! 1 % line.
 //!
-//! **Reference.** `reference_integrator` (implicit Euler by default) at fixed steps from
+//! **Reference.** On the finest mesh of the chart: `reference_integrator` (implicit Euler by
+//! default) at fixed steps from
 //! `reference_dt`, halved until `v_s/v_m` changes by less than `reference_change` (0.1 %)
 //! between two successive runs (at most `reference_halvings` halvings); the finest run is the
 //! reference. Because gait scenes with stick-slip can respond to the step size by small jumps
@@ -29,23 +34,29 @@ use crate::sim::Outcome;
 /// Settings of the gait work-precision chart (defaults in [`Default`]).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct GaitPrecisionOptions {
-    /// Fixed steps of implicit Euler (s). Default 8e-3, 4e-3, 2e-3, 1e-3, 5e-4.
+    /// Meshes (elements) of the runs; the reference runs on the finest. Default (empty): the
+    /// scene's mesh, twice and four times it.
+    pub meshes: Vec<usize>,
+    /// Fixed steps of implicit Euler (s), on every mesh. Default 4e-3, 2e-3, 1e-3, 5e-4.
     pub euler_dt: Vec<f64>,
-    /// Fixed steps of BDF2 (s). Default 8e-3, 4e-3, 2e-3, 1e-3, 5e-4.
+    /// Fixed steps of BDF2 (s), on every mesh. Default none.
     pub bdf2_dt: Vec<f64>,
-    /// Tolerances of adaptive BDF2 (fraction of L per step). Default 1e-3, 1e-4, 3e-5, 1e-5 and
-    /// 5e-6 (the default of `[time] error_tolerance`).
+    /// Tolerances of adaptive BDF2 (fraction of L per step), on every mesh. Default 1e-4,
+    /// 1e-5.
     pub tolerances: Vec<f64>,
+    /// Target of the `--accuracy` selection drawn as one point (its chosen run's error, the
+    /// wall time of all its runs). Default 0.01; `None`: no point.
+    pub accuracy_target: Option<f64>,
     /// First step of adaptive runs (s). Default 2e-3.
     pub adaptive_first_dt: f64,
     /// Integrator of the reference runs. Default implicit Euler.
     pub reference_integrator: IntegratorKind,
-    /// Coarsest reference step (s). Default 2.5e-4.
+    /// Coarsest reference step (s). Default 5e-4.
     pub reference_dt: f64,
     /// Relative change of `v_s/v_m` between successive reference runs that ends the halving.
     /// Default 1e-3.
     pub reference_change: f64,
-    /// Most halvings of the reference step. Default 3 (2.5e-4 to 3.125e-5 s: implicit Euler's
+    /// Most halvings of the reference step. Default 3 (5e-4 to 6.25e-5 s: implicit Euler's
     /// damping of the rod's fast modes fades below that, and with it its insensitivity, e.g.
     /// 0.30273 at 1.5625e-5 s on the 50-element S-start against 0.30829 at 3.125e-5 s).
     pub reference_halvings: usize,
@@ -56,12 +67,14 @@ pub struct GaitPrecisionOptions {
 impl Default for GaitPrecisionOptions {
     fn default() -> Self {
         GaitPrecisionOptions {
-            euler_dt: vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4],
-            bdf2_dt: vec![8e-3, 4e-3, 2e-3, 1e-3, 5e-4],
-            tolerances: vec![1e-3, 1e-4, 3e-5, 1e-5, 5e-6],
+            meshes: Vec::new(),
+            euler_dt: vec![4e-3, 2e-3, 1e-3, 5e-4],
+            bdf2_dt: Vec::new(),
+            tolerances: vec![1e-4, 1e-5],
+            accuracy_target: Some(0.01),
             adaptive_first_dt: 2e-3,
             reference_integrator: IntegratorKind::Implicit,
-            reference_dt: 2.5e-4,
+            reference_dt: 5e-4,
             reference_change: 1e-3,
             reference_halvings: 3,
             reference_jitter: 0.04,
@@ -72,8 +85,11 @@ impl Default for GaitPrecisionOptions {
 /// One run of a gait scene: the measured speed ratio, the final centreline and the cost.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct GaitRun {
-    /// "implicit", "bdf2" or "bdf2-adaptive".
+    /// "implicit", "bdf2", "bdf2-adaptive" or "accuracy".
     pub method: String,
+    /// Real elements.
+    #[serde(default)]
+    pub elements: usize,
     /// Fixed step (s), or the first step of an adaptive run.
     pub dt: f64,
     /// Tolerance of an adaptive run (`None`: fixed steps).
@@ -128,6 +144,7 @@ pub fn gait_run(model: &Model, method: &str) -> GaitRun {
     let ok = o.error.is_none();
     GaitRun {
         method: method.into(),
+        elements: model.elements(),
         dt: model.dt,
         tolerance: model.adaptive.map(|a| a.tolerance),
         v_ratio: if ok { speed_ratio(model, &o) } else { f64::NAN },
@@ -178,7 +195,7 @@ pub struct GaitPoint {
 pub struct GaitPrecision {
     /// Scene file.
     pub scene: String,
-    /// Real elements.
+    /// Real elements of the reference (the finest mesh).
     pub elements: usize,
     /// Duration (s).
     pub duration: f64,
@@ -310,6 +327,31 @@ pub fn gait_reference(
     Ok(reference)
 }
 
+/// `problem` (whose compiled model is `model`) at `elements`.
+fn at_mesh(problem: &Problem, model: &Model, elements: usize) -> (Problem, Model) {
+    let mut p = problem.clone();
+    if elements == model.elements() {
+        return (p, model.clone());
+    }
+    p.rod.elements = elements;
+    let mut m = Model::new(&p);
+    // Keep the settings the caller may have changed on the model (e.g. the duration).
+    m.duration = model.duration;
+    m.output_interval = model.output_interval;
+    (p, m)
+}
+
+/// The reference's final centreline at the nodes of an `elements` mesh (every k-th node when
+/// the reference mesh is k times finer); empty when the meshes do not nest.
+fn centreline_at(xref: &[[f64; 3]], elements: usize) -> Vec<[f64; 3]> {
+    let nref = xref.len().saturating_sub(1);
+    if elements == 0 || !nref.is_multiple_of(elements) {
+        return Vec::new();
+    }
+    let k = nref / elements;
+    xref.iter().step_by(k).copied().collect()
+}
+
 /// Compute the gait work-precision data of a scene with ground and gait; the reference is
 /// cached in `cache` (see the module doc).
 pub fn gait_precision(
@@ -320,36 +362,22 @@ pub fn gait_precision(
     cache: Option<&Path>,
     log: &mut dyn FnMut(&str),
 ) -> Result<GaitPrecision, ChartError> {
-    let reference = gait_reference(problem, model, opts, cache, log)?;
+    let n0 = model.elements();
+    let meshes = if opts.meshes.is_empty() {
+        vec![n0, 2 * n0, 4 * n0]
+    } else {
+        opts.meshes.clone()
+    };
+    let finest = meshes.iter().copied().max().unwrap_or(n0);
+    let (pref, mref) = at_mesh(problem, model, finest);
+    let reference = gait_reference(&pref, &mref, opts, cache, log)?;
     let xref = reference.runs.last().expect("reference run").x.clone();
-    let mut runs = Vec::new();
-    for &dt in &opts.euler_dt {
-        runs.push((
-            "implicit",
-            variant(model, IntegratorKind::Implicit, dt, None),
-        ));
-    }
-    for &dt in &opts.bdf2_dt {
-        runs.push(("bdf2", variant(model, IntegratorKind::Bdf2, dt, None)));
-    }
-    for &tol in &opts.tolerances {
-        runs.push((
-            "bdf2-adaptive",
-            variant(
-                model,
-                IntegratorKind::Bdf2,
-                opts.adaptive_first_dt,
-                Some(tol),
-            ),
-        ));
-    }
     let mut points = Vec::new();
-    for (method, m) in runs {
-        let mut run = gait_run(&m, method);
-        log_run(log, "run", &run);
+    let measure = |mut run: GaitRun, points: &mut Vec<GaitPoint>| {
         let v_error = (run.v_ratio / reference.v_ratio - 1.0).abs();
-        let x_error = if run.status == "ok" {
-            max_distance(&run.x, &xref) / model.length
+        let x = centreline_at(&xref, run.elements);
+        let x_error = if run.status == "ok" && !x.is_empty() && x.len() == run.x.len() {
+            max_distance(&run.x, &x) / model.length
         } else {
             f64::NAN
         };
@@ -359,10 +387,64 @@ pub fn gait_precision(
             v_error,
             x_error,
         });
+    };
+    for &n in &meshes {
+        let (_, m) = at_mesh(problem, model, n);
+        let mut runs = Vec::new();
+        for &dt in &opts.euler_dt {
+            runs.push(("implicit", variant(&m, IntegratorKind::Implicit, dt, None)));
+        }
+        for &dt in &opts.bdf2_dt {
+            runs.push(("bdf2", variant(&m, IntegratorKind::Bdf2, dt, None)));
+        }
+        for &tol in &opts.tolerances {
+            runs.push((
+                "bdf2-adaptive",
+                variant(&m, IntegratorKind::Bdf2, opts.adaptive_first_dt, Some(tol)),
+            ));
+        }
+        for (method, mm) in runs {
+            let run = gait_run(&mm, method);
+            log_run(log, "run", &run);
+            measure(run, &mut points);
+        }
+    }
+    if let Some(target) = opts.accuracy_target {
+        let mut p = problem.clone();
+        p.time.duration = Some(model.duration);
+        let sel = crate::design::selection::select(&p, target, finest.max(400), log);
+        let r = &sel.report;
+        let o = &sel.outcome;
+        let run = GaitRun {
+            method: "accuracy".into(),
+            elements: r.elements,
+            dt: r.dt.unwrap_or(f64::NAN),
+            tolerance: r.error_tolerance,
+            v_ratio: r
+                .runs
+                .iter()
+                .find(|x| {
+                    x.elements == r.elements
+                        && x.dt == r.dt
+                        && x.error_tolerance == r.error_tolerance
+                })
+                .map_or(f64::NAN, |x| x.v_s_over_v_m),
+            wall_s: r.wall_time_total_s,
+            steps: o.steps.accepted,
+            rejected: o.steps.rejected,
+            dt_range: (o.steps.dt_min, o.steps.dt_max),
+            status: o.error.as_ref().map_or("ok".into(), |e| e.to_string()),
+            x: sel.model.real.clone().map(|i| o.state.node(i)).collect(),
+        };
+        log(&format!(
+            "accuracy {target}: {} elements, v_s/v_m {:.5} (estimated error {:.2e}), {:.1} s in all",
+            r.elements, run.v_ratio, r.estimated_error, r.wall_time_total_s
+        ));
+        measure(run, &mut points);
     }
     Ok(GaitPrecision {
         scene: scene.into(),
-        elements: model.elements(),
+        elements: finest,
         duration: model.duration,
         options: opts.clone(),
         reference,
@@ -376,7 +458,7 @@ impl GaitPrecision {
         let r = &self.reference;
         let mut s = format!(
             "{} ({} elements, T = {} s)\nreference: {} dt = {:.3e} s, v_s/v_m = {:.5} (last change {:.2e}, {}); scatter over dt x (1 -+ {}): {:.2e}\n\
-             method         dt (s)     tol     steps  rej  wall (s)  v_s/v_m  v error   x error/L\n",
+             method         el.  dt (s)     tol     steps  rej  wall (s)  v_s/v_m  v error   x error/L\n",
             self.scene,
             self.elements,
             self.duration,
@@ -392,8 +474,9 @@ impl GaitPrecision {
             let q = &p.run;
             let _ = writeln!(
                 s,
-                "{:14} {:.3e} {:7.0e} {:6} {:4} {:8.2} {:8.5} {:9.2e} {:9.2e}{}",
+                "{:14} {:4} {:.3e} {:7.0e} {:6} {:4} {:8.2} {:8.5} {:9.2e} {:9.2e}{}",
                 q.method,
+                q.elements,
                 q.dt,
                 q.tolerance.unwrap_or(f64::NAN),
                 q.steps,
@@ -417,14 +500,15 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
         source,
     })?;
     let mut csv = String::from(
-        "method,dt_s,tolerance,steps,rejected,dt_min_s,dt_max_s,wall_s,v_s_over_v_m,v_error,x_error_over_L,status\n",
+        "method,elements,dt_s,tolerance,steps,rejected,dt_min_s,dt_max_s,wall_s,v_s_over_v_m,v_error,x_error_over_L,status\n",
     );
     for p in &g.points {
         let q = &p.run;
         let _ = writeln!(
             csv,
-            "{},{:e},{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},\"{}\"",
+            "{},{},{:e},{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},\"{}\"",
             q.method,
+            q.elements,
             q.dt,
             q.tolerance.unwrap_or(f64::NAN),
             q.steps,
@@ -441,21 +525,32 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
     write(&dir.join("gait_precision.csv"), &csv)?;
     let json = serde_json::to_string_pretty(g).expect("serialisable");
     write(&dir.join("gait_precision.json"), &json)?;
-    // Each method's points joined in the order of refinement (coarse to fine), as run.
-    let series = |method: &str, y: &dyn Fn(&GaitPoint) -> f64| -> Vec<(f64, f64)> {
-        g.points
+    // One line per method and mesh, its points in order of cost (wall time).
+    let series = |method: &str, n: usize, y: &dyn Fn(&GaitPoint) -> f64| -> Vec<(f64, f64)> {
+        let mut v: Vec<(f64, f64)> = g
+            .points
             .iter()
-            .filter(|p| p.run.method == method)
+            .filter(|p| p.run.method == method && p.run.elements == n)
             .map(|p| (p.run.wall_s, y(p)))
-            .collect()
+            .collect();
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+        v
     };
+    let mut meshes: Vec<usize> = g.points.iter().map(|p| p.run.elements).collect();
+    meshes.sort_unstable();
+    meshes.dedup();
     let walls: Vec<f64> = g.points.iter().map(|p| p.run.wall_s).collect();
     let wmin = walls.iter().copied().fold(f64::INFINITY, f64::min);
     let wmax = walls.iter().copied().fold(0.0, f64::max);
+    let names = [
+        ("implicit", "implicit Euler"),
+        ("bdf2", "BDF2"),
+        ("bdf2-adaptive", "adaptive BDF2"),
+    ];
     for (file, label, y) in [
         (
             "gait_precision.png",
-            "relative error of v_s/v_m",
+            "relative error of v_s/v_m against the converged value",
             &(|p: &GaitPoint| p.v_error) as &dyn Fn(&GaitPoint) -> f64,
         ),
         (
@@ -464,25 +559,48 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
             &(|p: &GaitPoint| p.x_error) as &dyn Fn(&GaitPoint) -> f64,
         ),
     ] {
-        let mut lines = vec![
-            ("implicit Euler, fixed dt", series("implicit", y)),
-            ("BDF2, fixed dt", series("bdf2", y)),
-            (
-                "BDF2, adaptive (over tolerance)",
-                series("bdf2-adaptive", y),
-            ),
-        ];
-        if file == "gait_precision.png" {
+        let mut lines: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+        for (method, name) in names {
+            for &n in &meshes {
+                let v = series(method, n, y);
+                if !v.is_empty() {
+                    lines.push((format!("{name}, {n} el."), v));
+                }
+            }
+        }
+        let acc: Vec<(f64, f64)> = g
+            .points
+            .iter()
+            .filter(|p| p.run.method == "accuracy")
+            .map(|p| (p.run.wall_s, y(p)))
+            .collect();
+        if let Some(a) = g.points.iter().find(|p| p.run.method == "accuracy") {
             lines.push((
-                "reference scatter",
+                format!(
+                    "--accuracy {} (chose {} el., all probes)",
+                    g.options.accuracy_target.unwrap_or(f64::NAN),
+                    a.run.elements
+                ),
+                acc,
+            ));
+        }
+        if file == "gait_precision.png" {
+            lines.push(("1 % error".into(), vec![(wmin, 0.01), (wmax, 0.01)]));
+            lines.push((
+                "reference scatter".into(),
                 vec![(wmin, g.reference.scatter), (wmax, g.reference.scatter)],
             ));
         }
+        let lines: Vec<(&str, Vec<(f64, f64)>)> =
+            lines.iter().map(|(n, v)| (n.as_str(), v.clone())).collect();
         plot::xy(
             &dir.join(file),
             &format!(
-                "Work-precision: {} ({} elements, T = {} s)",
-                g.scene, g.elements, g.duration
+                "Work-precision: {} (T = {} s; converged: {} el., dt {:.1e} s)",
+                g.scene,
+                g.duration,
+                g.elements,
+                g.reference.runs.last().map_or(f64::NAN, |r| r.dt)
             ),
             "wall time (s)",
             label,

@@ -38,7 +38,9 @@ use crate::rod::{dof, vec3::f};
 use crate::sim::{drive, Schedule};
 use crate::state::State;
 
-pub mod accuracy;
+/// The accuracy selection moved to [`crate::design::selection`]; this path stays until the
+/// command line calls it there.
+pub use crate::design::selection as accuracy;
 mod gait;
 mod stability;
 mod work_precision;

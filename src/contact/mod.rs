@@ -32,6 +32,8 @@
 pub mod active;
 pub mod conic;
 mod deferred;
+#[cfg(test)]
+mod dissipation_tests;
 pub mod reactions;
 pub mod semismooth;
 pub mod status;

@@ -1,7 +1,7 @@
 //! `[accuracy]` in study files (`slither optimize`, `slither phase`): the model (mesh and
 //! time resolution: implicit Euler's step, or adaptive BDF2's error tolerance when the base
 //! file asks for `integrator = "bdf2"`) is chosen once, on the study's base scene, by the selection
-//! of `slither run --accuracy` ([`crate::chart::accuracy::select`]), and every evaluation or
+//! of `slither run --accuracy` ([`super::selection::select`]), and every evaluation or
 //! cell then runs at that model.
 //!
 //! ```toml
@@ -26,7 +26,7 @@
 //! `phase.csv`, `phase.json`, `optimum.json`) is then a hash of the base file's hash and the
 //! chosen model, so rows of a run at another model (or without `[accuracy]`) are never reused.
 
-use crate::chart::accuracy::{accuracy_problem, select, Resolution};
+use super::selection::{accuracy_problem, select, Resolution};
 use crate::problem::{AccuracySpec, Problem};
 use serde::{Deserialize, Serialize};
 use std::path::Path;

@@ -75,6 +75,7 @@ pub mod phase;
 pub mod refine;
 mod report;
 mod search;
+pub mod selection;
 mod simulate;
 mod study;
 

@@ -11,6 +11,7 @@
 //! `summary.json` and every column of the studies' CSV files with its unit and meaning.
 
 pub mod lock;
+pub mod movie;
 pub mod schema;
 pub mod vtk;
 
@@ -84,7 +85,7 @@ pub struct Summary {
     pub accuracy: Option<AccuracyReport>,
 }
 
-/// How `slither run --accuracy` chose its model (see `crate::chart::accuracy`).
+/// How `slither run --accuracy` chose its model (see `crate::design::selection`).
 #[derive(Clone, Debug, Serialize)]
 pub struct AccuracyReport {
     /// Allowed relative error of `v_s/v_m`.
@@ -117,9 +118,15 @@ pub struct AccuracyReport {
     /// Richardson extrapolation of `v_s/v_m` (the chosen value corrected by both estimates'
     /// signed differences).
     pub v_s_over_v_m_extrapolated: f64,
+    /// Uncertainty of the extrapolation (absolute): the whole time correction plus how far the
+    /// mesh correction moves at mesh order 1 instead of 2. The answer of the run is the chosen
+    /// model's `v_s/v_m` (a simulated motion, which every other output describes, with the
+    /// error estimate `estimated_error`); the extrapolation is the best estimate of the
+    /// converged value, within this uncertainty.
+    pub v_s_over_v_m_extrapolated_uncertainty: f64,
     /// Every run of the selection, in order.
     pub runs: Vec<AccuracyRun>,
-    /// Wall time of all runs (s).
+    /// Wall time of all runs of the selection, the chosen one included (s).
     pub wall_time_total_s: f64,
 }
 
@@ -191,6 +198,9 @@ pub const RUN_OUTPUTS: &[&str] = &[
     "kymograph_lambda.png",
     "snapshots.png",
     "topology.png",
+    "movie.gif",
+    "tracks.png",
+    "tracks.svg",
     "vtk",
 ];
 
@@ -229,14 +239,16 @@ fn context(path: &Path, e: std::io::Error) -> std::io::Error {
     std::io::Error::new(e.kind(), format!("{}: {e}", path.display()))
 }
 
-/// The temporary name of `path`: `.NAME.tmp` beside it (`.NAME.tmp.png` for a PNG, whose
-/// encoder is chosen by the extension).
+/// The temporary name of `path`: `.NAME.tmp` beside it (`.NAME.tmp.png` for a PNG and
+/// `.NAME.tmp.svg` for an SVG, whose backend or encoder is chosen by the extension).
 fn tmp_path(path: &Path) -> std::path::PathBuf {
     let name = path
         .file_name()
         .map_or("out".into(), |n| n.to_string_lossy().into_owned());
     if let Some(stem) = name.strip_suffix(".png") {
         path.with_file_name(format!(".{stem}.tmp.png"))
+    } else if let Some(stem) = name.strip_suffix(".svg") {
+        path.with_file_name(format!(".{stem}.tmp.svg"))
     } else {
         path.with_file_name(format!(".{name}.tmp"))
     }
@@ -259,7 +271,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 }
 
 /// Draw a figure into `path`'s temporary name with `draw`, then rename it over `path`.
-fn figure<E: std::fmt::Display>(
+pub(crate) fn figure<E: std::fmt::Display>(
     path: &Path,
     draw: impl FnOnce(&Path) -> Result<(), E>,
 ) -> Result<(), String> {
@@ -339,7 +351,9 @@ fn put(
 }
 
 /// Write `trajectory.npz` with `t` (F), `x` (F x nodes x 3), `theta` (F x edges),
-/// `v` (F x nodes x 3), `s` (nodes) and any extra per-frame arrays `(name, per-node values)`.
+/// `v` (F x nodes x 3), `s` (nodes), the one-element arrays of [`movie::movie_scalars`]
+/// (`diameter`, `gait_period`, `gait_speed`, `stuck_speed`) and any extra per-frame arrays
+/// `(name, per-node values)`.
 pub fn write_trajectory(
     dir: &Path,
     m: &Model,
@@ -397,6 +411,9 @@ pub fn write_trajectory(
             })
         }),
     )?;
+    for (name, v) in movie::movie_scalars(m) {
+        put(&mut npz, name, &[1], [v])?;
+    }
     for (name, data) in extra {
         let k = data.first().map_or(0, |r| r.len()) as u64;
         put(
@@ -514,25 +531,7 @@ pub fn write_figures(
         )
     })?;
     // ParaView: elevation, slip speed and lambda interpolated to the nodes.
-    let lambda_nodes: Vec<Vec<f64>> = fl
-        .lambda
-        .iter()
-        .map(|row| {
-            fl.s.iter()
-                .map(|&s| {
-                    // nearest window centre
-                    let j = fl
-                        .s_window
-                        .iter()
-                        .enumerate()
-                        .min_by(|x, y| (x.1 - s).abs().total_cmp(&(y.1 - s).abs()))
-                        .map(|(j, _)| j)
-                        .unwrap_or(0);
-                    row.get(j).copied().unwrap_or(f64::NAN)
-                })
-                .collect()
-        })
-        .collect();
+    let lambda_nodes = movie::lambda_at_nodes(&fl.s, &fl.s_window, &fl.lambda);
     let positions: Vec<Vec<[f64; 3]>> = frames.iter().map(|f| f.x.clone()).collect();
     // Written into `.vtk.tmp/vtk/` and moved to `vtk/` when complete.
     let staging = dir.join(".vtk.tmp");
@@ -558,4 +557,21 @@ pub fn write_figures(
     })?;
     let _ = std::fs::remove_dir_all(&staging);
     Ok(())
+}
+
+/// Write a run's `movie.gif` (3D view, coloured by contact state) and `tracks.png` /
+/// `tracks.svg` from its frames and fields; `title` is shown on the movie, `regime` when known.
+/// Returns what the movie took.
+pub fn write_movie_and_tracks(
+    dir: &Path,
+    m: &Model,
+    frames: &[Frame],
+    fl: &crate::observe::Fields,
+    title: &str,
+    regime: Option<String>,
+) -> Result<crate::plot::movie::MovieStats, String> {
+    let clip = movie::clip_from_run(m, frames, fl, title, regime);
+    let stats = movie::write_movie(dir, "movie.gif", &clip, &Default::default())?;
+    movie::write_tracks(dir, &clip)?;
+    Ok(stats)
 }

@@ -144,6 +144,7 @@ pub const SUMMARY: &[Field] = &[
     only("accuracy.estimated_error", "", ACCURACY, "time_error + mesh_error"),
     only("accuracy.met", "", ACCURACY, "whether the estimate is below the target"),
     only("accuracy.v_s_over_v_m_extrapolated", "", ACCURACY, "Richardson extrapolation of v_s/v_m"),
+    only("accuracy.v_s_over_v_m_extrapolated_uncertainty", "", ACCURACY, "its uncertainty: the time correction plus the mesh correction's change between orders 2 and 1 (the answer is the chosen run's v_s/v_m)"),
     only("accuracy.runs[].elements", "", ACCURACY, "a selection run's mesh"),
     only("accuracy.runs[].dt", "s", ACCURACY, "its fixed step (implicit Euler)"),
     only("accuracy.runs[].error_tolerance", "", ACCURACY, "its error tolerance (adaptive BDF2)"),

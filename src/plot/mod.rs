@@ -15,20 +15,24 @@
 //!
 //! One file per kind of figure: [`kymograph()`] (`kymograph.rs`), [`snapshots()`]
 //! (`snapshots.rs`), [`series()`] and [`xy()`] (line charts, `charts.rs`), [`scatter()`]
-//! (`scatter.rs`); axis ranges, tick labels, cell edges, legends and the canvas are shared in
+//! (`scatter.rs`), [`tracks()`] (ground tracks, `tracks.rs`, PNG or SVG), and the animated GIF
+//! of a run, [`movie`] (`movie/`); axis ranges, tick labels, cell edges, legends and the canvas are shared in
 //! `axes.rs`, colour maps in [`colormap`].
 
 mod axes;
 mod charts;
 pub mod colormap;
 mod kymograph;
+pub mod movie;
 mod scatter;
 mod snapshots;
+mod tracks;
 
 pub use charts::{series, xy};
 pub use kymograph::kymograph;
 pub use scatter::scatter;
 pub use snapshots::snapshots;
+pub use tracks::tracks;
 
 use plotters::prelude::*;
 use std::path::Path;

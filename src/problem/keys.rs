@@ -314,6 +314,8 @@ keys! {
     // [output]
     OUTPUT_INTERVAL = "output.interval", "s", Rule("duration / 100"), Positive, "",
         "Interval between recorded frames (trajectory, kymographs, observables).";
+    OUTPUT_MOVIE = "output.movie", "", Flag(false), Text("true or false"), "",
+        "Whether `slither run` writes `movie.gif` beside its figures (`--movie` does for one run; rendering costs more than a quarter of a short run's time, so it is off unless asked).";
     // [ground]
     GROUND_MU_FORWARD = "ground.mu_forward", "", Real(0.11), NonNegative, "",
         "Coulomb coefficient resisting forward (toward the head) sliding. Without a `[ground]` table there is no ground.";

@@ -44,7 +44,7 @@ pub struct Problem {
     #[serde(default)]
     pub gait: GaitSpec,
     /// Accuracy target: `slither run` picks the tolerance and the mesh
-    /// (`crate::chart::accuracy`). Absent: run the file as written.
+    /// (`crate::design::selection`). Absent: run the file as written.
     pub accuracy: Option<AccuracySpec>,
 }
 
@@ -308,6 +308,10 @@ pub struct OutputSpec {
     /// Interval between recorded frames (s); absent: [`OutputSpec::interval_for`]
     /// ([`keys::OUTPUT_INTERVAL`]).
     pub interval: Option<f64>,
+    /// Whether `slither run` writes `movie.gif` (with its figures, so not with `--no-plots`);
+    /// absent: [`keys::OUTPUT_MOVIE`].
+    #[serde(default = "movie_default")]
+    pub movie: bool,
 }
 
 impl OutputSpec {
@@ -316,6 +320,10 @@ impl OutputSpec {
     pub fn interval_for(&self, duration: f64) -> f64 {
         self.interval.unwrap_or(duration / 100.0)
     }
+}
+
+fn movie_default() -> bool {
+    keys::OUTPUT_MOVIE.flag()
 }
 
 /// A problem-file error: names the file, the key and its line, and what is allowed.

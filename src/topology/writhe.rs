@@ -20,6 +20,12 @@ pub(super) fn triangle_solid_angle(a: &V3, b: &V3, c: &V3) -> f64 {
     2.0 * num.atan2(den)
 }
 
+#[cfg(test)]
+thread_local! {
+    // Pair evaluations on this thread (test builds only): the tests count work, not seconds.
+    pub(super) static PAIRS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
 /// Signed solid angle `Omega` of the segment pair `(p1 -> p2)`, `(p3 -> p4)`
 /// (Klenin & Langowski 2000, eqs. 13-16); the Gauss integral over the pair
 /// equals `Omega / (4 pi)`. No allocation.
@@ -36,6 +42,8 @@ pub(super) fn triangle_solid_angle(a: &V3, b: &V3, c: &V3) -> f64 {
 /// Degenerate (coplanar, parallel, collinear) pairs give 0 (to round-off).
 #[inline]
 pub(super) fn pair_solid_angle(p1: &V3, p2: &V3, p3: &V3, p4: &V3) -> f64 {
+    #[cfg(test)]
+    PAIRS.with(|n| n.set(n.get() + 1));
     let r13 = sub(p3, p1);
     let r14 = sub(p4, p1);
     let r23 = sub(p3, p2);

@@ -1,0 +1,124 @@
+//! `slither chart`: the work-precision chart and the stability map.
+use clap::Subcommand;
+use slither::model::Model;
+use slither::problem;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Subcommand)]
+pub enum ChartCmd {
+    /// Final-centreline error against wall time for both integrators at several steps, against
+    /// a Richardson-checked velocity Verlet reference (a scene without [ground]).
+    WorkPrecision {
+        /// Problem file: without [ground] (e.g. problems/cantilever_swing.toml) implicit Euler
+        /// against velocity Verlet; with [ground] and a gait (e.g. problems/s_start.toml)
+        /// implicit Euler, BDF2 and adaptive BDF2 against a cached fine implicit Euler reference.
+        problem: PathBuf,
+        /// Output directory (created if absent).
+        #[arg(long, default_value = "out/work_precision")]
+        out: PathBuf,
+    },
+    /// Largest stable step of each integrator over scaled weight W and element count, by
+    /// bisection, for the cantilever swing (or --problem).
+    Stability {
+        /// Base scene without [ground] (default: the bundled problems/cantilever_swing.toml).
+        #[arg(long)]
+        problem: Option<PathBuf>,
+        /// Output directory (created if absent).
+        #[arg(long, default_value = "out/stability")]
+        out: PathBuf,
+    },
+}
+
+pub fn chart_cmd(which: ChartCmd) -> ExitCode {
+    use slither::chart;
+    const SWING: &str = include_str!("../../problems/cantilever_swing.toml");
+    let load = |path: &Path| problem::load(path);
+    let (p, scene, out) = match &which {
+        ChartCmd::WorkPrecision { problem, out } => (load(problem), problem.clone(), out.clone()),
+        ChartCmd::Stability {
+            problem: Some(f),
+            out,
+        } => (load(f), f.clone(), out.clone()),
+        ChartCmd::Stability { problem: None, out } => {
+            let name = PathBuf::from("problems/cantilever_swing.toml");
+            (problem::parse(SWING, &name), name, out.clone())
+        }
+    };
+    let p = match p {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let name = scene.file_name().map_or(scene.display().to_string(), |n| {
+        n.to_string_lossy().into_owned()
+    });
+    let mut log = |line: &str| eprintln!("{line}");
+    let gait_scene = p.ground.is_some() && p.time.mode == problem::Mode::Dynamic;
+    if gait_scene && matches!(which, ChartCmd::WorkPrecision { .. }) {
+        // A scene with ground: implicit Euler, BDF2 and adaptive BDF2 against a fine implicit
+        // Euler reference.
+        let model = Model::new(&p);
+        let cache = out.join("reference.json");
+        if let Err(e) = std::fs::create_dir_all(&out) {
+            eprintln!("error: {}: {e}", out.display());
+            return ExitCode::from(1);
+        }
+        let r = chart::gait_precision(
+            &name,
+            &p,
+            &model,
+            &Default::default(),
+            Some(&cache),
+            &mut log,
+        )
+        .and_then(|g| {
+            eprint!("{}", g.summary());
+            chart::write_gait_precision(&out, &g)
+        });
+        return match r {
+            Ok(()) => {
+                eprintln!("wrote {}", out.display());
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {}: {e}", scene.display());
+                ExitCode::from(1)
+            }
+        };
+    }
+    if p.ground.is_some() || p.time.mode == problem::Mode::Static {
+        eprintln!(
+            "error: {}: the stability chart (and the work-precision chart of a scene without ground) needs a dynamic scene without [ground] (the explicit integrator has no contact)",
+            scene.display()
+        );
+        return ExitCode::from(2);
+    }
+    let r = match which {
+        ChartCmd::WorkPrecision { .. } => {
+            let model = Model::new(&p);
+            chart::work_precision(&name, &model, &Default::default(), &mut log).and_then(|wp| {
+                eprint!("{}", wp.summary());
+                chart::write_work_precision(&out, &wp)
+            })
+        }
+        ChartCmd::Stability { .. } => {
+            chart::stability_map(&name, &p, &Default::default(), &mut log).and_then(|map| {
+                eprint!("{}", map.summary());
+                chart::write_stability(&out, &map)
+            })
+        }
+    };
+    match r {
+        Ok(()) => {
+            eprintln!("wrote {}", out.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {}: {e}", scene.display());
+            ExitCode::from(1)
+        }
+    }
+}

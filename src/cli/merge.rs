@@ -1,0 +1,49 @@
+//! `slither merge`: combine the output directories of sharded `slither phase` runs.
+use super::lock_out;
+use super::phase::{refine_line, refine_summary};
+use slither::design;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Shard output directories.
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Output directory (created if absent).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+pub fn merge(args: &Args) -> ExitCode {
+    let (dirs, out) = (args.dirs.as_slice(), args.out.as_path());
+    let _lock = match lock_out(out) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let t0 = Instant::now();
+    let report = |done: usize, c: &design::phase::Cell| eprintln!("{}", refine_line(done, c));
+    match design::phase::merge(dirs, out, &report) {
+        Ok(m) => {
+            eprintln!(
+                "merged {} cells from {} directories ({} found twice with identical results); wrote {}",
+                m.cells.len(),
+                dirs.len(),
+                m.duplicates,
+                out.display()
+            );
+            if let Some(r) = &m.refinement {
+                eprintln!("{}", refine_summary(r, t0.elapsed().as_secs_f64()));
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(match e {
+                design::phase::PhaseError::Io { .. } | design::phase::PhaseError::Plot { .. } => 1,
+                _ => 2,
+            })
+        }
+    }
+}

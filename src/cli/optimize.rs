@@ -1,0 +1,245 @@
+//! `slither optimize`: the gait design study (Nelder-Mead or particle swarm over stress, width
+//! and speed).
+use super::{lock_out, selection_log, study_accuracy};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use slither::design;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Study file (TOML): the base problem, the bounds and the budget.
+    pub study: PathBuf,
+    /// Output directory (created if absent).
+    #[arg(long, default_value = "out_optimize")]
+    pub out: PathBuf,
+    /// No progress bar and no log lines.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Progress of a study: an indicatif bar over evaluations on a terminal, else one line per
+/// evaluation on stderr (nothing with --quiet).
+struct StudyProgress {
+    bar: Option<ProgressBar>,
+    lines: bool,
+    max: usize,
+    done: usize,
+}
+
+impl StudyProgress {
+    fn say(&self, line: String) {
+        match &self.bar {
+            Some(b) => b.println(line),
+            None if self.lines => eprintln!("{line}"),
+            None => {}
+        }
+    }
+}
+
+impl design::EvaluationObserver for StudyProgress {
+    fn started(&mut self, count: usize, p: &design::Point, cached: bool) {
+        if let Some(b) = &self.bar {
+            b.set_message(format!(
+                "eval {count}/{}: stress {} Pa, sigma {}, speed {} m/s{}",
+                self.max,
+                p.stress,
+                p.sigma,
+                p.speed,
+                if cached { " (cached)" } else { "" }
+            ));
+        }
+    }
+
+    fn progress(&mut self, fraction: f64) {
+        if let Some(b) = &self.bar {
+            b.set_position((self.done as f64 * 100.0 + fraction * 100.0) as u64);
+        }
+    }
+
+    fn finished(&mut self, count: usize, e: &design::Evaluation, reused: bool) {
+        self.done = count;
+        if let Some(b) = &self.bar {
+            b.set_position(self.done as u64 * 100);
+        }
+        let source = if reused {
+            "reused from history.csv".to_string()
+        } else {
+            format!("{:.1} s", e.wall_time_s)
+        };
+        let result = match e.status {
+            design::Status::Ok => format!(
+                "v_s = {:.5} m/s, v_s/v_m = {:.4}, {:.1} deg, Wr_max = {:.3}, regime {}",
+                e.v_s, e.v_s_over_v_m, e.displacement_angle_deg, e.writhe_max, e.regime
+            ),
+            design::Status::Failed => format!("FAILED: {}", e.reason),
+        };
+        self.say(format!(
+            "eval {count}/{} (row {}): stress {} Pa, sigma {}, speed {} m/s (G = {:.3}) -> {result} [{source}]",
+            self.max, e.eval, e.point.stress, e.point.sigma, e.point.speed, e.g
+        ));
+    }
+}
+
+pub fn optimize(args: &Args) -> ExitCode {
+    let (path, out, quiet) = (args.study.as_path(), args.out.as_path(), args.quiet);
+    let mut study = match design::load_study(path) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let _lock = match lock_out(out) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let prepared = design::accuracy::prepare_study(&mut study, out, &mut selection_log(quiet));
+    if let Err(code) = study_accuracy(out, quiet, prepared, study.chosen.as_ref()) {
+        return code;
+    }
+    let show_bar = !quiet && std::io::stderr().is_terminal();
+    let bar = show_bar.then(|| {
+        let b = ProgressBar::with_draw_target(
+            Some(study.max_evaluations as u64 * 100),
+            ProgressDrawTarget::stderr(),
+        );
+        b.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {percent}% {msg}").unwrap(),
+        );
+        b
+    });
+    let mut progress = StudyProgress {
+        bar,
+        lines: !quiet,
+        max: study.max_evaluations,
+        done: 0,
+    };
+    let names: Vec<String> = study
+        .space
+        .dims
+        .iter()
+        .map(|d| {
+            format!(
+                "{} in [{}, {}] {}",
+                d.param.key(),
+                d.lo,
+                d.hi,
+                d.param.unit()
+            )
+        })
+        .collect();
+    let history = out.join(design::HISTORY_FILE);
+    if history.exists() {
+        progress.say(format!(
+            "{}: resuming with {}: evaluations already in it are reused, not simulated again",
+            path.display(),
+            history.display()
+        ));
+    }
+    let method = match study.method {
+        design::Method::NelderMead if study.starts > 1 => {
+            format!("Nelder-Mead ({} starts)", study.starts)
+        }
+        design::Method::NelderMead => "Nelder-Mead".to_string(),
+        design::Method::ParticleSwarm => format!(
+            "particle swarm ({} particles per generation, in parallel)",
+            study.particles
+        ),
+    };
+    progress.say(format!(
+        "{}: {method} over {}; at most {} evaluations of {} ({} pulse times L/v_m each)",
+        path.display(),
+        names.join(", "),
+        study.max_evaluations,
+        study.base_path.display(),
+        study.duration_pulses
+    ));
+    let result = design::optimize(&study, out, &mut progress);
+    if let Some(b) = progress.bar.take() {
+        b.finish_and_clear();
+    }
+    let r = match result {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(match e {
+                design::DesignError::History { .. } => 2,
+                _ => 1,
+            });
+        }
+    };
+    let Some(best) = &r.best else {
+        if let (Some(max), true) = (study.max_heading_deg, r.failed < r.simulations + r.reused) {
+            eprintln!(
+                "error: {}: no finished run headed within max_heading_deg = {max} degrees of the initial head direction ({} evaluations); see {}",
+                path.display(),
+                r.evaluations,
+                history.display()
+            );
+        } else {
+            eprintln!(
+                "error: {}: every simulation failed ({} evaluations); see {}",
+                path.display(),
+                r.evaluations,
+                history.display()
+            );
+        }
+        return ExitCode::from(3);
+    };
+    if !quiet {
+        if r.dropped_partial_row {
+            eprintln!(
+                "note: an incomplete last row of {} was dropped",
+                history.display()
+            );
+        }
+        if r.rows_other_base > 0 {
+            eprintln!(
+                "note: {} rows of {} were written for another version of the base file and were not reused",
+                r.rows_other_base,
+                history.display()
+            );
+        }
+        let i = &r.initial;
+        eprintln!(
+            "{}: {} evaluations ({} simulated, {} reused from {}, {} repeated, {} failed) in {:.1} s; {}",
+            path.display(),
+            r.evaluations,
+            r.simulations,
+            r.reused,
+            history.display(),
+            r.repeats,
+            r.failed,
+            r.wall_time_s,
+            r.termination
+        );
+        eprintln!(
+            "start: stress {} Pa, sigma {}, speed {} m/s: v_s = {:.5} m/s (v_s/v_m = {:.4}), regime {}",
+            i.point.stress, i.point.sigma, i.point.speed, i.v_s, i.v_s_over_v_m, i.regime
+        );
+        eprintln!(
+            "best:  stress {} Pa, sigma {}, speed {} m/s (G = {:.3}, W = {:.1}): v_s = {:.5} m/s (v_s/v_m = {:.4}), {:.1} deg off the head direction, writhe max {:.3} mean {:.3} turns, regime {}; wrote {}",
+            best.point.stress,
+            best.point.sigma,
+            best.point.speed,
+            best.g,
+            best.w,
+            best.v_s,
+            best.v_s_over_v_m,
+            best.displacement_angle_deg,
+            best.writhe_max,
+            best.writhe_mean,
+            best.regime,
+            out.display()
+        );
+        for (param, side) in design::on_bound(&study, &r) {
+            eprintln!(
+                "note: the optimum lies on the {side} bound of {param} (within {} of the range): widen optimize.{param} to follow it",
+                design::ON_BOUND_FRACTION
+            );
+        }
+    }
+    ExitCode::SUCCESS
+}

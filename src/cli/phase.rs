@@ -1,0 +1,191 @@
+//! `slither phase`: the regime phase diagram over scaled weight and torque (whole or one
+//! shard), with its boundary refinement.
+use super::{lock_out, selection_log, study_accuracy};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use slither::design;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Phase file (TOML): the base problem and the W and G grids.
+    pub file: PathBuf,
+    /// Output directory (created if absent).
+    #[arg(long, default_value = "out_phase")]
+    pub out: PathBuf,
+    /// No progress bar and no per-cell lines.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Run only shard I of N (cell k of the weight-major grid belongs to shard k % N + 1):
+    /// for a job array; `slither merge` combines the shard directories. No figures.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<design::phase::Shard>,
+}
+
+pub fn phase(args: &Args) -> ExitCode {
+    let (path, out, quiet, shard) = (
+        args.file.as_path(),
+        args.out.as_path(),
+        args.quiet,
+        args.shard,
+    );
+    let mut ph = match design::phase::load(path) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let _lock = match lock_out(out) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
+    let prepared = design::accuracy::prepare_phase(&mut ph, out, &mut selection_log(quiet));
+    if let Err(code) = study_accuracy(out, quiet, prepared, ph.chosen.as_ref()) {
+        return code;
+    }
+    let grid = ph.weight.len() * ph.torque.len();
+    let total = match shard {
+        Some(s) => (0..grid).filter(|&k| s.owns(k)).count(),
+        None => grid,
+    };
+    if !quiet {
+        eprintln!(
+            "{}: {} cells (W in {:?} x G in {:?}) of {}; finished cells in {} are reused",
+            path.display(),
+            total,
+            ph.weight,
+            ph.torque,
+            ph.base_path.display(),
+            out.join("phase.csv").display()
+        );
+    }
+    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let b = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+        b.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} cells {msg}")
+                .unwrap(),
+        );
+        b
+    });
+    let report = |done: usize, todo: usize, c: &design::phase::Cell| {
+        let line = if c.status == design::Status::Ok {
+            format!(
+                "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a, {:.1} s",
+                c.weight,
+                c.torque,
+                c.regime.map_or("-", |r| r.as_str()),
+                c.v_s_over_v_m,
+                c.displacement_angle_deg,
+                c.max_elevation_over_a,
+                c.wall_time_s
+            )
+        } else {
+            format!(
+                "cell {done}/{todo}: W = {} G = {}: failed: {}",
+                c.weight, c.torque, c.reason
+            )
+        };
+        match &bar {
+            Some(b) => {
+                b.inc(1);
+                b.println(line);
+            }
+            None if !quiet => eprintln!("{line}"),
+            None => {}
+        }
+    };
+    let refine_report = |done: usize, c: &design::phase::Cell| {
+        let line = refine_line(done, c);
+        match &bar {
+            Some(b) => b.println(line),
+            None if !quiet || c.status != design::Status::Ok => eprintln!("{line}"),
+            None => {}
+        }
+    };
+    let t0 = Instant::now();
+    let result = design::phase::sweep_shard(&ph, out, shard, &report, &refine_report);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let sw = match result {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(match e {
+                design::phase::PhaseError::Csv { .. } => 2,
+                _ => 1,
+            });
+        }
+    };
+    if sw.dropped_partial_row && !quiet {
+        eprintln!(
+            "note: an incomplete last row of {} (a write cut short) was dropped; its cell was simulated again",
+            out.join("phase.csv").display()
+        );
+    }
+    let failed = sw
+        .cells
+        .iter()
+        .filter(|c| c.status != design::Status::Ok)
+        .count();
+    eprintln!(
+        "{}: {} cells ({} simulated, {} reused, {} failed) in {:.1} s; wrote {}",
+        path.display(),
+        sw.cells.len(),
+        sw.simulated,
+        sw.reused,
+        failed,
+        t0.elapsed().as_secs_f64(),
+        out.display()
+    );
+    if let Some(r) = &sw.refinement {
+        eprintln!("{}", refine_summary(r, t0.elapsed().as_secs_f64()));
+    }
+    if failed == sw.cells.len() && !sw.cells.is_empty() {
+        eprintln!(
+            "error: {}: every cell failed; see {}",
+            path.display(),
+            out.join("phase.csv").display()
+        );
+        return ExitCode::from(3);
+    }
+    ExitCode::SUCCESS
+}
+
+/// One refinement simulation, for the log.
+pub fn refine_line(done: usize, c: &design::phase::Cell) -> String {
+    if c.status == design::Status::Ok {
+        format!(
+            "refine {done}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} s",
+            c.weight,
+            c.torque,
+            c.regime.map_or("-", |r| r.as_str()),
+            c.v_s_over_v_m,
+            c.wall_time_s
+        )
+    } else {
+        format!(
+            "refine {done}: W = {} G = {}: failed (its pair keeps the interval reached): {}",
+            c.weight, c.torque, c.reason
+        )
+    }
+}
+
+/// The refinement's counts, for the last lines of `phase` and `merge`.
+pub fn refine_summary(r: &design::refine::Refinement, elapsed_s: f64) -> String {
+    let stopped = r.points.iter().filter(|p| p.failed.is_some()).count();
+    format!(
+        "refinement ({} bisection steps): {} neighbour pairs, {} boundary points ({} stopped early by a failed simulation); {} simulated, {} reused, {} failed; {:.1} s since start; wrote refine.csv",
+        r.steps,
+        r.pairs,
+        r.points.len(),
+        stopped,
+        r.simulated,
+        r.reused,
+        r.failed,
+        elapsed_s
+    )
+}

@@ -1,0 +1,308 @@
+//! The movie's scene rasteriser: a ground plane with a grid, the body's shadow and the body as
+//! a shaded tube, drawn into an RGB buffer with a depth buffer.
+//!
+//! The tube is a swept sphere: spheres of the rod's radius `a/2` placed along the centreline
+//! at most `0.35 a` apart, each drawn as a per-pixel shaded impostor (normal from the pixel's
+//! offset to the projected centre, Lambert plus a small specular term) and depth-tested
+//! against the others, so crossings and the near side of a coil hide the far side correctly.
+//! The ground is flat, with sky above the horizon of a perspective camera; its grid lines are
+//! projected cell by cell as one-pixel lines, fading out with the distance from the scene's
+//! centre and where cells shrink below a few pixels. The shadow is the body's vertical
+//! projection: a ground pixel (its ray cast to the ground) is shaded when the point under it
+//! lies within `a/2` of a sphere centre's foot, lighter the higher that sphere is.
+
+use super::camera::Camera;
+
+/// Ground colour.
+pub(super) const GROUND: [u8; 3] = [236, 233, 224];
+/// Sky colour (above the horizon).
+pub(super) const SKY: [u8; 3] = [214, 222, 230];
+const GRID: [u8; 3] = [196, 193, 184];
+const GRID_MAJOR: [u8; 3] = [160, 157, 150];
+const SHADOW_MAX: f64 = 0.45;
+
+/// One sphere of the swept tube: centre (m) and base colour.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ball {
+    pub c: [f64; 3],
+    pub colour: [u8; 3],
+    /// Radius (m).
+    pub r: f64,
+}
+
+/// An RGB image with a depth buffer (depth +inf where nothing but ground or sky is drawn).
+pub(super) struct Canvas {
+    pub w: usize,
+    pub h: usize,
+    pub rgb: Vec<u8>,
+    pub depth: Vec<f32>,
+}
+
+impl Canvas {
+    pub fn new(w: usize, h: usize) -> Canvas {
+        Canvas {
+            w,
+            h,
+            rgb: vec![0; 3 * w * h],
+            depth: vec![f32::INFINITY; w * h],
+        }
+    }
+
+    fn put(&mut self, i: usize, c: [u8; 3]) {
+        self.rgb[3 * i..3 * i + 3].copy_from_slice(&c);
+    }
+}
+
+/// Ground and grid (spacing `cell` m, every fifth line darker, fading out between 2.5 and 4
+/// body lengths `reach` from `centre`) with the shadow of `balls`.
+pub(super) fn ground(
+    cv: &mut Canvas,
+    cam: &Camera,
+    cell: f64,
+    centre: [f64; 3],
+    reach: f64,
+    balls: &[Ball],
+) {
+    let (w, h) = (cv.w, cv.h);
+    // Sky and ground by rows: the camera's right vector is horizontal, so a ray's vertical
+    // component is the same along a row.
+    for py in 0..h {
+        let (_, d) = cam.ray(0.5 * w as f64, py as f64 + 0.5);
+        let c = if d[2] > -1e-9 && cam.focal.is_some() {
+            SKY
+        } else {
+            GROUND
+        };
+        for px in 0..w {
+            cv.put(py * w + px, c);
+        }
+    }
+    // Grid lines: straight in any projection, drawn in pieces of one cell, each piece's colour
+    // faded by its distance from the centre.
+    let n = (reach / cell).ceil() as i64;
+    let (ox, oy) = (
+        (centre[0] / cell).round() as i64,
+        (centre[1] / cell).round() as i64,
+    );
+    for axis in 0..2 {
+        for i in -n..=n {
+            let major = (if axis == 0 { ox + i } else { oy + i }).rem_euclid(5) == 0;
+            let colour = if major { GRID_MAJOR } else { GRID };
+            for j in -n..n {
+                let at = |k: i64| -> [f64; 3] {
+                    if axis == 0 {
+                        [(ox + i) as f64 * cell, (oy + k) as f64 * cell, 0.0]
+                    } else {
+                        [(ox + k) as f64 * cell, (oy + i) as f64 * cell, 0.0]
+                    }
+                };
+                let (p, q) = (at(j), at(j + 1));
+                let mid = [
+                    0.5 * (p[0] + q[0]) - centre[0],
+                    0.5 * (p[1] + q[1]) - centre[1],
+                ];
+                let r = (mid[0] * mid[0] + mid[1] * mid[1]).sqrt() / reach;
+                let fade = ((1.0 - r) / 0.375).clamp(0.0, 1.0);
+                if fade <= 0.0 {
+                    continue;
+                }
+                let (Some(a), Some(b)) = (cam.project(p), cam.project(q)) else {
+                    continue;
+                };
+                // Cells below ~4 px would merge into noise: fade them too.
+                let px_cell = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+                let fade = fade * ((px_cell - 4.0) / 4.0).clamp(0.0, 1.0);
+                if fade > 0.0 {
+                    line(cv, (a.0, a.1), (b.0, b.1), mix(GROUND, colour, fade));
+                }
+            }
+        }
+    }
+    // Shadow: darkest under a sphere resting on the ground, fading with height; the ground
+    // point under each pixel near a sphere's foot is found by casting the pixel's ray.
+    let mut shade = vec![0.0f32; w * h];
+    for b in balls {
+        let foot = [b.c[0], b.c[1], 0.0];
+        let Some((sx, sy, z)) = cam.project(foot) else {
+            continue;
+        };
+        let height = (b.c[2] - b.r).max(0.0);
+        let alpha = (SHADOW_MAX / (1.0 + height / (4.0 * b.r))) as f32;
+        let r = b.r * (1.0 + 0.15 * height / b.r).min(2.0);
+        let rp = (r * cam.px_per_m(z) * 1.6 + 2.0).ceil();
+        let (x0, x1) = clamp_span(sx - rp, sx + rp, w);
+        let (y0, y1) = clamp_span(sy - rp, sy + rp, h);
+        let r2 = r * r;
+        for py in y0..y1 {
+            for px in x0..x1 {
+                let Some((g, _)) = cam.ground_hit(px as f64 + 0.5, py as f64 + 0.5) else {
+                    continue;
+                };
+                let (dx, dy) = (g[0] - b.c[0], g[1] - b.c[1]);
+                let d2 = dx * dx + dy * dy;
+                if d2 < r2 {
+                    // Soft edge over the outer part of the radius.
+                    let edge = ((1.0 - d2 / r2) * 2.5).min(1.0) as f32;
+                    let i = py * w + px;
+                    shade[i] = shade[i].max(alpha * edge);
+                }
+            }
+        }
+    }
+    for (i, &s) in shade.iter().enumerate() {
+        if s > 0.0 {
+            let p = &mut cv.rgb[3 * i..3 * i + 3];
+            for v in p {
+                *v = (*v as f32 * (1.0 - s)).round() as u8;
+            }
+        }
+    }
+}
+
+/// A one-pixel line from `a` to `b` (px), clipped to the picture (Liang-Barsky) first.
+fn line(cv: &mut Canvas, a: (f64, f64), b: (f64, f64), c: [u8; 3]) {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (w, h) = (cv.w as f64, cv.h as f64);
+    let (mut u0, mut u1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-dx, a.0),
+        (dx, w - 1e-6 - a.0),
+        (-dy, a.1),
+        (dy, h - 1e-6 - a.1),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                u0 = u0.max(r);
+            } else {
+                u1 = u1.min(r);
+            }
+        }
+    }
+    if !(u0 <= u1) {
+        return;
+    }
+    let (x0, y0) = (a.0 + u0 * dx, a.1 + u0 * dy);
+    let (ex, ey) = ((u1 - u0) * dx, (u1 - u0) * dy);
+    let n = ex.abs().max(ey.abs()).ceil().max(1.0) as usize;
+    let (sx, sy) = (ex / n as f64, ey / n as f64);
+    for k in 0..=n {
+        let (x, y) = (x0 + k as f64 * sx, y0 + k as f64 * sy);
+        if x >= 0.0 && y >= 0.0 && x < w && y < h {
+            let i = y as usize * cv.w + x as usize;
+            cv.put(i, c);
+        }
+    }
+}
+
+/// Draw the spheres, shaded, with the depth test.
+pub(super) fn tube(cv: &mut Canvas, cam: &Camera, balls: &[Ball]) {
+    let (w, h) = (cv.w, cv.h);
+    // Light direction in camera coordinates (x right, y up, z toward the viewer): from the
+    // upper left, in front of the scene.
+    let l = unit3([-0.45, 0.65, 0.62]);
+    // Half vector for the specular term (viewer along +z).
+    let hv = unit3([l[0], l[1], l[2] + 1.0]);
+    for b in balls {
+        let Some((sx, sy, z)) = cam.project(b.c) else {
+            continue;
+        };
+        let rpx = b.r * cam.px_per_m(z);
+        if rpx < 0.3 {
+            continue;
+        }
+        let (x0, x1) = clamp_span(sx - rpx - 1.0, sx + rpx + 1.0, w);
+        let (y0, y1) = clamp_span(sy - rpx - 1.0, sy + rpx + 1.0, h);
+        let inv = 1.0 / rpx;
+        for py in y0..y1 {
+            let dy = (sy - (py as f64 + 0.5)) * inv;
+            for px in x0..x1 {
+                let dx = ((px as f64 + 0.5) - sx) * inv;
+                let q = dx * dx + dy * dy;
+                if q >= 1.0 {
+                    continue;
+                }
+                let nz = (1.0 - q).sqrt();
+                let d = (z - nz * b.r) as f32;
+                let i = py * w + px;
+                if d >= cv.depth[i] {
+                    continue;
+                }
+                cv.depth[i] = d;
+                let lam = (dx * l[0] + dy * l[1] + nz * l[2]).max(0.0);
+                let spec = (dx * hv[0] + dy * hv[1] + nz * hv[2]).max(0.0).powi(24);
+                let k = 0.38 + 0.62 * lam;
+                let s = 90.0 * spec;
+                let c = b.colour;
+                let px3 = [
+                    (c[0] as f64 * k + s).min(255.0) as u8,
+                    (c[1] as f64 * k + s).min(255.0) as u8,
+                    (c[2] as f64 * k + s).min(255.0) as u8,
+                ];
+                cv.put(i, px3);
+            }
+        }
+    }
+}
+
+/// Pixel index range [a, b) covering the real interval [lo, hi], clamped to [0, n).
+fn clamp_span(lo: f64, hi: f64, n: usize) -> (usize, usize) {
+    let a = lo.floor().max(0.0).min(n as f64) as usize;
+    let b = (hi.ceil() + 1.0).max(0.0).min(n as f64) as usize;
+    (a, b)
+}
+
+fn unit3(v: [f64; 3]) -> [f64; 3] {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    [v[0] / n, v[1] / n, v[2] / n]
+}
+
+/// Linear mix of two colours, `t` in [0, 1].
+pub(super) fn mix(a: [u8; 3], b: [u8; 3], t: f64) -> [u8; 3] {
+    let m = |p: u8, q: u8| (p as f64 + (q as f64 - p as f64) * t).round() as u8;
+    [m(a[0], b[0]), m(a[1], b[1]), m(a[2], b[2])]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nearer_sphere_hides_farther_one() {
+        let cam = Camera::looking_at(
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            std::f64::consts::FRAC_PI_2,
+            1.0,
+            None,
+            100.0,
+            (40, 40),
+        );
+        let mut cv = Canvas::new(40, 40);
+        // Looking down: the higher ball is nearer and must win whatever the drawing order.
+        let low = Ball {
+            c: [0.0, 0.0, 0.05],
+            colour: [0, 0, 255],
+            r: 0.05,
+        };
+        let high = Ball {
+            c: [0.0, 0.0, 0.2],
+            colour: [255, 0, 0],
+            r: 0.05,
+        };
+        tube(&mut cv, &cam, &[high, low]);
+        let i = 20 * 40 + 20;
+        assert!(
+            cv.rgb[3 * i] > cv.rgb[3 * i + 2],
+            "{:?}",
+            &cv.rgb[3 * i..3 * i + 3]
+        );
+        let mut cv = Canvas::new(40, 40);
+        tube(&mut cv, &cam, &[low, high]);
+        assert!(cv.rgb[3 * i] > cv.rgb[3 * i + 2]);
+    }
+}
