@@ -7,9 +7,11 @@
 //! ```sh
 //! cargo run --release --example contact_scaling -- [--elements 50,100,200,400] [--duration 0.5]
 //!     [--dt 5e-4] [--contact active-set|semi-smooth|conic] [--scene problems/s_start.toml]
+//!     [--certificate N]
 //! ```
 //!
-//! `--duration full` runs the whole scene and adds v_s/v_m. `scripts/contact_scaling.sh`
+//! `--duration full` runs the whole scene and adds v_s/v_m. `--certificate N` certifies every
+//! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it. `scripts/contact_scaling.sh`
 //! keeps the output as a dated record under `docs/results/contact-scaling/`.
 use slither::model::Model;
 use slither::{observe, problem, sim};
@@ -21,6 +23,7 @@ struct Args {
     duration: Option<f64>,
     dt: f64,
     contact: Option<problem::ContactKind>,
+    certificate: usize,
 }
 
 fn parse() -> Args {
@@ -30,6 +33,7 @@ fn parse() -> Args {
         duration: Some(0.5),
         dt: 5e-4,
         contact: None,
+        certificate: 0,
     };
     let argv: Vec<String> = std::env::args().skip(1).collect();
     let mut i = 0;
@@ -51,6 +55,7 @@ fn parse() -> Args {
                 }
             }
             "--dt" => a.dt = v.parse().expect("--dt: seconds"),
+            "--certificate" => a.certificate = v.parse().expect("--certificate: every N steps"),
             "--contact" => {
                 a.contact = Some(match v.as_str() {
                     "active-set" => problem::ContactKind::ActiveSet,
@@ -114,6 +119,7 @@ fn main() {
         if let Some(c) = args.contact {
             p.solver.contact = c;
         }
+        p.solver.conic_certificate = args.certificate;
         if let Some(d) = args.duration {
             p.time.duration = Some(d);
         }
@@ -127,6 +133,13 @@ fn main() {
         };
         let st = &o.stats;
         let steps = st.steps.max(1) as f64;
+        if args.certificate > 0 {
+            let c = &st.contact;
+            eprintln!(
+                "{n} elements: {} steps certified by the conic program, {} failed; largest correction {:.3e} tolerances, largest normal-force change {:.3e} tolerances",
+                c.certificates, c.certificate_failures, c.certificate_max_correction, c.certificate_max_normal_change
+            );
+        }
         let fallbacks = st.contact.active_set_fallbacks + st.contact.semismooth_fallbacks;
         let wall = o.wall_time_s;
         let simulated = o.state.t.max(1e-300);

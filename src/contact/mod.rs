@@ -113,6 +113,22 @@ pub struct ContactStats {
     /// Fallbacks because the active-set iterates cycled (an exact repeat of iterate and
     /// statuses), sent to the conic path before the iteration cap.
     pub contact_cycles: usize,
+    /// Active-set steps certified by the conic program (`[solver] conic_certificate`; not
+    /// yet written to `summary.json`).
+    #[serde(skip)]
+    pub certificates: usize,
+    /// Certified steps whose conic program moved the solution by more than the Newton
+    /// tolerance or changed a normal force by more than `normal_force_tolerance * W / n_c`.
+    #[serde(skip)]
+    pub certificate_failures: usize,
+    /// Largest correction of a certifying conic program, in units of `[solver] tolerance`
+    /// (positions over `a`, angles in rad).
+    #[serde(skip)]
+    pub certificate_max_correction: f64,
+    /// Largest normal-force change of a certifying conic program, in units of
+    /// `normal_force_tolerance * W / n_c`.
+    #[serde(skip)]
+    pub certificate_max_normal_change: f64,
     /// The last active-set solve's residual at each iterate (largest force on a free
     /// position coordinate, or torque on a free angle over `a`, relative to the mean weight
     /// per contact; NaN marks a change of contact statuses, -1 a step that was not a full
@@ -133,6 +149,10 @@ static NO_STATS: ContactStats = ContactStats {
     contact_cycles: 0,
     semismooth_steps: 0,
     semismooth_fallbacks: 0,
+    certificates: 0,
+    certificate_failures: 0,
+    certificate_max_correction: 0.0,
+    certificate_max_normal_change: 0.0,
     residuals: Vec::new(),
 };
 
