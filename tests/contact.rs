@@ -584,3 +584,32 @@ fn oblique_sliding_stops_where_the_anisotropic_dissipation_says() {
 fn m_diameter() -> f64 {
     0.02
 }
+
+/// `[solver] conic_certificate = 1`: the conic program, run from every step the active set
+/// solved, moves the solution by less than the Newton tolerance and the normal forces by less
+/// than `normal_force_tolerance` (a rod sliding obliquely to a stop, then sticking; and one
+/// sliding down an incline above the friction angle).
+#[test]
+fn conic_certificate_confirms_the_active_set_while_sliding_and_sticking() {
+    let v = [0.4, 0.2, 0.0];
+    for (heading, velocity, incline, duration) in [
+        (30.0, v, 0.0, 1.1 * f::norm(v) / (MU[0] * G)),
+        (0.0, [0.0; 3], MU[1].atan().to_degrees() + 4.0, 0.3),
+    ] {
+        let mut m = scene(heading, velocity, incline, 0.0, duration);
+        m.solver.conic_certificate = 1;
+        let (_, integ) = simulate(&m, |_, _| {});
+        let c = &integ.stats().contact;
+        println!(
+            "heading {heading}, incline {incline:.2}: {} of {} active-set steps certified, {} failed, largest correction {:.3e} and normal-force change {:.3e} tolerances",
+            c.certificates,
+            c.active_set_steps,
+            c.certificate_failures,
+            c.certificate_max_correction,
+            c.certificate_max_normal_change
+        );
+        assert!(c.active_set_steps > 0);
+        assert_eq!(c.certificates, c.active_set_steps);
+        assert_eq!(c.certificate_failures, 0);
+    }
+}

@@ -21,9 +21,11 @@
 //!
 //! Within a step, statuses change as the iteration goes: at a converged point whose exact
 //! conditions fail, and earlier when a contact pulls, or leaves the cone, both now and after
-//! the step. After an early lift-off or slide the Newton step is still taken (it held fixed
-//! only the coordinates the change releases). A sliding contact whose slip vanished sticks
-//! before the iterate is assembled. An exact repeat of iterate, statuses and early changes
+//! the step (at most [`EARLY_CHANGES`] times per contact and step). After an early lift-off
+//! or slide the Newton step is still taken (it held fixed only the coordinates the change
+//! releases); after a slip reversal or a landing it is taken too, without its components at
+//! the coordinates now held, as long as it still descends. A sliding contact whose slip
+//! vanished sticks before the iterate is assembled. An exact repeat of iterate, statuses and early changes
 //! is a cycle and goes to the conic program at once; so does a stall (the correction not
 //! falling tenfold in [`STALL_WINDOW`] iterations with unchanged statuses), and an iteration
 //! or status change cap. The iterations of a failed attempt count in the step's total.
@@ -55,9 +57,14 @@ pub const STALL_WINDOW: usize = 16;
 /// 122, 9.9e-5; 2 rounds 4.13, 4.04, 5.85, 104; 3 rounds 3.85, 3.64, 6.19, 109, 1.5e-4;
 /// 4 rounds 3.82, 3.90, 6.38, 114, 1.01e-4; **6 rounds 3.81, 3.77, 6.88, 101, 9.9e-5**;
 /// 8 rounds 3.81, 3.75, 7.39, 129. Fewer rounds also switch contacts of short stick-slip
-/// episodes, which costs iterations at 50 elements and moves sidewinding's default-tolerance
+/// episodes, which cost iterations at 50 elements and moved sidewinding's default-tolerance
 /// result away from the tight one (the tight results agree to 1e-7).
-const FRONT_ROUNDS: usize = 6;
+///
+/// Re-measured 2026-12-02 (issue 23) with the whole S-start at dt 5e-4, with the reversals
+/// taken in the step, [`EARLY_CHANGES`] 4 and [`SWITCH_ROUNDS`] 3: 1 round gives 2.54, 2.99
+/// and 3.66 it/step at 50, 100 and 200 elements (0, 2 and 1 fallbacks); 2 rounds 4.06 at 200
+/// (0 fallbacks, with one early change per contact); 6 rounds 4.89 (1). The default was 6.
+const FRONT_ROUNDS: usize = 1;
 
 /// Sticking contacts within this fraction of the friction cone, contiguous with a contact that
 /// left it at a slip front, slide with it. 0.01, 0.02, 0.03, 0.05 at 200 elements (2 rounds):
@@ -67,6 +74,21 @@ const FRONT_ROUNDS: usize = 6;
 /// and 133, 0.03 6.91 and 6.87 with 138 and 128: below 0.03 the differences are within the
 /// trajectory's own spread.
 const FRONT_MARGIN: f64 = 0.02;
+
+/// Status changes allowed per contact and step before convergence (early lift-offs and
+/// slides; a contact then changes only at converged points). Once, before: at 400 elements a
+/// touchdown front lifted or slid one contact per converged point, several Newton iterations
+/// each, into the 40-iteration cap. S-start at dt 5e-4 (whole scene; 1 front round, reversals
+/// taken, 3 switch rounds): 200 elements 3.79, 3.78, 3.66 and 3.71 it/step for 1, 2, 4 and
+/// unlimited; 400 elements over the first 2 s 5.26 it/step and 49 fallbacks with 4.
+const EARLY_CHANGES: u32 = 4;
+
+/// Status changes allowed per step, in multiples of the number of contacts (plus
+/// `[solver] active_set_extra_switches`). With one multiple, the S-start's middle patch at the
+/// edge of the friction cone (about 60 contacts at 200 elements, slipping by 1e-10 m per step)
+/// sticks and slides again within one step, and 34 steps at 200 elements hit the cap and went
+/// to the conic program; with 3, none (4.03 -> 4.06 it/step, 34 -> 0 fallbacks).
+const SWITCH_ROUNDS: usize = 3;
 
 /// The active-set contact model: each step first runs [`ActiveSet::iterate`] with the
 /// statuses of the last step (guessed from the state before any conic solve); if its checks
@@ -95,9 +117,9 @@ struct Scratch {
     reactions: Reactions,
     /// Objective gradient at `(x, y)` of every sticking contact (its friction force).
     tangential: Vec<[f64; 2]>,
-    /// Contacts that already changed status before convergence in this step (once each, so
-    /// that a contact at the edge of the friction cone cannot cycle).
-    early: Vec<bool>,
+    /// Status changes of every contact before convergence in this step (at most
+    /// [`EARLY_CHANGES`] each, so that a contact at the edge of the friction cone cannot cycle).
+    early: Vec<u32>,
     /// Fingerprints of the iterates within the step.
     seen: Vec<(u64, usize)>,
     /// Corrections `max(dx / a, dtheta)` since the last status change.
@@ -213,7 +235,7 @@ impl ActiveSet {
             stats: &mut self.conic.stats,
             nw,
             cap: m.max_iterations.min(set.active_set_max_iterations),
-            switch_cap: nc + set.active_set_extra_switches,
+            switch_cap: SWITCH_ROUNDS * nc + set.active_set_extra_switches,
         };
         step.begin(q);
         let r = step.run(q);
@@ -229,7 +251,7 @@ impl Step<'_, '_> {
         let nc = self.ct.nodes.len();
         s.deferred = None;
         s.early.clear();
-        s.early.resize(nc, false);
+        s.early.resize(nc, 0);
         s.held.copy_from_slice(&m.fixed);
         self.st.hold(self.ct, m, q, &mut s.held);
         self.stats.residuals.clear();
@@ -486,7 +508,7 @@ impl Step<'_, '_> {
     fn factor(&mut self, t1: Instant) -> Result<Next, ContactFailure> {
         if self.s.project {
             self.nw.factor_shifted(self.m, self.s.it)?;
-        } else if self.nw.lin.factor(&self.nw.asm).is_err() {
+        } else if self.nw.factor().is_err() {
             // Indefinite: redo this iterate with the projected Hessian.
             self.s.project = true;
             self.s.it -= 1;
@@ -617,22 +639,45 @@ impl Step<'_, '_> {
     /// its height, a new slide its ground position), so the direction is still one of descent
     /// with the new statuses: it is taken rather than thrown away. A sliding contact whose
     /// full step reverses its slip stops (sticks); a free contact that the full step takes
-    /// below the ground lands: then the direction is recomputed ([`Next::Again`]).
+    /// below the ground lands. Their coordinates move onto the new constraints and the rest of
+    /// the step is taken if it still descends on the merit, else the direction is recomputed
+    /// ([`Next::Again`]): recomputing it after every reversal cost 4.20 against 4.03 it/step
+    /// on the 200-element S-start (2 front rounds), 54 % of the reversed contacts sliding on
+    /// in their first direction by the step's end.
     fn early_switches(
         &mut self,
         q: &mut [f64],
         at: &mut Assembled,
     ) -> Result<Next, ContactFailure> {
         let released = self.early_releases(q);
-        let switched = released + self.reversals_and_landings(q);
-        if switched > 0 {
-            self.count_switches(switched)?;
-            if switched > released {
+        let held_now = self.reversals_and_landings(q);
+        let switched = released + held_now;
+        if switched == 0 {
+            return Ok(Next::Go);
+        }
+        self.count_switches(switched)?;
+        if held_now > 0 {
+            // The step without its components at the newly held coordinates (which moved onto
+            // their constraints), if it still descends; otherwise a new direction.
+            for (d, &h) in self.nw.dq.iter_mut().zip(&self.s.held) {
+                if h {
+                    *d = 0.0;
+                }
+            }
+            let slope: f64 = self
+                .nw
+                .asm
+                .grad
+                .iter()
+                .zip(&self.nw.dq)
+                .map(|(g, d)| g * d)
+                .sum();
+            if slope >= 0.0 {
                 return Ok(Next::Again);
             }
-            // The merit with the new statuses at the (slightly moved) start point.
-            at.f0 = self.obj.value(q) + self.ct.dissipation(self.ground, q);
         }
+        // The merit with the new statuses at the (slightly moved) start point.
+        at.f0 = self.obj.value(q) + self.ct.dissipation(self.ground, q);
         Ok(Next::Go)
     }
 
@@ -644,13 +689,13 @@ impl Step<'_, '_> {
         let pull = -force_tol * self.scale;
         for c in 0..ct.nodes.len() {
             let ch = s.reactions.change[c];
-            if s.early[c] {
+            if s.early[c] >= EARLY_CHANGES {
                 continue;
             }
             if st.mode[c] != Mode::Free && st.react[c] < pull && st.react[c] + ch[2] < pull {
                 log::debug!("  switch early-lift {c}");
                 st.set(ct, m, c, Mode::Free, q, &mut s.held);
-                s.early[c] = true;
+                s.early[c] += 1;
                 switched += 1;
             } else if st.mode[c] == Mode::Stick && st.ratio[c] > 1.0 + force_tol {
                 let t = s.tangential[c];
@@ -660,7 +705,7 @@ impl Step<'_, '_> {
                 if r > 1.0 + force_tol {
                     log::debug!("  switch early-slide {c}");
                     st.set(ct, m, c, Mode::Slide, q, &mut s.held);
-                    s.early[c] = true;
+                    s.early[c] += 1;
                     switched += 1;
                 }
             }
@@ -685,7 +730,13 @@ impl Step<'_, '_> {
                     }
                     let s1 = ct.slip(c, &nw.trial);
                     if s0[0] * s1[0] + s0[1] * s1[1] <= 0.0 {
-                        log::debug!("  switch reversal {c}");
+                        log::debug!(
+                            "  switch reversal {c} s0 {:.3e} {:.3e} s1 {:.3e} {:.3e}",
+                            s0[0],
+                            s0[1],
+                            s1[0],
+                            s1[1]
+                        );
                         st.set(ct, m, c, Mode::Stick, q, &mut s.held);
                         switched += 1;
                     }
@@ -764,6 +815,34 @@ impl Step<'_, '_> {
     }
 }
 
+impl ActiveSet {
+    /// The conic program as a certificate of the active set's solution `q`
+    /// ([`Conic::certify`]): counted, its correction and normal-force change kept, a failure
+    /// (beyond the Newton tolerance or `normal_force_tolerance`) counted and logged.
+    fn certify(
+        &mut self,
+        nw: &mut Newton,
+        obj: &Potential,
+        q: &[f64],
+    ) -> Result<(), ContactFailure> {
+        let m = obj.model;
+        let (dq, dn) = self.conic.certify(nw, obj, q)?;
+        let dq = dq / m.tolerance;
+        let dn = dn / (m.solver.normal_force_tolerance * self.conic.ct.weight_scale(m));
+        let st = &mut self.conic.stats;
+        st.certificates += 1;
+        st.certificate_max_correction = st.certificate_max_correction.max(dq);
+        st.certificate_max_normal_change = st.certificate_max_normal_change.max(dn);
+        if dq > 1.0 || dn > 1.0 {
+            st.certificate_failures += 1;
+            log::warn!(
+                "conic certificate: correction {dq:.3e} tolerances, normal-force change {dn:.3e} tolerances"
+            );
+        }
+        Ok(())
+    }
+}
+
 impl ContactModel for ActiveSet {
     fn begin_step(
         &mut self,
@@ -799,6 +878,10 @@ impl ContactModel for ActiveSet {
                 self.conic.stats.active_set_steps += 1;
                 self.last_conic = false;
                 log::debug!("  step total {it}");
+                let every = m.solver.conic_certificate;
+                if every > 0 && self.conic.stats.active_set_steps % every == 0 {
+                    self.certify(nw, obj, q)?;
+                }
                 return Ok(it);
             }
             Err(why) => why,
@@ -860,7 +943,7 @@ impl ContactModel for ActiveSet {
 
 /// A hash of the coordinates' bits, the contacts' statuses and which contacts already
 /// changed status early (the state the rest of the iteration depends on).
-fn fingerprint(q: &[f64], mode: &[Mode], early: &[bool]) -> u64 {
+fn fingerprint(q: &[f64], mode: &[Mode], early: &[u32]) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
     for x in q {

@@ -48,6 +48,38 @@ impl Conic {
         self.ct.normal.clone_from(&self.normal_saved);
     }
 
+    /// Certify a converged step `q` (from another solve, with its normal forces in `ct.normal`):
+    /// one conic program of the quadratic model at `q`, whose step is zero at the exact
+    /// solution. Returns the program's correction `max(|dx| / a, |dtheta|)` and its largest
+    /// normal-force change (N); `q` and the normal forces stay as they are.
+    pub(crate) fn certify(
+        &mut self,
+        nw: &mut Newton,
+        obj: &Potential,
+        q: &[f64],
+    ) -> Result<(f64, f64), ContactFailure> {
+        let m = obj.model;
+        let ground = m.ground.as_ref().expect("a contact model needs a ground");
+        let t0 = Instant::now();
+        obj.assemble(q, &mut nw.asm, true);
+        for k in 0..m.ndof {
+            if m.fixed[k] {
+                nw.asm.fix(k);
+            }
+        }
+        nw.stats.assembly_s += t0.elapsed().as_secs_f64();
+        let t1 = Instant::now();
+        let r = self
+            .ct
+            .conic_program(m, ground, &nw.asm, q, self.h, &mut nw.dq)
+            .map_err(|e| e.at(1))?;
+        self.stats.conic_solves += 1;
+        self.stats.conic_iterations += self.ct.last_iterations as usize;
+        self.stats.conic_s += t1.elapsed().as_secs_f64();
+        let (dx, dth) = nw.correction_norms();
+        Ok(((dx / m.diameter).max(dth), r.max_normal_change))
+    }
+
     /// Newton iterations on `obj` plus friction from `q`, each solving the conic program of
     /// the quadratic model, at most `cap`. Convergence: a full step below the tolerance with
     /// settled normal forces, or a step whose true gradient matches the conic model's

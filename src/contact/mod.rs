@@ -35,10 +35,12 @@ mod deferred;
 #[cfg(test)]
 mod dissipation_tests;
 pub mod reactions;
+pub mod semismooth;
 pub mod status;
 
 pub use active::ActiveSet;
 pub use conic::{Conic, ConicError, ConicStep};
+pub use semismooth::SemiSmooth;
 pub use status::{Mode, Statuses};
 
 pub use crate::model::Ground;
@@ -104,9 +106,29 @@ pub struct ContactStats {
     /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
     /// from the step's start.
     pub warm_conic_restarts: usize,
+    /// Contact steps solved by the semi-smooth Newton ([`semismooth`]; no conic solve).
+    pub semismooth_steps: usize,
+    /// Contact steps where the semi-smooth Newton failed and the conic path ran.
+    pub semismooth_fallbacks: usize,
     /// Fallbacks because the active-set iterates cycled (an exact repeat of iterate and
     /// statuses), sent to the conic path before the iteration cap.
     pub contact_cycles: usize,
+    /// Active-set steps certified by the conic program (`[solver] conic_certificate`; not
+    /// yet written to `summary.json`).
+    #[serde(skip)]
+    pub certificates: usize,
+    /// Certified steps whose conic program moved the solution by more than the Newton
+    /// tolerance or changed a normal force by more than `normal_force_tolerance * W / n_c`.
+    #[serde(skip)]
+    pub certificate_failures: usize,
+    /// Largest correction of a certifying conic program, in units of `[solver] tolerance`
+    /// (positions over `a`, angles in rad).
+    #[serde(skip)]
+    pub certificate_max_correction: f64,
+    /// Largest normal-force change of a certifying conic program, in units of
+    /// `normal_force_tolerance * W / n_c`.
+    #[serde(skip)]
+    pub certificate_max_normal_change: f64,
     /// The last active-set solve's residual at each iterate (largest force on a free
     /// position coordinate, or torque on a free angle over `a`, relative to the mean weight
     /// per contact; NaN marks a change of contact statuses, -1 a step that was not a full
@@ -125,6 +147,12 @@ static NO_STATS: ContactStats = ContactStats {
     active_set_fallbacks: 0,
     warm_conic_restarts: 0,
     contact_cycles: 0,
+    semismooth_steps: 0,
+    semismooth_fallbacks: 0,
+    certificates: 0,
+    certificate_failures: 0,
+    certificate_max_correction: 0.0,
+    certificate_max_normal_change: 0.0,
     residuals: Vec::new(),
 };
 
@@ -185,6 +213,7 @@ pub fn model_for(m: &Model) -> Option<Box<dyn ContactModel>> {
     Some(match m.solver.contact {
         crate::problem::ContactKind::ActiveSet => Box::new(ActiveSet::new(m)),
         crate::problem::ContactKind::Conic => Box::new(Conic::new(m)),
+        crate::problem::ContactKind::SemiSmooth => Box::new(SemiSmooth::new(m)),
     })
 }
 

@@ -37,6 +37,8 @@ use std::time::Instant;
 pub struct Stats {
     /// Line-search backtracks.
     pub backtracks: usize,
+    /// Numeric factorisations of the Hessian (each try, shifted ones included).
+    pub factorizations: usize,
     /// Times a factorisation needed a diagonal shift.
     pub shifted_factorizations: usize,
     /// Seconds in energy, gradient and Hessian assembly.
@@ -249,7 +251,7 @@ impl Newton {
     /// Factorise the assembled Hessian, shifting the diagonal if it is only semi-definite
     /// (`[solver] shift`, x10 per retry, `shift_tries` retries).
     pub fn factor_shifted(&mut self, m: &Model, it: usize) -> Result<(), Failure> {
-        if self.lin.factor(&self.asm).is_ok() {
+        if self.factor().is_ok() {
             return Ok(());
         }
         let n = self.asm.n();
@@ -263,12 +265,18 @@ impl Newton {
             for k in 0..n {
                 self.asm.add_h(k, k, shift);
             }
-            if self.lin.factor(&self.asm).is_ok() {
+            if self.factor().is_ok() {
                 return Ok(());
             }
             shift *= 10.0;
         }
         Err(Failure::NotPositiveDefinite { iteration: it })
+    }
+
+    /// Factorise the assembled Hessian as it is (counted in the statistics).
+    pub fn factor(&mut self) -> Result<(), linsolve::NotPositiveDefinite> {
+        self.stats.factorizations += 1;
+        self.lin.factor(&self.asm)
     }
 
     /// `dq = -H^-1 g` with the last factorisation.
@@ -370,7 +378,7 @@ impl Newton {
             self.stats.assembly_s += (t1 - t0).as_secs_f64();
             if project {
                 self.factor_shifted(m, it)?;
-            } else if self.lin.factor(&self.asm).is_err() {
+            } else if self.factor().is_err() {
                 project = true;
                 it -= 1;
                 self.stats.factor_s += t1.elapsed().as_secs_f64();

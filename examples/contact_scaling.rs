@@ -1,0 +1,175 @@
+//! How the contact Newton's cost grows with the mesh (issue 23): the bundled S-start's first
+//! `DURATION` seconds (0.5 by default) with implicit Euler at `dt` (5e-4 by default) at each
+//! element count, and per run the Newton iterations, factorisations and conic fallbacks per
+//! step, the step halvings, microseconds per step per element and wall seconds per simulated
+//! second, plus the time split (assembly, factorisation, solves, line search, Clarabel).
+//!
+//! ```sh
+//! cargo run --release --example contact_scaling -- [--elements 50,100,200,400] [--duration 0.5]
+//!     [--dt 5e-4] [--contact active-set|semi-smooth|conic] [--scene problems/s_start.toml]
+//!     [--certificate N]
+//! ```
+//!
+//! `--duration full` runs the whole scene and adds v_s/v_m. `--certificate N` certifies every
+//! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it. `scripts/contact_scaling.sh`
+//! keeps the output as a dated record under `docs/results/contact-scaling/`.
+use slither::model::Model;
+use slither::{observe, problem, sim};
+use std::path::PathBuf;
+
+struct Args {
+    scene: PathBuf,
+    elements: Vec<usize>,
+    duration: Option<f64>,
+    dt: f64,
+    contact: Option<problem::ContactKind>,
+    certificate: usize,
+}
+
+fn parse() -> Args {
+    let mut a = Args {
+        scene: PathBuf::from("problems/s_start.toml"),
+        elements: vec![50, 100, 200, 400],
+        duration: Some(0.5),
+        dt: 5e-4,
+        contact: None,
+        certificate: 0,
+    };
+    let argv: Vec<String> = std::env::args().skip(1).collect();
+    let mut i = 0;
+    while i < argv.len() {
+        let v = argv.get(i + 1).cloned().unwrap_or_default();
+        match argv[i].as_str() {
+            "--scene" => a.scene = PathBuf::from(v),
+            "--elements" => {
+                a.elements = v
+                    .split(',')
+                    .map(|s| s.trim().parse().expect("--elements: integers"))
+                    .collect()
+            }
+            "--duration" => {
+                a.duration = if v == "full" {
+                    None
+                } else {
+                    Some(v.parse().expect("--duration: seconds or full"))
+                }
+            }
+            "--dt" => a.dt = v.parse().expect("--dt: seconds"),
+            "--certificate" => a.certificate = v.parse().expect("--certificate: every N steps"),
+            "--contact" => {
+                a.contact = Some(match v.as_str() {
+                    "active-set" => problem::ContactKind::ActiveSet,
+                    "semi-smooth" => problem::ContactKind::SemiSmooth,
+                    "conic" => problem::ContactKind::Conic,
+                    _ => panic!("--contact: active-set, semi-smooth or conic"),
+                })
+            }
+            other => {
+                eprintln!("unknown argument {other}");
+                std::process::exit(2);
+            }
+        }
+        i += 2;
+    }
+    a
+}
+
+/// Library diagnostics on stderr at debug level when `SLITHER_DEBUG` is set (every Newton
+/// iteration and contact status change).
+struct StderrLog;
+
+impl log::Log for StderrLog {
+    fn enabled(&self, meta: &log::Metadata) -> bool {
+        meta.level() <= log::max_level()
+    }
+    fn log(&self, record: &log::Record) {
+        eprintln!("{}", record.args());
+    }
+    fn flush(&self) {}
+}
+
+fn main() {
+    if std::env::var_os("SLITHER_DEBUG").is_some() {
+        static LOGGER: StderrLog = StderrLog;
+        if log::set_logger(&LOGGER).is_ok() {
+            log::set_max_level(log::LevelFilter::Debug);
+        }
+    }
+    let args = parse();
+    let base = problem::load(&args.scene).unwrap_or_else(|e| {
+        eprintln!("error: {e}");
+        std::process::exit(2)
+    });
+    println!(
+        "scene {}, implicit Euler, dt {:e} s, {}",
+        args.scene.display(),
+        args.dt,
+        args.duration
+            .map_or("whole scene".to_string(), |d| format!("first {d} s"))
+    );
+    println!();
+    println!("| elements | steps | Newton it./step | factorizations/step | fallbacks/step | fallbacks | halvings | us/step/element | wall s | wall s per simulated s | assembly % | factor % | solve % | line search % | Clarabel % | v_s/v_m |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for &n in &args.elements {
+        let mut p = base.clone();
+        p.rod.elements = n;
+        p.time.dt = Some(args.dt);
+        p.solver.integrator = problem::IntegratorKind::Implicit;
+        p.time.adaptive = false;
+        if let Some(c) = args.contact {
+            p.solver.contact = c;
+        }
+        p.solver.conic_certificate = args.certificate;
+        if let Some(d) = args.duration {
+            p.time.duration = Some(d);
+        }
+        let m = Model::new(&p);
+        let o = match sim::run_gait(&m, m.solver.integrator, &mut |_| {}, &mut |_| {}) {
+            Ok(o) => o,
+            Err(e) => {
+                eprintln!("error: {e}");
+                std::process::exit(1);
+            }
+        };
+        let st = &o.stats;
+        let steps = st.steps.max(1) as f64;
+        if args.certificate > 0 {
+            let c = &st.contact;
+            eprintln!(
+                "{n} elements: {} steps certified by the conic program, {} failed; largest correction {:.3e} tolerances, largest normal-force change {:.3e} tolerances",
+                c.certificates, c.certificate_failures, c.certificate_max_correction, c.certificate_max_normal_change
+            );
+        }
+        let fallbacks = st.contact.active_set_fallbacks + st.contact.semismooth_fallbacks;
+        let wall = o.wall_time_s;
+        let simulated = o.state.t.max(1e-300);
+        let pct = |x: f64| 100.0 * x / wall.max(1e-300);
+        let v = if args.duration.is_none() && o.error.is_none() {
+            let fields = observe::fields(&m, &o.frames);
+            format!(
+                "{:.4}",
+                observe::observe(&m, &o.frames, &fields).v_s_over_v_m
+            )
+        } else {
+            "-".to_string()
+        };
+        println!(
+            "| {n} | {} | {:.2} | {:.2} | {:.4} | {} | {} | {:.2} | {:.2} | {:.2} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {v} |{}",
+            st.steps,
+            st.newton_iterations as f64 / steps,
+            st.newton.factorizations as f64 / steps,
+            fallbacks as f64 / steps,
+            fallbacks,
+            st.step_halvings,
+            1e6 * wall / steps / n as f64,
+            wall,
+            wall / simulated,
+            pct(st.newton.assembly_s),
+            pct(st.newton.factor_s),
+            pct(st.newton.solve_s),
+            pct(st.newton.line_search_s),
+            pct(st.contact.conic_s),
+            o.error.map_or(String::new(), |e| format!(" failed: {e}"))
+        );
+    }
+}

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# The contact Newton's scaling benchmark (issue 23): the bundled S-start's first 0.5 s with
+# implicit Euler at dt 5e-4 s at 50, 100, 200 and 400 elements (pass other arguments through to
+# examples/contact_scaling.rs, e.g. --elements 200,400,800 --duration 1.5, or --duration full
+# for the whole scene with v_s/v_m), kept as a dated record under docs/results/contact-scaling/
+# by scripts/record.sh. Per element count: Newton iterations, factorisations and conic fallbacks
+# per step, step halvings, microseconds per step per element, wall seconds per simulated second
+# and the time split.
+#
+#   scripts/contact_scaling.sh [ARGS...]
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+exec scripts/record.sh contact-scaling cargo run --release --quiet --example contact_scaling -- "$@"

@@ -1,0 +1,703 @@
+//! Semi-smooth Newton contact: every contact's status follows from the current iterate at
+//! every iteration, all at once, and one linear system per iteration moves positions and
+//! contact forces together.
+//!
+//! Unknowns: the coordinates `q`, and per contact its normal force `lambda` and its friction
+//! force `G` (in the dissipation-gradient convention of [`super::status`]: `grad_t Phi + G = 0`
+//! at the node, `G` along the slip when sliding). In the scaled variables
+//! `p = (G_f / mu(G_f), G_s / mu_s)` (`mu = mu_f` for `G_f > 0`, `mu_b` otherwise) the
+//! anisotropic friction set is the disc `|p| <= lambda`, and exact Coulomb friction with the
+//! gap condition is the root of the Alart-Curnier function
+//!
+//! ```text
+//! phi_n = lambda - max(0, lambda - rho gap)
+//! phi_t = p - Proj_{|.| <= N}(p + rho u),   N = max(0, lambda - rho gap),
+//! ```
+//!
+//! with `u = (mu(s_f) s_f, mu_s s_s)` the scaled slip `s` of the step (`mu(s_f) = mu_f` for
+//! forward slip) and `rho = m_node w` (the node's inertia stiffness; any positive value gives
+//! the same roots). Together with the force balance `grad Phi(q) - lambda e_z + G = 0` at every
+//! contact node this is one semi-smooth system `F(q, lambda, G) = 0`.
+//!
+//! Each iteration takes the element of the generalized Jacobian on the branch the current
+//! iterate lies in, per contact:
+//! * **free** (`lambda - rho gap <= 0`): `lambda, G -> 0`, the node moves freely;
+//! * **stick** (touching, `|p + rho u| <= N`): the node goes to its start position and height
+//!   (held coordinates with a target), the forces are the reactions there after the step;
+//! * **slide** (touching, `|p + rho u| > N`, `w = p + rho u`): the height is held; with
+//!   `c = N/|w|` and `k = c rho/(1 - c)` the friction force after the step is
+//!   `p' = lambda' w/|w| + k (I - w w^T/|w|^2) u'`: a constant force along `w` scaled by the
+//!   new normal force (the height's reaction, coupled into the system as in
+//!   [`super::reactions`]) and a spring across it, both exact to first order.
+//!
+//! The statuses change wherever the iterate says, every contact in the same iteration: a
+//! contact at the edge of the cone is on one branch or the other and the function is
+//! continuous across the edge, so there is no slip to invent when a contact starts sliding and
+//! no cap on status changes. The eliminated system keeps the banded symmetric Hessian (plus the
+//! sliding contacts' normal-force coupling, solved by GMRES as in the active set).
+//!
+//! Globalisation: the merit `theta = 1/2 |F|^2` (forces relative to the mean weight per
+//! contact, torques over `a`), evaluated with each assembly; a full step is taken and its
+//! sufficient decrease `theta(alpha) <= (1 - 2 sigma alpha) theta(0)` checked at the next
+//! assembly, backtracking from the saved iterate otherwise (each try one assembly, no
+//! factorisation). Convergence: a full step below the Newton tolerance on positions and
+//! angles, contact forces that change by less than `[solver] normal_force_tolerance`, and the
+//! same statuses at the new iterate. A failure falls back to the conic program, as the active
+//! set does.
+
+use super::reactions::{Reactions, UNCOUPLED};
+use super::status::Mode;
+use super::{Conic, ContactFailure, ContactModel, ContactStats, Contacts, Ground};
+use crate::model::Model;
+use crate::newton::{Failure, Newton, Objective, Path, Potential};
+use crate::rod::dof::{self, HALF_BANDWIDTH as W};
+use std::time::Instant;
+
+/// Per-contact linearisation of a sliding contact: the branch's scaled direction `w/|w|`,
+/// the spring `k` across it and the friction coefficients `(mu_w, mu_s)` of the branch.
+#[derive(Clone, Copy, Debug, Default)]
+struct SlideLin {
+    dir: [f64; 2],
+    k: f64,
+    mu: [f64; 2],
+}
+
+/// The semi-smooth Newton contact model (`[solver] contact = "semi-smooth"`).
+pub struct SemiSmooth {
+    /// Contact data, the conic fallback and the statistics.
+    pub conic: Conic,
+    /// Status of every contact at the current iterate.
+    mode: Vec<Mode>,
+    /// Normal force variable of every contact (N).
+    lambda: Vec<f64>,
+    /// Friction force variable of every contact in world `(x, y)` (N).
+    force: Vec<[f64; 2]>,
+    /// The variables at the step's start (restored by a rejected step).
+    lambda_saved: Vec<f64>,
+    force_saved: Vec<[f64; 2]>,
+    /// Whether the variables hold a previous step's solution (or a guess).
+    valid: bool,
+    q_init: Vec<f64>,
+    /// Iterations of the last [`SemiSmooth::iterate`] (counted also when it fails).
+    spent: usize,
+    scratch: Scratch,
+}
+
+/// Per-step storage of [`SemiSmooth`].
+#[derive(Default)]
+struct Scratch {
+    held: Vec<bool>,
+    /// Target change of every held coordinate.
+    target: Vec<f64>,
+    reactions: Reactions,
+    slide: Vec<SlideLin>,
+    rho: Vec<f64>,
+    /// Gradient of the objective (without contact forces) at the contacts' `(x, y, z)`.
+    grad: Vec<[f64; 3]>,
+    /// New values of the force variables after a full step.
+    lambda_new: Vec<f64>,
+    force_new: Vec<[f64; 2]>,
+    /// Saved iterate and direction for the deferred merit test.
+    q0: Vec<f64>,
+    dq: Vec<f64>,
+    lambda0: Vec<f64>,
+    force0: Vec<[f64; 2]>,
+    row: Vec<f64>,
+    modes_before: Vec<Mode>,
+}
+
+/// A pending sufficient-decrease test of the step taken from the saved iterate.
+#[derive(Clone, Copy)]
+struct Pending {
+    theta0: f64,
+    alpha: f64,
+}
+
+impl SemiSmooth {
+    /// The semi-smooth model of `m`.
+    pub fn new(m: &Model) -> Self {
+        let conic = Conic::new(m);
+        let nc = conic.ct.nodes.len();
+        SemiSmooth {
+            lambda: conic.ct.normal.clone(),
+            conic,
+            mode: vec![Mode::Free; nc],
+            force: vec![[0.0; 2]; nc],
+            lambda_saved: Vec::new(),
+            force_saved: Vec::new(),
+            valid: false,
+            q_init: vec![0.0; m.ndof],
+            spent: 0,
+            scratch: Scratch {
+                held: vec![false; m.ndof],
+                target: vec![0.0; m.ndof],
+                ..Scratch::default()
+            },
+        }
+    }
+
+    /// The friction force variables after a conic solve (or before any step): normal forces
+    /// from the contact data, sliding contacts' friction from their slip, sticking ones zero.
+    fn reset_forces(&mut self, m: &Model, q: &[f64]) {
+        let g = m.ground.as_ref().expect("a contact model needs a ground");
+        let ct = &self.conic.ct;
+        for c in 0..ct.nodes.len() {
+            self.lambda[c] = ct.normal[c];
+            let s = ct.slip(c, q);
+            let mu = if s[0] > 0.0 { g.mu_f } else { g.mu_b };
+            let u = [mu * s[0], g.mu_s * s[1]];
+            let r = u[0].hypot(u[1]);
+            let n = ct.normal[c];
+            self.force[c] = if r > m.solver.contact_tolerance * m.diameter && n > 0.0 {
+                ct.to_world(c, [n * mu * u[0] / r, n * g.mu_s * u[1] / r])
+            } else {
+                [0.0; 2]
+            };
+        }
+    }
+}
+
+impl Contacts {
+    /// A force in the contact's `(forward, side)` components as world `(x, y)`.
+    pub(crate) fn to_world(&self, c: usize, fs: [f64; 2]) -> [f64; 2] {
+        let (f, s) = (self.forward[c], self.side[c]);
+        [fs[0] * f[0] + fs[1] * s[0], fs[0] * f[1] + fs[1] * s[1]]
+    }
+
+    /// A world `(x, y)` vector in the contact's `(forward, side)` components.
+    pub(crate) fn to_local(&self, c: usize, xy: [f64; 2]) -> [f64; 2] {
+        let (f, s) = (self.forward[c], self.side[c]);
+        [xy[0] * f[0] + xy[1] * f[1], xy[0] * s[0] + xy[1] * s[1]]
+    }
+}
+
+/// Scaled friction variables `p` of a force `G` in `(forward, side)` components.
+fn scaled(g: &Ground, gf: [f64; 2]) -> [f64; 2] {
+    let mu = if gf[0] > 0.0 { g.mu_f } else { g.mu_b };
+    [gf[0] / mu, gf[1] / g.mu_s]
+}
+
+/// Scaled slip `u` of a slip `s` in `(forward, side)` components.
+fn scaled_slip(g: &Ground, s: [f64; 2]) -> [f64; 2] {
+    let mu = if s[0] > 0.0 { g.mu_f } else { g.mu_b };
+    [mu * s[0], g.mu_s * s[1]]
+}
+
+/// One contact's branch and residual at an iterate.
+struct Branch {
+    mode: Mode,
+    /// `max(0, lambda - rho gap)`.
+    n_hat: f64,
+    /// `p + rho u`.
+    w: [f64; 2],
+    /// The Alart-Curnier residuals `phi_n` and `phi_t` (N).
+    phi_n: f64,
+    phi_t: [f64; 2],
+}
+
+impl SemiSmooth {
+    /// Contact `c`'s branch at `q` with its current force variables.
+    fn branch(&self, m: &Model, g: &Ground, c: usize, q: &[f64], rho: f64) -> Branch {
+        let ct = &self.conic.ct;
+        let k = dof::node(ct.nodes[c]);
+        let gap = q[k + 2] - 0.5 * m.diameter;
+        let lam = self.lambda[c];
+        let n_hat = (lam - rho * gap).max(0.0);
+        let phi_n = lam - n_hat;
+        let p = scaled(g, ct.to_local(c, self.force[c]));
+        let u = scaled_slip(g, ct.slip(c, q));
+        let w = [p[0] + rho * u[0], p[1] + rho * u[1]];
+        let wn = w[0].hypot(w[1]);
+        let (proj, mode) = if lam - rho * gap <= 0.0 {
+            ([0.0; 2], Mode::Free)
+        } else if wn <= n_hat {
+            (w, Mode::Stick)
+        } else {
+            ([n_hat * w[0] / wn, n_hat * w[1] / wn], Mode::Slide)
+        };
+        Branch {
+            mode,
+            n_hat,
+            w,
+            phi_n,
+            phi_t: [p[0] - proj[0], p[1] - proj[1]],
+        }
+    }
+}
+
+impl SemiSmooth {
+    /// The semi-smooth Newton iterations from `q` (at most `[solver]
+    /// active_set_max_iterations` assemblies). `Err`: the caller falls back to the conic
+    /// program.
+    fn iterate(
+        &mut self,
+        nw: &mut Newton,
+        obj: &Potential,
+        q: &mut [f64],
+    ) -> Result<usize, ContactFailure> {
+        let m = obj.model;
+        let set = &m.solver;
+        let ground = m.ground.as_ref().expect("a contact model needs a ground");
+        let nc = self.conic.ct.nodes.len();
+        let scale = self.conic.ct.weight_scale(m);
+        let weight = obj.inertia.map_or(1.0, |i| i.weight);
+        self.prepare(m, weight);
+        self.conic.stats.residuals.clear();
+        let cap = m.max_iterations.min(set.active_set_max_iterations);
+        let mut project = false;
+        let mut pending: Option<Pending> = None;
+        let mut it = 0;
+        while it < cap {
+            it += 1;
+            self.spent = it;
+            let theta_c = self.branches(m, ground, q, scale);
+            let t0 = Instant::now();
+            let f0 = obj.assemble(q, &mut nw.asm, project);
+            if project {
+                nw.stats.projected_iterations += 1;
+            }
+            if !f0.is_finite() || nw.asm.grad.iter().any(|g| !g.is_finite()) {
+                return Err(Failure::NonFiniteObjective {
+                    path: Path::ActiveSet,
+                    iteration: it,
+                }
+                .into());
+            }
+            let (theta_q, residual) = self.balance_residual(m, nw, scale);
+            let theta = 0.5 * (theta_q + theta_c).max(0.0);
+            if let Some(p) = pending.take() {
+                let noise = 1e-20 * (m.ndof + 3 * nc) as f64;
+                if !(theta <= (1.0 - 2.0 * set.armijo * p.alpha) * p.theta0 + noise) {
+                    // Not enough decrease: back along the saved direction.
+                    nw.stats.backtracks += 1;
+                    let alpha = 0.5 * p.alpha;
+                    if alpha < 0.5f64.powi(set.max_backtracks as i32) {
+                        return Err(Failure::LineSearch {
+                            path: Path::ActiveSet,
+                            iteration: it,
+                            slope: -2.0 * p.theta0,
+                        }
+                        .into());
+                    }
+                    self.step_from_saved(m, q, alpha);
+                    pending = Some(Pending {
+                        theta0: p.theta0,
+                        alpha,
+                    });
+                    self.conic.stats.residuals.push(-1.0);
+                    nw.stats.assembly_s += t0.elapsed().as_secs_f64();
+                    continue;
+                }
+            }
+            self.conic.stats.residuals.push((2.0 * theta).sqrt());
+            self.add_sliding(nw, q);
+            self.hold_targets(m, nw, q);
+            let t1 = Instant::now();
+            nw.stats.assembly_s += (t1 - t0).as_secs_f64();
+            if project {
+                nw.factor_shifted(m, it)?;
+            } else if nw.factor().is_err() {
+                // Indefinite: redo this iterate with the projected Hessian.
+                project = true;
+                it -= 1;
+                nw.stats.factor_s += t1.elapsed().as_secs_f64();
+                continue;
+            }
+            let t2 = Instant::now();
+            nw.stats.factor_s += (t2 - t1).as_secs_f64();
+            let krylov = self.direction(m, nw, scale, residual);
+            if nw.dq.iter().any(|d| !d.is_finite()) {
+                return Err(Failure::NonFiniteStep {
+                    path: Path::ActiveSet,
+                    iteration: it,
+                }
+                .into());
+            }
+            let change = self.new_forces(nw, q);
+            let t3 = Instant::now();
+            nw.stats.solve_s += (t3 - t2).as_secs_f64();
+            let (dx, dth) = nw.correction_norms();
+            let small = dx <= m.tolerance * m.diameter && dth <= m.tolerance;
+            let settled = change <= set.normal_force_tolerance * scale;
+            log::debug!("  semi-smooth it {it}: theta {theta:.3e} dx {dx:.3e} dth {dth:.3e} dF {change:.3e} krylov {krylov}");
+            if project || krylov == UNCOUPLED {
+                self.conic.stats.residuals.push(-1.0);
+            }
+            self.save(q, nw);
+            self.step_from_saved(m, q, 1.0);
+            if small && settled && self.same_branches(m, ground, q) {
+                nw.stats.line_search_s += t3.elapsed().as_secs_f64();
+                return Ok(it);
+            }
+            pending = Some(Pending {
+                theta0: theta,
+                alpha: 1.0,
+            });
+            nw.stats.line_search_s += t3.elapsed().as_secs_f64();
+        }
+        Err(Failure::NotConverged {
+            path: Path::ActiveSet,
+            iterations: cap,
+        }
+        .into())
+    }
+
+    /// Size the per-step storage; the penalty `rho` of every contact.
+    fn prepare(&mut self, m: &Model, weight: f64) {
+        let nc = self.conic.ct.nodes.len();
+        let s = &mut self.scratch;
+        s.rho.clear();
+        s.rho.extend(
+            self.conic
+                .ct
+                .nodes
+                .iter()
+                .map(|&i| m.mass[dof::node(i) + 2] * weight),
+        );
+        s.slide.resize(nc, SlideLin::default());
+        s.grad.resize(nc, [0.0; 3]);
+        s.lambda_new.resize(nc, 0.0);
+        s.force_new.resize(nc, [0.0; 2]);
+        s.row.resize(2 * W + 1, 0.0);
+        s.modes_before.resize(nc, Mode::Free);
+    }
+
+    /// Every contact's branch at `q`: its status and, sliding, its linearisation. Returns
+    /// the contacts' part of `2 theta` (relative to `scale`).
+    fn branches(&mut self, m: &Model, g: &Ground, q: &[f64], scale: f64) -> f64 {
+        let mut sum = 0.0;
+        for c in 0..self.conic.ct.nodes.len() {
+            let rho = self.scratch.rho[c];
+            let b = self.branch(m, g, c, q, rho);
+            self.mode[c] = b.mode;
+            sum += (b.phi_n * b.phi_n + b.phi_t[0] * b.phi_t[0] + b.phi_t[1] * b.phi_t[1])
+                / (scale * scale);
+            if b.mode == Mode::Slide {
+                let wn = b.w[0].hypot(b.w[1]);
+                let cc = b.n_hat / wn;
+                let mu_w = if b.w[0] > 0.0 { g.mu_f } else { g.mu_b };
+                self.scratch.slide[c] = SlideLin {
+                    dir: [b.w[0] / wn, b.w[1] / wn],
+                    k: cc * rho / (1.0 - cc),
+                    mu: [mu_w, g.mu_s],
+                };
+            }
+        }
+        sum
+    }
+
+    /// Whether every contact's status at `q` is the one the last direction was computed with.
+    fn same_branches(&mut self, m: &Model, g: &Ground, q: &[f64]) -> bool {
+        (0..self.conic.ct.nodes.len()).all(|c| {
+            let rho = self.scratch.rho[c];
+            self.branch(m, g, c, q, rho).mode == self.mode[c]
+        })
+    }
+
+    /// The force balance's part of `2 theta` with the contact force variables, from the
+    /// assembled gradient (saved at the contacts for the reactions), and its largest entry
+    /// (both relative to `scale`; angles' torques over `a`).
+    fn balance_residual(&mut self, m: &Model, nw: &Newton, scale: f64) -> (f64, f64) {
+        let a = m.diameter;
+        let grad = &nw.asm.grad;
+        let r = |k: usize, v: f64| v / if dof::is_edge(k) { a } else { 1.0 } / scale;
+        let mut sum = 0.0;
+        let mut worst: f64 = 0.0;
+        for k in 0..m.ndof {
+            if !m.fixed[k] {
+                let x = r(k, grad[k]);
+                sum += x * x;
+                worst = worst.max(x.abs());
+            }
+        }
+        let ct = &self.conic.ct;
+        for c in 0..ct.nodes.len() {
+            let k = dof::node(ct.nodes[c]);
+            self.scratch.grad[c] = [grad[k], grad[k + 1], grad[k + 2]];
+            let f = self.force[c];
+            let contrib = [f[0], f[1], -self.lambda[c]];
+            for j in 0..3 {
+                if m.fixed[k + j] {
+                    continue;
+                }
+                let old = r(k + j, grad[k + j]);
+                let new = r(k + j, grad[k + j] + contrib[j]);
+                sum += new * new - old * old;
+                worst = worst.max(new.abs());
+            }
+        }
+        (sum, worst)
+    }
+
+    /// Sliding contacts' friction, linearised on their branch: gradient and Hessian at their
+    /// `(x, y)`, and their normal-force coupling.
+    fn add_sliding(&mut self, nw: &mut Newton, q: &[f64]) {
+        let ct = &self.conic.ct;
+        let s = &mut self.scratch;
+        s.reactions.begin(ct.nodes.len());
+        for c in 0..ct.nodes.len() {
+            if self.mode[c] != Mode::Slide {
+                continue;
+            }
+            let SlideLin { dir, k, mu } = s.slide[c];
+            let sl = ct.slip(c, q);
+            let u = [mu[0] * sl[0], mu[1] * sl[1]];
+            // Across the direction: P u; force in (f, s) = T (N dir + k P u), N the reaction.
+            let along = u[0] * dir[0] + u[1] * dir[1];
+            let pu = [u[0] - along * dir[0], u[1] - along * dir[1]];
+            let n_react = s.grad[c][2];
+            let gf = [
+                mu[0] * (n_react * dir[0] + k * pu[0]),
+                mu[1] * (n_react * dir[1] + k * pu[1]),
+            ];
+            let gxy = ct.to_world(c, gf);
+            let unit = ct.to_world(c, [mu[0] * dir[0], mu[1] * dir[1]]);
+            // Hessian k T P T in (f, s), then to (x, y).
+            let hff = k * mu[0] * mu[0] * (1.0 - dir[0] * dir[0]);
+            let hfs = -k * mu[0] * mu[1] * dir[0] * dir[1];
+            let hss = k * mu[1] * mu[1] * (1.0 - dir[1] * dir[1]);
+            let (fw, sd) = (ct.forward[c], ct.side[c]);
+            let hx = |i: usize, j: usize| {
+                hff * fw[i] * fw[j] + hfs * (fw[i] * sd[j] + sd[i] * fw[j]) + hss * sd[i] * sd[j]
+            };
+            let kk = dof::node(ct.nodes[c]);
+            nw.asm.grad[kk] += gxy[0];
+            nw.asm.grad[kk + 1] += gxy[1];
+            nw.asm.add_h(kk, kk, hx(0, 0));
+            nw.asm.add_h(kk, kk + 1, hx(0, 1));
+            nw.asm.add_h(kk + 1, kk + 1, hx(1, 1));
+            s.reactions.set_slide(c, unit, 1.0);
+        }
+    }
+
+    /// Hold the touching heights at the ground and the sticking positions at their start
+    /// (targets of the step); the reaction rows captured first.
+    fn hold_targets(&mut self, m: &Model, nw: &mut Newton, q: &[f64]) {
+        let ct = &self.conic.ct;
+        let s = &mut self.scratch;
+        s.reactions.capture(ct, &self.mode, &nw.asm);
+        s.held.copy_from_slice(&m.fixed);
+        s.target.fill(0.0);
+        for c in 0..ct.nodes.len() {
+            let k = dof::node(ct.nodes[c]);
+            if self.mode[c] == Mode::Free {
+                continue;
+            }
+            s.held[k + 2] = true;
+            s.target[k + 2] = 0.5 * m.diameter - q[k + 2];
+            if self.mode[c] == Mode::Stick {
+                for j in 0..2 {
+                    s.held[k + j] = true;
+                    s.target[k + j] = ct.x_start[c][j] - q[k + j];
+                }
+            }
+        }
+        // Free rows see the held coordinates' moves: g_i += H_ik d_k.
+        let n = m.ndof;
+        for k in 0..n {
+            if !s.held[k] || s.target[k] == 0.0 {
+                continue;
+            }
+            nw.asm.row(k, &mut s.row);
+            for (r, v) in s.row.iter().enumerate() {
+                let i = (k + r).wrapping_sub(W);
+                if i < n && !s.held[i] {
+                    nw.asm.grad[i] += v * s.target[k];
+                }
+            }
+        }
+        for k in 0..n {
+            if s.held[k] {
+                nw.asm.fix(k);
+            }
+        }
+    }
+
+    /// The Newton direction with the held coordinates' moves and the sliding contacts'
+    /// normal forces inside the system; returns the GMRES iterations ([`UNCOUPLED`]: the
+    /// coupling did not converge and the symmetric direction is kept).
+    fn direction(&mut self, m: &Model, nw: &mut Newton, scale: f64, residual: f64) -> usize {
+        let set = &m.solver;
+        nw.solve_direction();
+        let s = &mut self.scratch;
+        for k in 0..m.ndof {
+            if s.held[k] {
+                nw.dq[k] = s.target[k];
+            }
+        }
+        if set.contact_coupling && s.reactions.coupled() {
+            let tol = scale * (1e-2 * set.normal_force_tolerance).min(residual * residual);
+            s.reactions.couple(&self.conic.ct, nw, &s.held, tol)
+        } else {
+            0
+        }
+    }
+
+    /// The force variables after the full step (into the scratch), from the reactions'
+    /// predicted change; returns the largest change of a force variable (N).
+    fn new_forces(&mut self, nw: &Newton, q: &[f64]) -> f64 {
+        let ct = &self.conic.ct;
+        let s = &mut self.scratch;
+        s.reactions.predict(ct, &self.mode, &nw.dq);
+        let mut worst: f64 = 0.0;
+        for c in 0..ct.nodes.len() {
+            let ch = s.reactions.change[c];
+            let gr = s.grad[c];
+            let (lam, force) = match self.mode[c] {
+                Mode::Free => (0.0, [0.0; 2]),
+                Mode::Stick => (gr[2] + ch[2], [-(gr[0] + ch[0]), -(gr[1] + ch[1])]),
+                Mode::Slide => {
+                    let lam = gr[2] + ch[2];
+                    let SlideLin { dir, k, mu } = s.slide[c];
+                    let kk = dof::node(ct.nodes[c]);
+                    let x = [q[kk] + nw.dq[kk], q[kk + 1] + nw.dq[kk + 1]];
+                    let x0 = ct.x_start[c];
+                    let sl = ct.to_local(c, [x[0] - x0[0], x[1] - x0[1]]);
+                    let u = [mu[0] * sl[0], mu[1] * sl[1]];
+                    let along = u[0] * dir[0] + u[1] * dir[1];
+                    let p = [
+                        lam * dir[0] + k * (u[0] - along * dir[0]),
+                        lam * dir[1] + k * (u[1] - along * dir[1]),
+                    ];
+                    (lam, ct.to_world(c, [mu[0] * p[0], mu[1] * p[1]]))
+                }
+            };
+            worst = worst
+                .max((lam - self.lambda[c]).abs())
+                .max((force[0] - self.force[c][0]).hypot(force[1] - self.force[c][1]));
+            s.lambda_new[c] = lam;
+            s.force_new[c] = force;
+        }
+        worst
+    }
+
+    /// Save the iterate, its force variables and the direction.
+    fn save(&mut self, q: &[f64], nw: &Newton) {
+        let s = &mut self.scratch;
+        s.q0.clear();
+        s.q0.extend_from_slice(q);
+        s.dq.clear();
+        s.dq.extend_from_slice(&nw.dq);
+        s.lambda0.clone_from(&self.lambda);
+        s.force0.clone_from(&self.force);
+    }
+
+    /// The iterate `alpha` along the saved direction (held coordinates land exactly on their
+    /// targets in a full step).
+    fn step_from_saved(&mut self, m: &Model, q: &mut [f64], alpha: f64) {
+        let s = &self.scratch;
+        for k in 0..m.ndof {
+            q[k] = s.q0[k] + alpha * s.dq[k];
+        }
+        let ct = &self.conic.ct;
+        for c in 0..ct.nodes.len() {
+            if alpha == 1.0 {
+                let k = dof::node(ct.nodes[c]);
+                match self.mode[c] {
+                    Mode::Free => {}
+                    Mode::Stick => {
+                        q[k] = ct.x_start[c][0];
+                        q[k + 1] = ct.x_start[c][1];
+                        q[k + 2] = 0.5 * m.diameter;
+                    }
+                    Mode::Slide => q[k + 2] = 0.5 * m.diameter,
+                }
+            }
+            self.lambda[c] = s.lambda0[c] + alpha * (s.lambda_new[c] - s.lambda0[c]);
+            for j in 0..2 {
+                self.force[c][j] = s.force0[c][j] + alpha * (s.force_new[c][j] - s.force0[c][j]);
+            }
+        }
+    }
+
+    /// The contact data's normal forces from the variables (touching contacts only).
+    fn publish_normals(&mut self) {
+        let ct = &mut self.conic.ct;
+        for c in 0..ct.nodes.len() {
+            ct.normal[c] = if self.mode[c] == Mode::Free {
+                0.0
+            } else {
+                self.lambda[c].max(0.0)
+            };
+        }
+    }
+}
+
+impl ContactModel for SemiSmooth {
+    fn begin_step(
+        &mut self,
+        m: &Model,
+        q_start: &[f64],
+        slip_origin: &[f64],
+        v_start: &[f64],
+        h: f64,
+        q: &mut [f64],
+    ) {
+        self.conic
+            .begin_step(m, q_start, slip_origin, v_start, h, q);
+        if !self.valid {
+            self.reset_forces(m, q);
+            self.valid = true;
+        }
+        self.lambda_saved.clone_from(&self.lambda);
+        self.force_saved.clone_from(&self.force);
+    }
+
+    fn solve(
+        &mut self,
+        nw: &mut Newton,
+        obj: &Potential,
+        q: &mut Vec<f64>,
+    ) -> Result<usize, ContactFailure> {
+        let m = obj.model;
+        self.q_init.copy_from_slice(q);
+        let why = match self.iterate(nw, obj, q) {
+            Ok(it) => {
+                self.conic.stats.semismooth_steps += 1;
+                self.publish_normals();
+                return Ok(it);
+            }
+            Err(why) => why,
+        };
+        log::debug!("  semi-smooth Newton failed: {why}");
+        self.conic.stats.semismooth_fallbacks += 1;
+        let spent = self.spent;
+        if q.iter().all(|x| x.is_finite()) {
+            // The conic path from where the iteration stopped first (as the active set's
+            // fallback), then from the step's start.
+            self.conic.ct.lift(m, q);
+            let cap = m.max_iterations.min(m.solver.warm_conic_iterations);
+            match self.conic.iterate(nw, obj, q, cap) {
+                Ok(it) => {
+                    self.reset_forces(m, q);
+                    return Ok(spent + it);
+                }
+                Err(why) => {
+                    log::debug!("  warm conic start failed: {why}");
+                    self.conic.stats.warm_conic_restarts += 1;
+                }
+            }
+        }
+        q.copy_from_slice(&self.q_init);
+        self.conic.restore_normals();
+        let it = self.conic.iterate(nw, obj, q, m.max_iterations)?;
+        self.reset_forces(m, q);
+        Ok(spent + it)
+    }
+
+    fn accept(&mut self, _m: &Model, _q: &[f64]) {}
+
+    fn reject(&mut self) {
+        self.conic.reject();
+        self.lambda.clone_from(&self.lambda_saved);
+        self.force.clone_from(&self.force_saved);
+    }
+
+    fn normal_forces(&self, m: &Model, out: &mut [f64]) {
+        self.conic.ct.normal_forces(m, out);
+    }
+
+    fn stats(&self) -> &ContactStats {
+        &self.conic.stats
+    }
+}
