@@ -70,6 +70,7 @@
 //! (the model chosen once for every run).
 
 pub mod accuracy;
+pub mod ensemble;
 mod history;
 pub mod phase;
 mod report;

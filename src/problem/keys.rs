@@ -434,6 +434,10 @@ pub const STUDY_KEYS: &[(&str, &str)] = &[
         "a number within optimize.speed (m/s)",
     ),
     (
+        "phase.verify",
+        "{ finer = true | false, perturbations = K in [0, 64], seed = integer >= 0, step = number in [1, 10] }",
+    ),
+    (
         "phase.base",
         "a path (string) to a problem file, relative to the phase file",
     ),
