@@ -32,6 +32,9 @@ pub struct Phase {
     /// `Some(K)`: `refine = true`, bisect the boundaries `K = refine_steps` times per
     /// neighbour pair ([`super::refine`]); `None`: boundaries through cell midpoints.
     pub refine: Option<usize>,
+    /// `verify = { finer, perturbations, ... }`: each cell re-run finer and perturbed
+    /// ([`Verify`]); `None` when absent or when it asks for no extra run.
+    pub verify: Option<Verify>,
     /// `[accuracy]`, if given ([`crate::design::accuracy`]).
     pub accuracy: Option<problem::AccuracySpec>,
     /// The model chosen for it (set by [`prepare_accuracy`]).
@@ -54,6 +57,64 @@ struct PhaseTable {
     #[serde(default)]
     refine: bool,
     refine_steps: Option<toml::Value>,
+    verify: Option<VerifyTable>,
+}
+
+/// Most perturbed runs per cell (`verify.perturbations`).
+pub const MAX_PERTURBATIONS: usize = 64;
+
+/// `[phase] verify = { finer = true, perturbations = K }`: how each cell is checked
+/// ([`super::cell::simulate_verified`]).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Verify {
+    /// `finer` (default false): also run the cell at half the step and twice the elements;
+    /// the cell's reported label (and every value of its row) is then the finer run's.
+    pub finer: bool,
+    /// `perturbations` (default 0, at most [`MAX_PERTURBATIONS`]): also run the cell `K`
+    /// times perturbed as an ensemble ([`crate::design::ensemble`]) at the study's resolution.
+    pub perturbations: usize,
+    /// `seed` (default [`crate::design::ensemble::SEED`]): the cells' seeds derive from it
+    /// and the cell's `(W, G)`, so a cell's runs do not depend on the shard it is in.
+    pub seed: u64,
+    /// `step` (default [`crate::design::ensemble::STEP`], at least 1): the perturbed runs' step
+    /// ladder, from `dt / step` to `dt * step`.
+    pub step: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct VerifyTable {
+    #[serde(default)]
+    finer: bool,
+    #[serde(default)]
+    perturbations: i64,
+    seed: Option<i64>,
+    step: Option<f64>,
+}
+
+impl Verify {
+    /// The perturbation sizes of the perturbed runs.
+    pub fn perturbation(&self) -> crate::design::ensemble::Perturbation {
+        crate::design::ensemble::Perturbation {
+            step: self.step,
+            ..Default::default()
+        }
+    }
+
+    /// The resume key of a verified row: the base problem's hash mixed with the settings, so
+    /// rows of another verification (or of none) are never reused.
+    pub fn row_hash(&self, base_hash: u64) -> u64 {
+        let text = format!(
+            "{base_hash:016x} finer={} perturbations={} seed={} step={:e}",
+            self.finer, self.perturbations, self.seed, self.step
+        );
+        crate::design::fnv1a(text.as_bytes())
+    }
+
+    /// Runs per cell: the study's, the finer one, the perturbed ones.
+    pub fn runs(&self) -> usize {
+        1 + self.finer as usize + self.perturbations
+    }
 }
 
 /// A grid axis as written: a list, or `{ from, to, count, spacing = "log" | "linear" }`
@@ -110,6 +171,14 @@ fn grid_axis(v: &toml::Value) -> Result<Vec<f64>, String> {
                 .collect())
         }
         other => Err(format!("{other} is neither a list nor a range table")),
+    }
+}
+
+impl Phase {
+    /// The resume key of the rows of `phase.csv` and `refine.csv`: the base problem's hash,
+    /// mixed with the verification settings when there is a verification.
+    pub fn row_hash(&self) -> u64 {
+        self.verify.map_or(self.base_hash, |v| v.row_hash(self.base_hash))
     }
 }
 
@@ -185,6 +254,40 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
                 )
             })?,
     };
+    let verify = match &t.verify {
+        None => None,
+        Some(v) => {
+            if !(0..=MAX_PERTURBATIONS as i64).contains(&v.perturbations) {
+                return Err(invalid(
+                    "verify",
+                    format!("{{ perturbations = {} }}", v.perturbations),
+                    &format!("perturbations an integer in [0, {MAX_PERTURBATIONS}] (perturbed runs per cell)"),
+                ));
+            }
+            if v.seed.is_some_and(|s| s < 0) {
+                return Err(invalid(
+                    "verify",
+                    format!("{{ seed = {} }}", v.seed.unwrap_or(0)),
+                    "seed an integer >= 0",
+                ));
+            }
+            let step = v.step.unwrap_or(crate::design::ensemble::STEP);
+            if !(step.is_finite() && (1.0..=10.0).contains(&step)) {
+                return Err(invalid(
+                    "verify",
+                    format!("{{ step = {step} }}"),
+                    "step a number in [1, 10] (the perturbed runs step from dt/step to dt*step)",
+                ));
+            }
+            let verify = Verify {
+                finer: v.finer,
+                perturbations: v.perturbations as usize,
+                seed: v.seed.map_or(crate::design::ensemble::SEED, |s| s as u64),
+                step,
+            };
+            (verify.runs() > 1).then_some(verify)
+        }
+    };
     let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
     let base_text = match problem::read(&base_path) {
         Ok(text) => text,
@@ -241,6 +344,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         weight,
         torque,
         refine: t.refine.then_some(steps),
+        verify,
     })
 }
 
@@ -255,6 +359,21 @@ pub fn cell_problem(base: &Problem, w: f64, g: f64) -> Problem {
     p.rod.stretch_stiffness = r.stretch_stiffness.map(|ea| ea * k);
     p.gait.stress = g * b / (r.diameter.powi(3) * r.length);
     p
+}
+
+/// The finer problem of a cell's verification: half the step (an adaptive run: an eighth of
+/// the error tolerance, which halves the steps of a second-order method, local error ~ h^3)
+/// and twice the elements.
+pub fn finer_problem(p: &Problem) -> Problem {
+    let mut f = p.clone();
+    f.rod.elements *= 2;
+    if f.time.adaptive {
+        let tol = f.time.error_tolerance.unwrap_or(problem::time::DEFAULT_TOLERANCE);
+        f.time.error_tolerance = Some(tol / 8.0);
+    } else if let Some(dt) = f.time.dt {
+        f.time.dt = Some(dt / 2.0);
+    }
+    f
 }
 
 /// Apply the phase file's `[accuracy]` before the sweep (as
