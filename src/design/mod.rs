@@ -80,7 +80,7 @@ mod simulate;
 mod study;
 
 pub use history::*;
-pub use report::on_bound;
+pub use report::{check_optimum, on_bound, EnsembleOf, OptimumCheck};
 use report::*;
 pub use search::*;
 pub use simulate::*;
@@ -184,6 +184,8 @@ pub struct Report {
     pub termination: String,
     /// Wall time of the whole study run (s).
     pub wall_time_s: f64,
+    /// The ensemble check of the best point against the runner-up (`Study::ensemble`).
+    pub check: Option<OptimumCheck>,
 }
 
 /// A free-text value (a failure reason) as one CSV field of the result files: commas and line
