@@ -46,10 +46,24 @@ fn statistics_are_those_of_the_members_and_a_member_reruns_from_its_seed() {
         assert_eq!(s.n, v.len(), "{name}");
         let mean = v.iter().sum::<f64>() / v.len() as f64;
         let var = v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (v.len() - 1) as f64;
-        assert!((s.mean - mean).abs() <= 1e-12 * mean.abs().max(1e-300), "{name}");
-        assert!((s.sd - var.sqrt()).abs() <= 1e-9 * s.sd.max(1e-300), "{name}");
-        assert_eq!(s.min, v.iter().copied().fold(f64::INFINITY, f64::min), "{name}");
-        assert_eq!(s.max, v.iter().copied().fold(f64::NEG_INFINITY, f64::max), "{name}");
+        assert!(
+            (s.mean - mean).abs() <= 1e-12 * mean.abs().max(1e-300),
+            "{name}"
+        );
+        assert!(
+            (s.sd - var.sqrt()).abs() <= 1e-9 * s.sd.max(1e-300),
+            "{name}"
+        );
+        assert_eq!(
+            s.min,
+            v.iter().copied().fold(f64::INFINITY, f64::min),
+            "{name}"
+        );
+        assert_eq!(
+            s.max,
+            v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            "{name}"
+        );
     }
     let speed = &e.stats["v_s_over_v_m"];
     assert!(speed.sd > 0.0 && speed.min < speed.max, "{speed:?}");
@@ -66,9 +80,16 @@ fn statistics_are_those_of_the_members_and_a_member_reruns_from_its_seed() {
     for m in &e.members {
         assert_eq!(m.seed, ensemble::member_seed(11, m.index));
         for f in m.friction_factors {
-            assert!(f != 1.0 && (f - 1.0).abs() < 6.0 * ensemble::FRICTION, "{f}");
+            assert!(
+                f != 1.0 && (f - 1.0).abs() < 6.0 * ensemble::FRICTION,
+                "{f}"
+            );
         }
-        assert!(m.shape_rms_over_a > 1e-5 && m.shape_rms_over_a < 5e-3, "{}", m.shape_rms_over_a);
+        assert!(
+            m.shape_rms_over_a > 1e-5 && m.shape_rms_over_a < 5e-3,
+            "{}",
+            m.shape_rms_over_a
+        );
     }
     // One member alone, from the recorded seed and index: the same run, bit for bit.
     let again = ensemble::run_member(&base, &spec, 2);
@@ -114,13 +135,21 @@ fn run_with_ensemble_writes_the_stats_and_keeps_the_plain_results() {
     std::fs::write(&p, text).unwrap();
     let run = |out: &Path, extra: &[&str]| {
         let r = Command::new(env!("CARGO_BIN_EXE_slither"))
-            .args(["run", p.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet", "--no-plots"])
+            .args([
+                "run",
+                p.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+                "--no-plots",
+            ])
             .args(extra)
             .output()
             .unwrap();
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
         let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
         s
     };
     let plain = run(&d.join("plain"), &[]);
@@ -141,11 +170,22 @@ fn run_with_ensemble_writes_the_stats_and_keeps_the_plain_results() {
     let st = &e["stats"]["v_s_over_v_m"];
     let mean = v.iter().sum::<f64>() / 3.0;
     assert!((st["mean"].as_f64().unwrap() - mean).abs() < 1e-12);
-    assert_eq!(st["min"].as_f64().unwrap(), v.iter().copied().fold(f64::INFINITY, f64::min));
-    assert_eq!(st["max"].as_f64().unwrap(), v.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+    assert_eq!(
+        st["min"].as_f64().unwrap(),
+        v.iter().copied().fold(f64::INFINITY, f64::min)
+    );
+    assert_eq!(
+        st["max"].as_f64().unwrap(),
+        v.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+    );
     let sd = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / 2.0).sqrt();
     assert!((st["sd"].as_f64().unwrap() - sd).abs() < 1e-12);
-    let votes: u64 = e["regime_votes"].as_object().unwrap().values().map(|n| n.as_u64().unwrap()).sum();
+    let votes: u64 = e["regime_votes"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|n| n.as_u64().unwrap())
+        .sum();
     assert_eq!(votes, 3);
     // Every key written is in the output schema (and so in the guide's output reference).
     let undocumented: Vec<String> = slither::output::schema::json_paths(&s)
@@ -155,7 +195,14 @@ fn run_with_ensemble_writes_the_stats_and_keeps_the_plain_results() {
     assert!(undocumented.is_empty(), "{undocumented:?}");
     // A bad K is refused with exit code 2.
     let r = Command::new(env!("CARGO_BIN_EXE_slither"))
-        .args(["run", p.to_str().unwrap(), "--out", d.join("bad").to_str().unwrap(), "--ensemble", "0"])
+        .args([
+            "run",
+            p.to_str().unwrap(),
+            "--out",
+            d.join("bad").to_str().unwrap(),
+            "--ensemble",
+            "0",
+        ])
         .output()
         .unwrap();
     assert_eq!(r.status.code(), Some(2));

@@ -57,7 +57,14 @@ fn optimum_json_compares_the_best_and_the_runner_up_as_ensembles() {
     std::fs::write(dir.join("study.toml"), STUDY).unwrap();
     let out = dir.join("out");
     let o = Command::new(env!("CARGO_BIN_EXE_slither"))
-        .args(["optimize", dir.join("study.toml").to_str().unwrap(), "--out", out.to_str().unwrap(), "--ensemble", "3"])
+        .args([
+            "optimize",
+            dir.join("study.toml").to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--ensemble",
+            "3",
+        ])
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
@@ -118,12 +125,19 @@ fn optimum_json_compares_the_best_and_the_runner_up_as_ensembles() {
     // Without --ensemble optimum.json has no such key.
     let plain = dir.join("plain");
     let o = Command::new(env!("CARGO_BIN_EXE_slither"))
-        .args(["optimize", dir.join("study.toml").to_str().unwrap(), "--out", plain.to_str().unwrap(), "--quiet"])
+        .args([
+            "optimize",
+            dir.join("study.toml").to_str().unwrap(),
+            "--out",
+            plain.to_str().unwrap(),
+            "--quiet",
+        ])
         .output()
         .unwrap();
     assert!(o.status.success());
     let opt2: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(plain.join("optimum.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(plain.join("optimum.json")).unwrap())
+            .unwrap();
     assert!(opt2.get("ensemble").is_none());
     assert_eq!(opt2["best"], opt["best"]);
     let _ = std::fs::remove_dir_all(&dir);

@@ -48,11 +48,18 @@ fn a_cells_agreement_and_spread_are_those_of_its_runs() {
             perturbation: v.perturbation(),
         };
         let cell = phase::cell_problem(&base, w, g);
-        let members: Vec<ensemble::Member> =
-            (0..3).map(|k| ensemble::run_member(&cell, &spec, k)).collect();
+        let members: Vec<ensemble::Member> = (0..3)
+            .map(|k| ensemble::run_member(&cell, &spec, k))
+            .collect();
         // The reported cell is the finer run's.
         assert_eq!(
-            phase::comparable_row(&Cell { verify: None, ..c.clone() }, 1),
+            phase::comparable_row(
+                &Cell {
+                    verify: None,
+                    ..c.clone()
+                },
+                1
+            ),
             phase::comparable_row(&finer, 1)
         );
         assert_eq!(ver.regime_base, study.regime);
@@ -60,17 +67,36 @@ fn a_cells_agreement_and_spread_are_those_of_its_runs() {
         assert_eq!((ver.runs, ver.seed), (5, seed));
         let mut labels = vec![study.regime, finer.regime];
         labels.extend(members.iter().map(|m| m.regime.parse::<Regime>().ok()));
-        let agree = labels.iter().filter(|l| l.is_some() && **l == c.regime).count();
-        assert_eq!(ver.label_agreement, agree as f64 / 5.0, "W {w} G {g}: {labels:?}");
+        let agree = labels
+            .iter()
+            .filter(|l| l.is_some() && **l == c.regime)
+            .count();
+        assert_eq!(
+            ver.label_agreement,
+            agree as f64 / 5.0,
+            "W {w} G {g}: {labels:?}"
+        );
         let mut speeds = vec![study.v_s_over_v_m, finer.v_s_over_v_m];
         speeds.extend(
             members
                 .iter()
                 .map(|m| m.observables["v_s_over_v_m"].unwrap_or(f64::NAN)),
         );
-        let lo = speeds.iter().copied().filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min);
-        let hi = speeds.iter().copied().filter(|x| x.is_finite()).fold(f64::NEG_INFINITY, f64::max);
-        assert_eq!((ver.v_s_over_v_m_min, ver.v_s_over_v_m_max), (lo, hi), "{speeds:?}");
+        let lo = speeds
+            .iter()
+            .copied()
+            .filter(|x| x.is_finite())
+            .fold(f64::INFINITY, f64::min);
+        let hi = speeds
+            .iter()
+            .copied()
+            .filter(|x| x.is_finite())
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(
+            (ver.v_s_over_v_m_min, ver.v_s_over_v_m_max),
+            (lo, hi),
+            "{speeds:?}"
+        );
         assert!(lo < hi, "the runs differ: {speeds:?}");
     }
 }
@@ -158,7 +184,10 @@ fn uncertain_cells_of_a_synthetic_study_are_left_out_of_the_fits_and_counted() {
     // The library: exclusions and confident labels.
     let ex = phase::Exclusions::of(&weight, &torque, &cells);
     assert_eq!((ex.excluded_cells, ex.excluded_pairs), (2, excluded));
-    assert_eq!(ex.uncertain, vec![[100.0, 10.0, 0.5], [1000.0, 1000.0, 0.75]]);
+    assert_eq!(
+        ex.uncertain,
+        vec![[100.0, 10.0, 0.5], [1000.0, 1000.0, 0.75]]
+    );
     let labels = phase::confident_labels(&cells);
     assert_eq!(labels.iter().filter(|l| l.is_none()).count(), 2);
     // End to end through `slither merge` of a directory holding the synthetic rows: the fits,
@@ -192,12 +221,22 @@ fn uncertain_cells_of_a_synthetic_study_are_left_out_of_the_fits_and_counted() {
         accuracy: None,
         verify: Some(v),
     };
-    std::fs::write(shard.join("phase.json"), serde_json::to_string(&info).unwrap()).unwrap();
+    std::fs::write(
+        shard.join("phase.json"),
+        serde_json::to_string(&info).unwrap(),
+    )
+    .unwrap();
     let merged = dir.join("merged");
-    let o = run_args(&["merge", shard.to_str().unwrap(), "--out", merged.to_str().unwrap()]);
+    let o = run_args(&[
+        "merge",
+        shard.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let b: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(merged.join("boundaries.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(merged.join("boundaries.json")).unwrap())
+            .unwrap();
     assert_eq!(b["excluded_cells"], 2);
     assert_eq!(b["excluded_pairs"], excluded as u64);
     let lines = b["boundaries"].as_array().unwrap();
@@ -212,7 +251,10 @@ fn uncertain_cells_of_a_synthetic_study_are_left_out_of_the_fits_and_counted() {
         }
     }
     let map = std::fs::read_to_string(merged.join("phase.svg")).unwrap();
-    assert!(map.contains("uncertain (2)"), "no legend entry for the uncertain cells");
+    assert!(
+        map.contains("uncertain (2)"),
+        "no legend entry for the uncertain cells"
+    );
     // The merged phase.csv keeps the verification columns.
     let text = std::fs::read_to_string(merged.join("phase.csv")).unwrap();
     assert!(text.starts_with(&phase::verify_header()));
@@ -254,11 +296,18 @@ fn shards_with_verification_merge_into_the_unsharded_run() {
         let f: Vec<&str> = row.split(',').collect();
         assert_eq!(f[24], "4", "runs per cell: {row}");
         let agreement: f64 = f[19].parse().unwrap();
-        assert!((0.0..=1.0).contains(&agreement) && (agreement * 4.0).fract() == 0.0, "{row}");
+        assert!(
+            (0.0..=1.0).contains(&agreement) && (agreement * 4.0).fract() == 0.0,
+            "{row}"
+        );
     }
     let b: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(whole.join("boundaries.json")).unwrap()).unwrap();
-    assert!(b["excluded_cells"].is_u64() && b["boundaries"].is_array(), "{b}");
+        serde_json::from_str(&std::fs::read_to_string(whole.join("boundaries.json")).unwrap())
+            .unwrap();
+    assert!(
+        b["excluded_cells"].is_u64() && b["boundaries"].is_array(),
+        "{b}"
+    );
     // Resume: nothing is simulated again.
     let o = run_args(&["phase", f, "--out", whole.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&o.stderr);
@@ -267,7 +316,14 @@ fn shards_with_verification_merge_into_the_unsharded_run() {
     let mut dirs = Vec::new();
     for i in 1..=2 {
         let d = dir.join(format!("shard{i}"));
-        let o = run_args(&["phase", f, "--out", d.to_str().unwrap(), "--shard", &format!("{i}/2")]);
+        let o = run_args(&[
+            "phase",
+            f,
+            "--out",
+            d.to_str().unwrap(),
+            "--shard",
+            &format!("{i}/2"),
+        ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         dirs.push(d);
     }
@@ -287,11 +343,23 @@ fn shards_with_verification_merge_into_the_unsharded_run() {
     );
     // A plain study cannot append to a verified phase.csv: exit 2, naming the file.
     let plain = dir.join("plain.toml");
-    std::fs::write(&plain, "[phase]\nbase = \"base.toml\"\nweight = [30.0]\ntorque = [15.0]\n").unwrap();
-    let o = run_args(&["phase", plain.to_str().unwrap(), "--out", whole.to_str().unwrap()]);
+    std::fs::write(
+        &plain,
+        "[phase]\nbase = \"base.toml\"\nweight = [30.0]\ntorque = [15.0]\n",
+    )
+    .unwrap();
+    let o = run_args(&[
+        "phase",
+        plain.to_str().unwrap(),
+        "--out",
+        whole.to_str().unwrap(),
+    ]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("phase.csv") && err.contains("verification"), "{err}");
+    assert!(
+        err.contains("phase.csv") && err.contains("verification"),
+        "{err}"
+    );
     // A bad verify table exits 2 naming the key.
     let bad = dir.join("bad.toml");
     std::fs::write(
@@ -299,9 +367,17 @@ fn shards_with_verification_merge_into_the_unsharded_run() {
         "[phase]\nbase = \"base.toml\"\nweight = [30.0]\ntorque = [15.0]\nverify = { finer = true, perturbations = 1000 }\n",
     )
     .unwrap();
-    let o = run_args(&["phase", bad.to_str().unwrap(), "--out", dir.join("bad").to_str().unwrap()]);
+    let o = run_args(&[
+        "phase",
+        bad.to_str().unwrap(),
+        "--out",
+        dir.join("bad").to_str().unwrap(),
+    ]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("phase.verify") && err.contains("perturbations"), "{err}");
+    assert!(
+        err.contains("phase.verify") && err.contains("perturbations"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

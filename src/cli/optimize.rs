@@ -254,14 +254,20 @@ pub fn optimize(args: &Args) -> ExitCode {
         );
         if let Some(c) = &r.check {
             let say = |e: &design::EnsembleOf| {
-                e.ensemble_v_s.map_or("no finished member".to_string(), |s| {
-                    format!(
-                        "v_s {:.5} ± {:.5} m/s (min {:.5}, max {:.5})",
-                        s.mean, s.sd, s.min, s.max
-                    )
-                })
+                e.ensemble_v_s
+                    .map_or("no finished member".to_string(), |s| {
+                        format!(
+                            "v_s {:.5} ± {:.5} m/s (min {:.5}, max {:.5})",
+                            s.mean, s.sd, s.min, s.max
+                        )
+                    })
             };
-            eprintln!("ensemble of {} (best, eval {}): {}", c.runs, c.best.eval, say(&c.best));
+            eprintln!(
+                "ensemble of {} (best, eval {}): {}",
+                c.runs,
+                c.best.eval,
+                say(&c.best)
+            );
             match (&c.runner_up, c.improvement, c.improvement_exceeds_spread) {
                 (Some(u), Some(imp), Some(exceeds)) => eprintln!(
                     "ensemble of {} (runner-up, eval {}): {}; improvement {:.5} m/s against spread {:.5} m/s: {}",

@@ -133,7 +133,8 @@ pub fn phase(args: &Args) -> ExitCode {
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(match e {
-                design::phase::PhaseError::Csv { .. } | design::phase::PhaseError::Verify { .. } => 2,
+                design::phase::PhaseError::Csv { .. }
+                | design::phase::PhaseError::Verify { .. } => 2,
                 _ => 1,
             });
         }

@@ -73,7 +73,9 @@ pub fn run(args: &Args) -> ExitCode {
     }
     if let Some(k) = args.ensemble {
         if !(1..=1000).contains(&k) {
-            eprintln!("error: --ensemble {k} is not allowed: must be an integer in [1, 1000] (runs)");
+            eprintln!(
+                "error: --ensemble {k} is not allowed: must be an integer in [1, 1000] (runs)"
+            );
             return ExitCode::from(2);
         }
         if accuracy.is_some() || p.accuracy.is_some() {
@@ -231,7 +233,8 @@ pub fn run(args: &Args) -> ExitCode {
         let clip = output::movie::clip_from_run(&model, &o.frames, &fields, &title, regime);
         let made = output::movie::write_tracks(stage, &clip).and_then(|_| {
             if want_movie {
-                output::movie::write_movie(stage, "movie.gif", &clip, &Default::default()).map(|_| ())
+                output::movie::write_movie(stage, "movie.gif", &clip, &Default::default())
+                    .map(|_| ())
             } else {
                 Ok(())
             }

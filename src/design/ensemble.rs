@@ -130,7 +130,8 @@ pub fn step_factor(step: f64, k: usize, runs: usize) -> f64 {
 
 /// A standard normal number (Box-Muller on two uniform numbers in (0, 1]).
 fn normal(rng: &mut Xoshiro256PlusPlus) -> f64 {
-    let u = |rng: &mut Xoshiro256PlusPlus| ((rng.next_u64() >> 11) as f64 + 1.0) / (1u64 << 53) as f64;
+    let u =
+        |rng: &mut Xoshiro256PlusPlus| ((rng.next_u64() >> 11) as f64 + 1.0) / (1u64 << 53) as f64;
     let (u1, u2) = (u(rng), u(rng));
     (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
 }
@@ -157,7 +158,13 @@ fn draws(seed: u64, p: &Perturbation) -> Draws {
 
 /// Member `k` of `runs` (seed `seed`, from [`member_seed`]) as a problem: friction and step
 /// perturbed. The shape is perturbed on the model ([`perturb_model`]).
-pub fn member_problem(base: &Problem, p: &Perturbation, seed: u64, k: usize, runs: usize) -> Problem {
+pub fn member_problem(
+    base: &Problem,
+    p: &Perturbation,
+    seed: u64,
+    k: usize,
+    runs: usize,
+) -> Problem {
     let d = draws(seed, p);
     let mut pr = base.clone();
     if let Some(g) = pr.ground.as_mut() {
@@ -352,7 +359,11 @@ pub fn run_member(base: &Problem, spec: &Spec, k: usize) -> Member {
         seed,
         dt: pr.time.dt.unwrap_or(f64::NAN),
         step_factor: step_factor(p.step, k, spec.runs),
-        friction_factors: if base.ground.is_some() { d.friction } else { [1.0; 3] },
+        friction_factors: if base.ground.is_some() {
+            d.friction
+        } else {
+            [1.0; 3]
+        },
         shape_rms_over_a: 0.0,
         status: "failed".into(),
         regime: "-".into(),
@@ -477,7 +488,12 @@ mod tests {
         assert_eq!(step_factor(2.0, 2, 5), 1.0);
         assert_eq!(step_factor(2.0, 4, 5), 2.0);
         assert_eq!(step_factor(2.0, 0, 1), 1.0);
-        const { assert!(STEP >= 2.0, "the ladder must span at least dt/2 to 2 dt (module doc)") };
+        const {
+            assert!(
+                STEP >= 2.0,
+                "the ladder must span at least dt/2 to 2 dt (module doc)"
+            )
+        };
         let seeds: Vec<u64> = (0..100).map(|k| member_seed(7, k)).collect();
         let mut u = seeds.clone();
         u.sort();

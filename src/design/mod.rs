@@ -80,8 +80,8 @@ mod simulate;
 mod study;
 
 pub use history::*;
-pub use report::{check_optimum, on_bound, EnsembleOf, OptimumCheck};
 use report::*;
+pub use report::{check_optimum, on_bound, EnsembleOf, OptimumCheck};
 pub use search::*;
 pub use simulate::*;
 pub use study::*;

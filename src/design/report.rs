@@ -95,7 +95,11 @@ pub struct OptimumCheck {
 
 /// Re-run the best point of `r` and its runner-up as ensembles `spec` (the runner-up seeded
 /// `spec.seed + 1`) and compare them ([`OptimumCheck`]); `None` without a best point.
-pub fn check_optimum(study: &Study, r: &Report, spec: &super::ensemble::Spec) -> Option<OptimumCheck> {
+pub fn check_optimum(
+    study: &Study,
+    r: &Report,
+    spec: &super::ensemble::Spec,
+) -> Option<OptimumCheck> {
     let best = r.best.as_ref()?;
     let runner_up = r
         .visited

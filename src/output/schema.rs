@@ -421,7 +421,10 @@ mod tests {
     #[test]
     fn a_placeholder_segment_matches_one_key() {
         assert!(documented(SUMMARY, "ensemble.stats.v_s.sd"));
-        assert!(documented(SUMMARY, "ensemble.members[].observables.writhe_max"));
+        assert!(documented(
+            SUMMARY,
+            "ensemble.members[].observables.writhe_max"
+        ));
         assert!(!documented(SUMMARY, "ensemble.stats.v_s"));
         assert!(!documented(SUMMARY, "ensemble.stats.v_s.sd.x"));
         assert!(!documented(SUMMARY, "ensemble.members.observables.v_s"));

@@ -264,7 +264,11 @@ where
                 };
                 (x, y)
             };
-            let hatch = [(0.06, 0.5, 0.5, 0.94), (0.06, 0.06, 0.94, 0.94), (0.5, 0.06, 0.94, 0.5)];
+            let hatch = [
+                (0.06, 0.5, 0.5, 0.94),
+                (0.06, 0.06, 0.94, 0.94),
+                (0.5, 0.06, 0.94, 0.5),
+            ];
             chart
                 .draw_series(hatch.iter().map(|&(x0, y0, x1, y1)| {
                     PathElement::new(vec![at(x0, y0), at(x1, y1)], BLACK.stroke_width(2))
@@ -278,7 +282,10 @@ where
                 at(0.06, 0.06),
             ];
             chart
-                .draw_series(std::iter::once(PathElement::new(outline, BLACK.stroke_width(3))))
+                .draw_series(std::iter::once(PathElement::new(
+                    outline,
+                    BLACK.stroke_width(3),
+                )))
                 .map_err(|e| err(&e))?;
         }
         let ok = c.ok;
@@ -405,13 +412,20 @@ fn map_legend<DB: DrawingBackend>(
                 WHITE.filled(),
             ))
             .map_err(|e| err(&e))?;
-        for (a, b) in [((10, y), (22, y + 11)), ((10, y - 11), (34, y + 11)), ((22, y - 11), (34, y))] {
+        for (a, b) in [
+            ((10, y), (22, y + 11)),
+            ((10, y - 11), (34, y + 11)),
+            ((22, y - 11), (34, y)),
+        ] {
             right
                 .draw(&PathElement::new(vec![a, b], BLACK.stroke_width(2)))
                 .map_err(|e| err(&e))?;
         }
         right
-            .draw(&Rectangle::new([(10, y - 11), (34, y + 11)], BLACK.stroke_width(2)))
+            .draw(&Rectangle::new(
+                [(10, y - 11), (34, y + 11)],
+                BLACK.stroke_width(2),
+            ))
             .map_err(|e| err(&e))?;
         right
             .draw(&Text::new(

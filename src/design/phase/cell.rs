@@ -73,7 +73,9 @@ impl Cell {
     /// Whether every run of the cell gave its label (a cell without verification is taken as
     /// it is: unanimous).
     pub fn unanimous(&self) -> bool {
-        self.verify.as_ref().is_none_or(|v| v.label_agreement == 1.0)
+        self.verify
+            .as_ref()
+            .is_none_or(|v| v.label_agreement == 1.0)
     }
 }
 

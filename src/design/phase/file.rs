@@ -178,7 +178,8 @@ impl Phase {
     /// The resume key of the rows of `phase.csv` and `refine.csv`: the base problem's hash,
     /// mixed with the verification settings when there is a verification.
     pub fn row_hash(&self) -> u64 {
-        self.verify.map_or(self.base_hash, |v| v.row_hash(self.base_hash))
+        self.verify
+            .map_or(self.base_hash, |v| v.row_hash(self.base_hash))
     }
 }
 
@@ -368,7 +369,10 @@ pub fn finer_problem(p: &Problem) -> Problem {
     let mut f = p.clone();
     f.rod.elements *= 2;
     if f.time.adaptive {
-        let tol = f.time.error_tolerance.unwrap_or(problem::time::DEFAULT_TOLERANCE);
+        let tol = f
+            .time
+            .error_tolerance
+            .unwrap_or(problem::time::DEFAULT_TOLERANCE);
         f.time.error_tolerance = Some(tol / 8.0);
     } else if let Some(dt) = f.time.dt {
         f.time.dt = Some(dt / 2.0);

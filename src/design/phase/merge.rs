@@ -1,13 +1,13 @@
 //! Merging the output directories of a sharded sweep into one.
 use super::cell::Cell;
 use super::csv::{comparable_row, header, read_phase_csv};
+use super::refine::Refinement;
 use super::sweep::{finish, write_info, RunInfo};
 use super::PhaseError;
 use crate::design::fnv1a;
 use crate::problem;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use super::refine::Refinement;
 
 /// What [`merge()`] combined.
 #[derive(Debug)]

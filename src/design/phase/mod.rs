@@ -56,7 +56,10 @@ pub mod sweep;
 
 pub use boundaries::{boundaries, fit_boundaries, Boundary};
 pub use cell::{cell_seed, simulate, simulate_verified, Cell, Verification};
-pub use csv::{comparable_row, header, read_phase_csv, read_rows, verify_header, PhaseCsv, Rows, HEADER, VERIFY_COLUMNS};
+pub use csv::{
+    comparable_row, header, read_phase_csv, read_rows, verify_header, PhaseCsv, Rows, HEADER,
+    VERIFY_COLUMNS,
+};
 pub use file::{cell_problem, finer_problem, load, prepare_accuracy, Phase, Verify};
 pub use merge::{merge, Merged};
 pub use sweep::{confident_labels, sweep, sweep_shard, Exclusions, RunInfo, Shard, Sweep};
