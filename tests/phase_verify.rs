@@ -36,7 +36,7 @@ fn a_cells_agreement_and_spread_are_those_of_its_runs() {
         step: ensemble::STEP,
     };
     for (w, g) in [(300.0, 15.0), (30.0, 40.0)] {
-        let c = phase::simulate_verified(&base, w, g, Some(&v));
+        let c = phase::simulate_verified(&base, w, g, Some(&v), phase::Protocol::default());
         let ver = c.verify.clone().expect("verified");
         // Every run again, one by one, through other entry points.
         let study = phase::simulate(&base, w, g);
@@ -220,6 +220,7 @@ fn uncertain_cells_of_a_synthetic_study_are_left_out_of_the_fits_and_counted() {
         refine_steps: None,
         accuracy: None,
         verify: Some(v),
+        protocol: phase::Protocol::default(),
     };
     std::fs::write(
         shard.join("phase.json"),
@@ -377,6 +378,63 @@ fn shards_with_verification_merge_into_the_unsharded_run() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(
         err.contains("phase.verify") && err.contains("perturbations"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn weight_via_and_similar_are_recorded_keyed_apart_and_checked() {
+    let dir = scratch("protocol");
+    std::fs::write(dir.join("base.toml"), BASE).unwrap();
+    let file = |name: &str, extra: &str| {
+        let p = dir.join(name);
+        std::fs::write(
+            &p,
+            format!("[phase]\nbase = \"base.toml\"\nweight = [300.0]\ntorque = [15.0]\n{extra}"),
+        )
+        .unwrap();
+        p
+    };
+    let out = dir.join("out");
+    let plain = file("plain.toml", "");
+    let o = run_args(&[
+        "phase",
+        plain.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let info = |d: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("phase.json")).unwrap()).unwrap()
+    };
+    assert!(info(&out).get("protocol").is_none());
+    // Another protocol into the same directory: its rows are keyed apart, so the cell runs
+    // again (a second row) instead of being reused.
+    let gravity = file("gravity.toml", "weight_via = \"gravity\"\nsimilar = true\n");
+    let o = run_args(&[
+        "phase",
+        gravity.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && err.contains("cell 1/1"), "{err}");
+    assert_eq!(info(&out)["protocol"]["weight_via"], "gravity");
+    assert_eq!(info(&out)["protocol"]["similar"], true);
+    let rows = std::fs::read_to_string(out.join("phase.csv")).unwrap();
+    assert_eq!(rows.lines().count(), 3, "{rows}");
+    let bad = file("bad.toml", "weight_via = \"mass\"\n");
+    let o = run_args(&[
+        "phase",
+        bad.to_str().unwrap(),
+        "--out",
+        dir.join("bad").to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("phase.weight_via") && err.contains("density"),
         "{err}"
     );
     let _ = std::fs::remove_dir_all(&dir);

@@ -1,5 +1,5 @@
 //! One cell of the diagram: its simulation and the measured values.
-use super::file::{cell_problem, finer_problem, Verify};
+use super::file::{cell_problem, cell_problem_with, finer_problem, Protocol, Verify};
 use crate::design::{ensemble, Status};
 use crate::model::Model;
 use crate::observe::{self, Regime, RegimeInputs};
@@ -137,12 +137,21 @@ pub fn cell_seed(seed: u64, w: f64, g: f64) -> u64 {
 /// all in parallel. The returned cell is the finest run's (the finer one if any, else the
 /// study's), with [`Verification`]: the agreement of every run with its label, the spread of
 /// `v_s/v_m` and the labels at both resolutions; its wall time is the sum of the runs'.
-pub fn simulate_verified(base: &Problem, w: f64, g: f64, verify: Option<&Verify>) -> Cell {
+///
+/// `protocol` says how the cell is made from `base` ([`cell_problem_with`]; the default is
+/// [`cell_problem`]'s).
+pub fn simulate_verified(
+    base: &Problem,
+    w: f64,
+    g: f64,
+    verify: Option<&Verify>,
+    protocol: Protocol,
+) -> Cell {
+    let p = cell_problem_with(base, w, g, protocol);
     let Some(v) = verify else {
-        return simulate(base, w, g);
+        return run_cell(&p, w, g, None);
     };
     use rayon::prelude::*;
-    let p = cell_problem(base, w, g);
     let seed = cell_seed(v.seed, w, g);
     let spec = ensemble::Spec {
         runs: v.perturbations,

@@ -77,6 +77,15 @@ pub fn merge(
                         ),
                     ));
                 }
+                if r.protocol != info.protocol {
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "ran with {:?}, another directory with {:?}",
+                            info.protocol, r.protocol
+                        ),
+                    ));
+                }
                 if r.verify != info.verify {
                     let say = |v: &Option<super::Verify>| {
                         v.map_or("no verification".to_string(), |v| format!("verify = {v:?}"))
@@ -103,6 +112,7 @@ pub fn merge(
         }
         let hash = u64::from_str_radix(&info.base_hash, 16)
             .map_err(|_| mismatch(dir, "phase.json: base_hash is not hexadecimal".into()))?;
+        let hash = info.protocol.row_hash(hash);
         let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
         for (key, c) in read_phase_csv(&dir.join("phase.csv"), hash)?.cells {
             let row = comparable_row(&c, hash);
@@ -147,7 +157,8 @@ pub fn merge(
         });
     }
     let base_hash = u64::from_str_radix(&info.base_hash, 16).expect("checked above");
-    let hash = info.verify.map_or(base_hash, |v| v.row_hash(base_hash));
+    let hash = info.protocol.row_hash(base_hash);
+    let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
     // The base problem, for the refinement's simulations: the file the shards ran, unchanged.
     let base = match info.refine_steps {
         None => None,
@@ -209,7 +220,7 @@ pub fn merge(
     let refine = base
         .as_ref()
         .zip(info.refine_steps)
-        .map(|(b, k)| (b, hash, k, info.verify));
+        .map(|(b, k)| (b, hash, k, info.verify, info.protocol));
     let refinement = finish(
         out,
         &info.weight,

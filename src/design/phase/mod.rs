@@ -29,6 +29,11 @@
 //! ([`cell::simulate_verified`]), and the boundaries are fitted through unanimous cells only
 //! ([`sweep::confident_labels`], [`sweep::Exclusions`] in `boundaries.json`).
 //!
+//! `weight_via = "stiffness" | "gravity" | "density"` (default "stiffness") names the parameter
+//! that sets `W`, and `similar = true` keeps the cells dynamically similar: `v_m L sqrt(rho A /
+//! B)` the base's, the times scaled with `L / v_m` ([`file::cell_problem_with`]). The rest of
+//! this paragraph is the default.
+//!
 //! Each cell keeps the base's geometry, density, gravity, friction, gait shape, pulse speed and
 //! time stepping. `W` is set through the bending stiffness, `B = rho g a^2 L^3 / W`, with the
 //! twist and stretching stiffnesses scaled by the same factor (so `C/B` and `EA a^2/B` stay the
@@ -60,7 +65,10 @@ pub use csv::{
     comparable_row, header, read_phase_csv, read_rows, verify_header, PhaseCsv, Rows, HEADER,
     VERIFY_COLUMNS,
 };
-pub use file::{cell_problem, finer_problem, load, prepare_accuracy, Phase, Verify};
+pub use file::{
+    cell_problem, cell_problem_with, finer_problem, load, prepare_accuracy, Phase, Protocol,
+    Verify, WeightVia,
+};
 pub use merge::{merge, Merged};
 pub use sweep::{confident_labels, sweep, sweep_shard, Exclusions, RunInfo, Shard, Sweep};
 

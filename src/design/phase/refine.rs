@@ -31,7 +31,7 @@
 
 use super::cell::{simulate_verified, Cell};
 use super::csv::{append_rows, header, read_rows};
-use super::file::Verify;
+use super::file::{Protocol, Verify};
 use super::PhaseError;
 use crate::observe::Regime;
 use crate::problem::Problem;
@@ -262,13 +262,14 @@ pub struct Refinement {
 /// hash `base_hash` (see the module doc). With `verify` every midpoint is verified like a grid
 /// cell ([`simulate_verified`]): the bisection follows its reported (finest) label, and its
 /// row in `refine.csv` has the agreement of its runs. `report(done, cell)` is called after
-/// each new simulation.
+/// each new simulation. The midpoints are made from `base` by `protocol`, as the grid's cells.
 #[allow(clippy::too_many_arguments)]
 pub fn refine(
     base: &Problem,
     base_hash: u64,
     steps: usize,
     verify: Option<&Verify>,
+    protocol: Protocol,
     out: &Path,
     weight: &[f64],
     torque: &[f64],
@@ -303,7 +304,7 @@ pub fn refine(
                 c.clone()
             }
             None => {
-                let c = simulate_verified(base, w, g, verify);
+                let c = simulate_verified(base, w, g, verify, protocol);
                 let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
                 let line = c.row(base_hash) + "\n";
                 let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());

@@ -3,7 +3,7 @@
 use super::boundaries::{boundaries, fit_boundaries, Boundary};
 use super::cell::{simulate_verified, Cell};
 use super::csv::{append_rows, read_phase_csv};
-use super::file::{Phase, Verify};
+use super::file::{Phase, Protocol, Verify};
 use super::refine::{self, Refinement};
 use super::PhaseError;
 use crate::design::accuracy::StudyAccuracy;
@@ -90,6 +90,9 @@ pub struct RunInfo {
     /// The cells' verification (`verify = { ... }`; absent without one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verify: Option<Verify>,
+    /// How the cells are made (`weight_via`, `similar`; absent: the default).
+    #[serde(default, skip_serializing_if = "Protocol::is_default")]
+    pub protocol: Protocol,
 }
 
 pub(super) fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
@@ -147,6 +150,7 @@ pub fn sweep_shard(
             refine_steps: ph.refine,
             accuracy: ph.chosen.clone(),
             verify: ph.verify,
+            protocol: ph.protocol,
         },
     )?;
     let grid: Vec<(f64, f64)> = ph
@@ -167,7 +171,7 @@ pub fn sweep_shard(
     let new: Vec<Cell> = todo
         .par_iter()
         .map(|&(w, g)| {
-            let c = simulate_verified(&ph.base, w, g, ph.verify.as_ref());
+            let c = simulate_verified(&ph.base, w, g, ph.verify.as_ref(), ph.protocol);
             let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
             let line = c.row(hash) + "\n";
             let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
@@ -191,7 +195,9 @@ pub fn sweep_shard(
         .map(|&(w, g)| done[&key(w, g)].clone())
         .collect();
     let refinement = if shard.is_none_or(|s| s.count == 1) {
-        let refine = ph.refine.map(|k| (&ph.base, hash, k, ph.verify));
+        let refine = ph
+            .refine
+            .map(|k| (&ph.base, hash, k, ph.verify, ph.protocol));
         finish(out, &ph.weight, &ph.torque, &cells, refine, refine_report)?
     } else {
         None
@@ -215,17 +221,18 @@ pub(super) fn finish(
     weight: &[f64],
     torque: &[f64],
     cells: &[Cell],
-    refine: Option<(&Problem, u64, usize, Option<Verify>)>,
+    refine: Option<(&Problem, u64, usize, Option<Verify>, Protocol)>,
     refine_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Option<Refinement>, PhaseError> {
     let verified = cells.iter().any(|c| c.verify.is_some());
     let labels = confident_labels(cells);
     let refinement = match refine {
-        Some((base, hash, steps, verify)) => Some(refine::refine(
+        Some((base, hash, steps, verify, protocol)) => Some(refine::refine(
             base,
             hash,
             steps,
             verify.as_ref(),
+            protocol,
             out,
             weight,
             torque,
