@@ -17,6 +17,14 @@ pub struct Args {
     /// No progress bar and no log lines.
     #[arg(long)]
     pub quiet: bool,
+    /// At the end, re-run the best point and the runner-up K times each with small
+    /// perturbations (as `slither run --ensemble K`) and report in optimum.json (`ensemble`)
+    /// whether the improvement is larger than the spread; K in [2, 1000].
+    #[arg(long, value_name = "K")]
+    pub ensemble: Option<usize>,
+    /// Seed of `--ensemble` (the runner-up's ensemble uses seed + 1).
+    #[arg(long, default_value_t = slither::design::ensemble::SEED, requires = "ensemble")]
+    pub ensemble_seed: u64,
 }
 
 /// Progress of a study: an indicatif bar over evaluations on a terminal, else one line per
@@ -97,6 +105,16 @@ pub fn optimize(args: &Args) -> ExitCode {
     };
     if let Err(code) = super::guard::check_writer(out, super::guard::Writer::Optimize) {
         return code;
+    }
+    if let Some(k) = args.ensemble {
+        if !(2..=1000).contains(&k) {
+            eprintln!("error: --ensemble {k} is not allowed: must be an integer in [2, 1000] (runs per point)");
+            return ExitCode::from(2);
+        }
+        study.ensemble = Some(design::ensemble::Spec {
+            seed: args.ensemble_seed,
+            ..design::ensemble::Spec::new(k)
+        });
     }
     let prepared = design::accuracy::prepare_study(&mut study, out, &mut selection_log(quiet));
     if let Err(code) = study_accuracy(out, quiet, prepared, study.chosen.as_ref()) {
@@ -237,6 +255,39 @@ pub fn optimize(args: &Args) -> ExitCode {
             best.regime,
             out.display()
         );
+        if let Some(c) = &r.check {
+            let say = |e: &design::EnsembleOf| {
+                e.ensemble_v_s
+                    .map_or("no finished member".to_string(), |s| {
+                        format!(
+                            "v_s {:.5} ± {:.5} m/s (min {:.5}, max {:.5})",
+                            s.mean, s.sd, s.min, s.max
+                        )
+                    })
+            };
+            eprintln!(
+                "ensemble of {} (best, eval {}): {}",
+                c.runs,
+                c.best.eval,
+                say(&c.best)
+            );
+            match (&c.runner_up, c.improvement, c.improvement_exceeds_spread) {
+                (Some(u), Some(imp), Some(exceeds)) => eprintln!(
+                    "ensemble of {} (runner-up, eval {}): {}; improvement {:.5} m/s against spread {:.5} m/s: {}",
+                    c.runs,
+                    u.eval,
+                    say(u),
+                    imp,
+                    c.spread.unwrap_or(f64::NAN),
+                    if exceeds {
+                        "every perturbed run of the best is faster than every one of the runner-up"
+                    } else {
+                        "the two ensembles overlap: the ranking is within the spread"
+                    }
+                ),
+                _ => eprintln!("no runner-up to compare with"),
+            }
+        }
         for (param, side) in design::on_bound(&study, &r) {
             eprintln!(
                 "note: the optimum lies on the {side} bound of {param} (within {} of the range): widen optimize.{param} to follow it",

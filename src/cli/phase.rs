@@ -86,10 +86,28 @@ pub fn phase(args: &Args) -> ExitCode {
         );
         b
     });
+    if let (Some(v), false) = (&ph.verify, quiet) {
+        eprintln!(
+            "verification: {} runs per cell ({}{} perturbed, seed {}, steps dt/{} .. dt*{}); the reported label is the {} run's",
+            v.runs(),
+            if v.finer { "the study's, one at dt/2 and 2x elements, " } else { "the study's, " },
+            v.perturbations,
+            v.seed,
+            v.step,
+            v.step,
+            if v.finer { "finer" } else { "study's" }
+        );
+    }
     let report = |done: usize, todo: usize, c: &design::phase::Cell| {
         let line = if c.status == design::Status::Ok {
+            let agreement = c.verify.as_ref().map_or(String::new(), |v| {
+                format!(
+                    ", agreement {:.2} (v_s/v_m {:.4} .. {:.4})",
+                    v.label_agreement, v.v_s_over_v_m_min, v.v_s_over_v_m_max
+                )
+            });
             format!(
-                "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a, {:.1} s",
+                "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a{agreement}, {:.1} s",
                 c.weight,
                 c.torque,
                 c.regime.map_or("-", |r| r.as_str()),
@@ -131,7 +149,8 @@ pub fn phase(args: &Args) -> ExitCode {
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(match e {
-                design::phase::PhaseError::Csv { .. } => 2,
+                design::phase::PhaseError::Csv { .. }
+                | design::phase::PhaseError::Verify { .. } => 2,
                 _ => 1,
             });
         }

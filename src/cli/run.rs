@@ -35,6 +35,14 @@ pub struct Args {
     /// with ground and gait; in [1e-4, 0.5]).
     #[arg(long)]
     pub accuracy: Option<f64>,
+    /// Also run the scene K times with small independent perturbations (friction, initial
+    /// shape, step; in parallel) and write the spread of every scalar observable to
+    /// `summary.json` (`ensemble`); K in [1, 1000]. Not with an accuracy target.
+    #[arg(long, value_name = "K")]
+    pub ensemble: Option<usize>,
+    /// Seed of `--ensemble` (each member's own seed is recorded in `summary.json`).
+    #[arg(long, default_value_t = slither::design::ensemble::SEED, requires = "ensemble")]
+    pub ensemble_seed: u64,
 }
 
 pub fn run(args: &Args) -> ExitCode {
@@ -58,6 +66,21 @@ pub fn run(args: &Args) -> ExitCode {
         {
             eprintln!(
                 "error: {}: --accuracy needs a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)",
+                path.display()
+            );
+            return ExitCode::from(2);
+        }
+    }
+    if let Some(k) = args.ensemble {
+        if !(1..=1000).contains(&k) {
+            eprintln!(
+                "error: --ensemble {k} is not allowed: must be an integer in [1, 1000] (runs)"
+            );
+            return ExitCode::from(2);
+        }
+        if accuracy.is_some() || p.accuracy.is_some() {
+            eprintln!(
+                "error: {}: --ensemble cannot be combined with an accuracy target (--accuracy or [accuracy])",
                 path.display()
             );
             return ExitCode::from(2);
@@ -166,6 +189,22 @@ pub fn run(args: &Args) -> ExitCode {
     }
     let mut summary = output::Summary::new(path, &model, &o);
     summary.accuracy = report;
+    if let (Some(k), false) = (args.ensemble, o.interrupted) {
+        use slither::design::ensemble;
+        let spec = ensemble::Spec {
+            seed: args.ensemble_seed,
+            ..ensemble::Spec::new(k)
+        };
+        let e = ensemble::run(&p, &spec, &|done, n| {
+            if show {
+                eprint!("\rensemble: {done}/{n} runs");
+            }
+        });
+        if !quiet {
+            eprintln!("{}{}", if show { "\n" } else { "" }, ensemble::describe(&e));
+        }
+        summary.ensemble = Some(e);
+    }
     summary.observables = Some(observables);
     let extra = [
         ("elevation", fields.elevation.clone()),
@@ -197,7 +236,8 @@ pub fn run(args: &Args) -> ExitCode {
         let clip = output::movie::clip_from_run(&model, &o.frames, &fields, &title, regime);
         let made = output::movie::write_tracks(stage, &clip).and_then(|_| {
             if want_movie {
-                output::movie::write_movie(stage, "movie.gif", &clip, &Default::default()).map(|_| ())
+                output::movie::write_movie(stage, "movie.gif", &clip, &Default::default())
+                    .map(|_| ())
             } else {
                 Ok(())
             }

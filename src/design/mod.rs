@@ -70,6 +70,7 @@
 //! (the model chosen once for every run).
 
 pub mod accuracy;
+pub mod ensemble;
 mod history;
 pub mod phase;
 mod report;
@@ -79,8 +80,8 @@ mod simulate;
 mod study;
 
 pub use history::*;
-pub use report::on_bound;
 use report::*;
+pub use report::{check_optimum, on_bound, EnsembleOf, OptimumCheck};
 pub use search::*;
 pub use simulate::*;
 pub use study::*;
@@ -183,6 +184,8 @@ pub struct Report {
     pub termination: String,
     /// Wall time of the whole study run (s).
     pub wall_time_s: f64,
+    /// The ensemble check of the best point against the runner-up (`Study::ensemble`).
+    pub check: Option<OptimumCheck>,
 }
 
 /// A free-text value (a failure reason) as one CSV field of the result files: commas and line

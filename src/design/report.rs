@@ -43,6 +43,98 @@ pub(super) struct Optimum<'a> {
     /// The model chosen for the study's `[accuracy]` (absent without one).
     #[serde(skip_serializing_if = "Option::is_none")]
     accuracy: Option<&'a super::accuracy::StudyAccuracy>,
+    /// `--ensemble K`: the best point and the runner-up re-run as ensembles (absent without).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ensemble: Option<&'a OptimumCheck>,
+}
+
+/// One evaluated point re-run as an ensemble ([`super::ensemble`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct EnsembleOf {
+    /// The evaluation it re-runs (its number in `history.csv`).
+    pub eval: usize,
+    /// Its `v_s` (m/s) in the search.
+    pub v_s: f64,
+    /// `v_s` over the ensemble's members (m/s): mean, sd, min, max, n.
+    pub ensemble_v_s: Option<super::ensemble::Stat>,
+    /// Members per regime label.
+    pub regime_votes: std::collections::BTreeMap<String, usize>,
+    /// The members' seeds, in order.
+    pub seeds: Vec<u64>,
+    /// Wall time of the ensemble (s).
+    pub wall_time_s: f64,
+}
+
+/// Whether the optimum's lead is larger than the chaos and step sensitivity of the runs:
+/// the best point and the runner-up (the fastest other finished point within the heading
+/// limit) each re-run as an ensemble of `runs` perturbed members.
+#[derive(Clone, Debug, Serialize)]
+pub struct OptimumCheck {
+    /// Members per ensemble.
+    pub runs: usize,
+    /// The ensembles' seed (the runner-up's is `seed + 1`).
+    pub seed: u64,
+    /// The perturbation sizes.
+    pub perturbation: super::ensemble::Perturbation,
+    /// The best point's ensemble.
+    pub best: EnsembleOf,
+    /// The runner-up's ensemble (null when no other point finished).
+    pub runner_up: Option<EnsembleOf>,
+    /// `best.ensemble_v_s.mean - runner_up.ensemble_v_s.mean` (m/s).
+    pub improvement: Option<f64>,
+    /// `sqrt(sd_best^2 + sd_runner_up^2)` (m/s).
+    pub spread: Option<f64>,
+    /// Every member of the best's ensemble is faster than every member of the runner-up's
+    /// (`best.min > runner_up.max`): the ranking holds under the perturbations.
+    pub improvement_exceeds_spread: Option<bool>,
+    /// `v_s_gain` of the search (best over the start, m/s).
+    pub gain_over_initial: f64,
+    /// The gain exceeds the best's ensemble range (`max - min`).
+    pub gain_exceeds_spread: Option<bool>,
+}
+
+/// Re-run the best point of `r` and its runner-up as ensembles `spec` (the runner-up seeded
+/// `spec.seed + 1`) and compare them ([`OptimumCheck`]); `None` without a best point.
+pub fn check_optimum(
+    study: &Study,
+    r: &Report,
+    spec: &super::ensemble::Spec,
+) -> Option<OptimumCheck> {
+    let best = r.best.as_ref()?;
+    let runner_up = r
+        .visited
+        .iter()
+        .map(|v| &v.0)
+        .filter(|e| e.status == Status::Ok && study.meets_heading(e) && e.point != best.point)
+        .max_by(|a, b| a.v_s.total_cmp(&b.v_s));
+    let of = |e: &Evaluation, seed: u64| {
+        let s = super::ensemble::Spec { seed, ..*spec };
+        let en = super::ensemble::run(&study.problem_at(&e.point), &s, &|_, _| {});
+        EnsembleOf {
+            eval: e.eval,
+            v_s: e.v_s,
+            ensemble_v_s: en.stats.get("v_s").copied(),
+            regime_votes: en.regime_votes,
+            seeds: en.members.iter().map(|m| m.seed).collect(),
+            wall_time_s: en.wall_time_s,
+        }
+    };
+    let b = of(best, spec.seed);
+    let u = runner_up.map(|e| of(e, spec.seed.wrapping_add(1)));
+    let (sb, su) = (b.ensemble_v_s, u.as_ref().and_then(|u| u.ensemble_v_s));
+    let gain = best.v_s - r.initial.v_s;
+    Some(OptimumCheck {
+        runs: spec.runs,
+        seed: spec.seed,
+        perturbation: spec.perturbation,
+        improvement: sb.zip(su).map(|(b, u)| b.mean - u.mean),
+        spread: sb.zip(su).map(|(b, u)| b.sd.hypot(u.sd)),
+        improvement_exceeds_spread: sb.zip(su).map(|(b, u)| b.min > u.max),
+        gain_over_initial: gain,
+        gain_exceeds_spread: sb.map(|b| gain > b.max - b.min),
+        best: b,
+        runner_up: u,
+    })
 }
 
 #[derive(Serialize)]
@@ -149,6 +241,7 @@ pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(),
         duration_pulses: study.duration_pulses,
         wall_time_s: r.wall_time_s,
         accuracy: study.chosen.as_ref(),
+        ensemble: r.check.as_ref(),
     };
     let path = out.join("optimum.json");
     let text = serde_json::to_string_pretty(&o).map_err(|e| DesignError::Io {

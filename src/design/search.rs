@@ -575,7 +575,13 @@ pub fn optimize(
         iterations: iterations.lock().map(|v| v.clone()).unwrap_or_default(),
         termination,
         wall_time_s: start.elapsed().as_secs_f64(),
+        check: None,
     };
+    let mut report = report;
+    if let Some(spec) = &study.ensemble {
+        report.check = check_optimum(study, &report, spec);
+        report.wall_time_s = start.elapsed().as_secs_f64();
+    }
     write_optimum(study, out, &report)?;
     write_figures(study, out, &report)?;
     Ok(report)

@@ -325,6 +325,9 @@ pub struct Study {
     pub accuracy: Option<problem::AccuracySpec>,
     /// The model chosen for it (set by [`super::accuracy::prepare_study`]).
     pub chosen: Option<super::accuracy::StudyAccuracy>,
+    /// Re-evaluate the best point and the runner-up as ensembles at the end
+    /// (`slither optimize --ensemble K`; [`super::report::check_optimum`]); `None`: no check.
+    pub ensemble: Option<super::ensemble::Spec>,
 }
 
 impl Study {
@@ -671,6 +674,7 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         seed: opt.seed.unwrap_or(1),
         accuracy: spec.accuracy.clone(),
         chosen: None,
+        ensemble: None,
     };
     if let Some(a) = &spec.accuracy {
         if let Err((key, value, allowed)) = problem::check_accuracy(a, &study.base) {

@@ -86,6 +86,10 @@ pub struct Summary {
     /// error estimates and every run of the selection; absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub accuracy: Option<AccuracyReport>,
+    /// `slither run --ensemble K`: the perturbed runs and the spread of every scalar
+    /// observable over them (`crate::design::ensemble`); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ensemble: Option<crate::design::ensemble::Ensemble>,
 }
 
 /// How `slither run --accuracy` chose its model (see `crate::design::selection`).
@@ -196,6 +200,7 @@ impl Summary {
             head_final: s.node(m.real.start),
             tail_final: s.node(m.real.end - 1),
             accuracy: None,
+            ensemble: None,
         }
     }
 }

@@ -45,6 +45,7 @@ const fn only(
 }
 
 const ACCURACY: &str = "with --accuracy or [accuracy]";
+const ENSEMBLE: &str = "with --ensemble K";
 
 /// Keys of `summary.json` (`slither run`). A failed run writes every gait observable and
 /// `regime` / `regime_reason` as `null`: it has not measured them.
@@ -156,6 +157,30 @@ pub const SUMMARY: &[Field] = &[
     only("accuracy.runs[].wall_time_s", "s", ACCURACY, "its wall time"),
     only("accuracy.runs[].status", "", ACCURACY, "\"ok\" or the failure"),
     only("accuracy.wall_time_total_s", "s", ACCURACY, "wall time of all selection runs"),
+    only("ensemble.runs", "", ENSEMBLE, "K, the perturbed runs (besides the run the rest of the file describes, which is not perturbed)"),
+    only("ensemble.finished", "", ENSEMBLE, "perturbed runs that finished"),
+    only("ensemble.seed", "", ENSEMBLE, "the ensemble's seed (--ensemble-seed)"),
+    only("ensemble.perturbation.friction", "", ENSEMBLE, "relative standard deviation of each friction coefficient's factor"),
+    only("ensemble.perturbation.shape", "", ENSEMBLE, "size of the sideways initial bend, in diameters a"),
+    only("ensemble.perturbation.step", "", ENSEMBLE, "step ladder: the runs' steps go geometrically from dt/step to dt*step"),
+    only("ensemble.stats.<observable>.mean", "", ENSEMBLE, "mean of a scalar observable (any numeric key above from v_s to contact_slip_over_v_m) over the finished runs, e.g. ensemble.stats.v_s_over_v_m.mean; unit of the observable"),
+    only("ensemble.stats.<observable>.sd", "", ENSEMBLE, "its sample standard deviation (n - 1; 0 for one value)"),
+    only("ensemble.stats.<observable>.min", "", ENSEMBLE, "its smallest value"),
+    only("ensemble.stats.<observable>.max", "", ENSEMBLE, "its largest value"),
+    only("ensemble.stats.<observable>.n", "", ENSEMBLE, "runs with a finite value"),
+    only("ensemble.regime_votes.<label>", "", ENSEMBLE, "runs per regime label (S, M, F, N, U; \"-\" for a failed run)"),
+    only("ensemble.members[].index", "", ENSEMBLE, "a run's index k (0-based)"),
+    only("ensemble.members[].seed", "", ENSEMBLE, "its seed (reruns it alone)"),
+    only("ensemble.members[].dt", "s", ENSEMBLE, "its step (adaptive: the first step)"),
+    only("ensemble.members[].step_factor", "", ENSEMBLE, "its step over the file's"),
+    only("ensemble.members[].friction_factors", "", ENSEMBLE, "factors of mu_forward, mu_backward, mu_sideways"),
+    only("ensemble.members[].shape_rms_over_a", "", ENSEMBLE, "RMS sideways offset of its initial shape over a"),
+    only("ensemble.members[].status", "", ENSEMBLE, "\"ok\" or \"failed\""),
+    only("ensemble.members[].regime", "", ENSEMBLE, "its regime, \"-\" when failed"),
+    only("ensemble.members[].observables.<observable>", "", ENSEMBLE, "its scalar observables (null when failed or not finite)"),
+    only("ensemble.members[].wall_time_s", "s", ENSEMBLE, "its wall time"),
+    only("ensemble.members[].reason", "", ENSEMBLE, "why it failed (absent when ok)"),
+    only("ensemble.wall_time_s", "s", ENSEMBLE, "wall time of the ensemble (runs in parallel)"),
 ];
 
 /// Columns of `phase.csv` (`slither phase`, `slither merge`), in order; `refine.csv` has the
@@ -223,6 +248,19 @@ pub const PHASE_CSV: &[Field] = &[
     f("reason", "", "why it failed (empty when ok)"),
 ];
 
+/// The columns a verified phase study (`[phase] verify = { ... }`) adds to `phase.csv` and
+/// `refine.csv`, after [`PHASE_CSV`]'s; the row's other values are then its reported run's
+/// (the finer run with `finer = true`).
+pub const PHASE_VERIFY_CSV: &[Field] = &[
+    f("label_agreement", "", "fraction of the cell's runs (the study's, the finer one, the perturbed ones) whose label is the reported one; a failed run agrees with nothing"),
+    f("v_s_over_v_m_min", "", "smallest v_s/v_m over the cell's runs that finished"),
+    f("v_s_over_v_m_max", "", "largest v_s/v_m over them"),
+    f("regime_base", "", "the label at the study's resolution (\"-\" when failed)"),
+    f("regime_finer", "", "the label at the finer resolution, half the step and twice the elements (\"-\" when failed or without finer = true)"),
+    f("verify_runs", "", "runs of the cell"),
+    f("verify_seed", "", "the cell's seed (hex): perturbed run k has seed ensemble::member_seed(seed, k)"),
+];
+
 /// Columns of `history.csv` (`slither optimize`), in order.
 pub const HISTORY_CSV: &[Field] = &[
     f("eval", "", "evaluation number"),
@@ -268,12 +306,20 @@ pub fn find<'a>(fields: &'a [Field], name: &str) -> Option<&'a Field> {
 }
 
 /// Whether `path` (from [`json_paths`]) is documented in `fields`: listed, or an empty array
-/// whose entries' keys are listed (`path[].key`).
+/// whose entries' keys are listed (`path[].key`). A segment written `<name>` in a field's name
+/// (`ensemble.stats.<observable>.mean`) stands for any one key.
 pub fn documented(fields: &[Field], path: &str) -> bool {
     let entries = format!("{path}[].");
+    let matches = |name: &str, path: &str| {
+        let (a, b): (Vec<&str>, Vec<&str>) = (name.split('.').collect(), path.split('.').collect());
+        a.len() == b.len()
+            && a.iter().zip(&b).all(|(x, y)| {
+                x == y || (x.starts_with('<') && x.ends_with('>') && !y.contains('['))
+            })
+    };
     fields
         .iter()
-        .any(|f| f.name == path || f.name.starts_with(&entries))
+        .any(|f| matches(f.name, path) || f.name.starts_with(&entries))
 }
 
 /// Every key path of a JSON value as [`Field::name`] writes them: objects add `.key`, arrays
@@ -342,6 +388,12 @@ pub fn markdown() -> String {
          One row per cell, in this column order; `refine.csv` has the same columns.\n\n",
     );
     table(&mut out, PHASE_CSV, "column");
+    out.push_str(
+        "\nA verified study (`[phase] verify = { ... }`) adds these columns after `reason`, in \
+         this order; the row's other values are then those of its reported run (the finer one \
+         with `finer = true`).\n\n",
+    );
+    table(&mut out, PHASE_VERIFY_CSV, "column");
     out.push_str("\n## `history.csv` (`slither optimize`)\n\nOne row per evaluation, in this column order.\n\n");
     table(&mut out, HISTORY_CSV, "column");
     out
@@ -353,7 +405,7 @@ mod tests {
 
     #[test]
     fn names_are_unique() {
-        for list in [SUMMARY, PHASE_CSV, HISTORY_CSV] {
+        for list in [SUMMARY, PHASE_CSV, PHASE_VERIFY_CSV, HISTORY_CSV] {
             for (i, fl) in list.iter().enumerate() {
                 assert!(list[..i].iter().all(|o| o.name != fl.name), "{}", fl.name);
             }
@@ -369,5 +421,17 @@ mod tests {
         let mut p = json_paths(&v);
         p.sort();
         assert_eq!(p, ["a", "b.c", "b.d[].e", "b.d[].f"]);
+    }
+
+    #[test]
+    fn a_placeholder_segment_matches_one_key() {
+        assert!(documented(SUMMARY, "ensemble.stats.v_s.sd"));
+        assert!(documented(
+            SUMMARY,
+            "ensemble.members[].observables.writhe_max"
+        ));
+        assert!(!documented(SUMMARY, "ensemble.stats.v_s"));
+        assert!(!documented(SUMMARY, "ensemble.stats.v_s.sd.x"));
+        assert!(!documented(SUMMARY, "ensemble.members.observables.v_s"));
     }
 }

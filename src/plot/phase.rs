@@ -27,6 +27,8 @@ pub struct MapCell<'a> {
     pub writhe_max: f64,
     /// Writhe at the snapshot instant (turns).
     pub writhe_snapshot: f64,
+    /// The cell's verification runs disagree on its label (drawn hatched and outlined).
+    pub uncertain: bool,
 }
 
 /// A fitted boundary line, as the regime map draws it.
@@ -275,6 +277,41 @@ where
                 Rectangle::new(rect, WHITE.stroke_width(if full { 2 } else { 1 })),
             ])
             .map_err(|e| err(&e))?;
+        if c.uncertain {
+            // Hatched with three diagonals and outlined in black, inset from the white grid.
+            let at = |fx: f64, fy: f64| {
+                let x = xe[i] * (xe[i + 1] / xe[i]).powf(fx);
+                let y = if log_g {
+                    ye[j] * (ye[j + 1] / ye[j]).powf(fy)
+                } else {
+                    ye[j] + (ye[j + 1] - ye[j]) * fy
+                };
+                (x, y)
+            };
+            let hatch = [
+                (0.06, 0.5, 0.5, 0.94),
+                (0.06, 0.06, 0.94, 0.94),
+                (0.5, 0.06, 0.94, 0.5),
+            ];
+            chart
+                .draw_series(hatch.iter().map(|&(x0, y0, x1, y1)| {
+                    PathElement::new(vec![at(x0, y0), at(x1, y1)], BLACK.stroke_width(2))
+                }))
+                .map_err(|e| err(&e))?;
+            let outline = vec![
+                at(0.06, 0.06),
+                at(0.94, 0.06),
+                at(0.94, 0.94),
+                at(0.06, 0.94),
+                at(0.06, 0.06),
+            ];
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    outline,
+                    BLACK.stroke_width(3),
+                )))
+                .map_err(|e| err(&e))?;
+        }
         let ok = c.ok;
         let label = match c.regime {
             Some(r) if ok && full => format!("{r} {:.3}", c.v_s_over_v_m),
@@ -390,6 +427,38 @@ fn map_legend<DB: DrawingBackend>(
             .map_err(|e| err(&e))?;
         right
             .draw(&Text::new(text, (44, y), left_style(18)))
+            .map_err(|e| err(&e))?;
+    }
+    let uncertain = cells.iter().filter(|c| c.uncertain).count();
+    if uncertain > 0 {
+        y += 34;
+        right
+            .draw(&Rectangle::new(
+                [(10, y - 11), (34, y + 11)],
+                WHITE.filled(),
+            ))
+            .map_err(|e| err(&e))?;
+        for (a, b) in [
+            ((10, y), (22, y + 11)),
+            ((10, y - 11), (34, y + 11)),
+            ((22, y - 11), (34, y)),
+        ] {
+            right
+                .draw(&PathElement::new(vec![a, b], BLACK.stroke_width(2)))
+                .map_err(|e| err(&e))?;
+        }
+        right
+            .draw(&Rectangle::new(
+                [(10, y - 11), (34, y + 11)],
+                BLACK.stroke_width(2),
+            ))
+            .map_err(|e| err(&e))?;
+        right
+            .draw(&Text::new(
+                format!("uncertain ({uncertain}): runs disagree on the label"),
+                (44, y),
+                left_style(18),
+            ))
             .map_err(|e| err(&e))?;
     }
     let fitted: Vec<(usize, &MapLine)> = bounds

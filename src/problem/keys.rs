@@ -436,6 +436,15 @@ pub const STUDY_KEYS: &[(&str, &str)] = &[
         "a number within optimize.speed (m/s)",
     ),
     (
+        "phase.weight_via",
+        "\"stiffness\" (default), \"gravity\" or \"density\": the parameter that sets W",
+    ),
+    ("phase.similar", "true or false (default false)"),
+    (
+        "phase.verify",
+        "{ finer = true | false, perturbations = K in [0, 64], seed = integer >= 0, step = number in [1, 10] }",
+    ),
+    (
         "phase.base",
         "a path (string) to a problem file, relative to the phase file",
     ),

@@ -1,6 +1,6 @@
 //! One cell of the diagram: its simulation and the measured values.
-use super::file::cell_problem;
-use crate::design::Status;
+use super::file::{cell_problem, cell_problem_with, finer_problem, Protocol, Verify};
+use crate::design::{ensemble, Status};
 use crate::model::Model;
 use crate::observe::{self, Regime, RegimeInputs};
 use crate::problem::Problem;
@@ -44,6 +44,39 @@ pub struct Cell {
     pub wall_time_s: f64,
     /// Why it failed (empty when ok).
     pub reason: String,
+    /// The cell's verification, when the phase file asks for one (`verify = { ... }`).
+    pub verify: Option<Verification>,
+}
+
+/// How a verified cell's runs agree ([`simulate_verified`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Verification {
+    /// Fraction of the cell's runs (the study's, the finer one, the perturbed ones) whose label
+    /// is the cell's reported label (a failed run agrees with nothing).
+    pub label_agreement: f64,
+    /// Smallest `v_s/v_m` over the runs that finished.
+    pub v_s_over_v_m_min: f64,
+    /// Largest `v_s/v_m` over the runs that finished.
+    pub v_s_over_v_m_max: f64,
+    /// The label at the study's resolution (`None`: failed).
+    pub regime_base: Option<Regime>,
+    /// The label at the finer resolution (`None`: failed or no finer run).
+    pub regime_finer: Option<Regime>,
+    /// Runs of the cell.
+    pub runs: usize,
+    /// The cell's ensemble seed (perturbed run `k` has seed
+    /// [`ensemble::member_seed`]`(seed, k)`).
+    pub seed: u64,
+}
+
+impl Cell {
+    /// Whether every run of the cell gave its label (a cell without verification is taken as
+    /// it is: unanimous).
+    pub fn unanimous(&self) -> bool {
+        self.verify
+            .as_ref()
+            .is_none_or(|v| v.label_agreement == 1.0)
+    }
 }
 
 impl Cell {
@@ -66,6 +99,7 @@ impl Cell {
             writhe_snapshot: f64::NAN,
             wall_time_s: 0.0,
             reason,
+            verify: None,
         }
     }
 
@@ -85,9 +119,98 @@ impl Cell {
 
 /// Simulate one cell (never panics: a panic inside the simulation is recorded as a failure).
 pub fn simulate(base: &Problem, w: f64, g: f64) -> Cell {
-    let p = cell_problem(base, w, g);
+    run_cell(&cell_problem(base, w, g), w, g, None)
+}
+
+/// The seed of cell `(w, g)`'s perturbed runs for the verification seed `seed`: the same in
+/// every shard and every order of the cells.
+pub fn cell_seed(seed: u64, w: f64, g: f64) -> u64 {
+    let mut bytes = seed.to_le_bytes().to_vec();
+    bytes.extend(w.to_bits().to_le_bytes());
+    bytes.extend(g.to_bits().to_le_bytes());
+    crate::design::fnv1a(&bytes)
+}
+
+/// Simulate one cell with its verification (`None`: [`simulate`]). The runs: the study's, with
+/// `finer` one at half the step and twice the elements ([`finer_problem`]), and `perturbations`
+/// perturbed ones (member `k` of an [`ensemble`] of the cell's problem seeded by [`cell_seed`]),
+/// all in parallel. The returned cell is the finest run's (the finer one if any, else the
+/// study's), with [`Verification`]: the agreement of every run with its label, the spread of
+/// `v_s/v_m` and the labels at both resolutions; its wall time is the sum of the runs'.
+///
+/// `protocol` says how the cell is made from `base` ([`cell_problem_with`]; the default is
+/// [`cell_problem`]'s).
+pub fn simulate_verified(
+    base: &Problem,
+    w: f64,
+    g: f64,
+    verify: Option<&Verify>,
+    protocol: Protocol,
+) -> Cell {
+    let p = cell_problem_with(base, w, g, protocol);
+    let Some(v) = verify else {
+        return run_cell(&p, w, g, None);
+    };
+    use rayon::prelude::*;
+    let seed = cell_seed(v.seed, w, g);
+    let spec = ensemble::Spec {
+        runs: v.perturbations,
+        seed,
+        perturbation: v.perturbation(),
+    };
+    // Run 0 the study's, run 1 the finer (if any), then the perturbed ones.
+    let kinds: Vec<Option<usize>> = std::iter::once(None)
+        .chain(v.finer.then_some(None))
+        .chain((0..v.perturbations).map(Some))
+        .collect();
+    let runs: Vec<Cell> = kinds
+        .par_iter()
+        .enumerate()
+        .map(|(i, kind)| match kind {
+            None if i == 0 => run_cell(&p, w, g, None),
+            None => run_cell(&finer_problem(&p), w, g, None),
+            Some(k) => {
+                let ms = ensemble::member_seed(seed, *k);
+                let q = ensemble::member_problem(&p, &spec.perturbation, ms, *k, spec.runs);
+                run_cell(&q, w, g, Some((&spec.perturbation, ms)))
+            }
+        })
+        .collect();
+    let finer = v.finer.then(|| runs[1].clone());
+    let mut cell = finer.clone().unwrap_or_else(|| runs[0].clone());
+    let agree = runs
+        .iter()
+        .filter(|r| r.regime.is_some() && r.regime == cell.regime)
+        .count();
+    let speeds = runs
+        .iter()
+        .filter(|r| r.status == Status::Ok)
+        .map(|r| r.v_s_over_v_m)
+        .filter(|x| x.is_finite());
+    let (lo, hi) = speeds.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    cell.wall_time_s = runs.iter().map(|r| r.wall_time_s).sum();
+    cell.verify = Some(Verification {
+        label_agreement: agree as f64 / runs.len() as f64,
+        v_s_over_v_m_min: if lo.is_finite() { lo } else { f64::NAN },
+        v_s_over_v_m_max: if hi.is_finite() { hi } else { f64::NAN },
+        regime_base: runs[0].regime,
+        regime_finer: finer.and_then(|f| f.regime),
+        runs: runs.len(),
+        seed,
+    });
+    cell
+}
+
+/// One run of a cell's problem `p` (with the shape perturbation of an ensemble member, if
+/// given).
+fn run_cell(p: &Problem, w: f64, g: f64, shape: Option<(&ensemble::Perturbation, u64)>) -> Cell {
     let run = std::panic::catch_unwind(|| {
-        let m = Model::new(&p);
+        let mut m = Model::new(p);
+        if let Some((pert, seed)) = shape {
+            ensemble::perturb_model(&mut m, pert, seed);
+        }
         let o = observe::evaluate(&m, observe::Measure::Full, &mut |_| {}, &mut |_| {})?;
         Ok::<_, crate::integrator::explicit::Unsupported>((o.observables, o.outcome))
     });
@@ -123,6 +246,7 @@ pub fn simulate(base: &Problem, w: f64, g: f64) -> Cell {
             writhe_snapshot: ob.writhe_snapshot,
             wall_time_s: o.wall_time_s,
             reason: String::new(),
+            verify: None,
         },
     }
 }

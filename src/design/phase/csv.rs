@@ -14,9 +14,49 @@ pub const HEADER: &str = "weight,torque,W_over_G,status,regime,v_s_over_v_m,disp
 /// Number of columns of [`HEADER`].
 const COLUMNS: usize = 19;
 
+/// The columns a verified study (`verify = { ... }`) adds after [`HEADER`]'s.
+pub const VERIFY_COLUMNS: &str = "label_agreement,v_s_over_v_m_min,v_s_over_v_m_max,regime_base,regime_finer,verify_runs,verify_seed";
+
+/// Header of a verified study's `phase.csv` and `refine.csv`: [`HEADER`], then
+/// [`VERIFY_COLUMNS`].
+pub fn verify_header() -> String {
+    format!("{HEADER},{VERIFY_COLUMNS}")
+}
+
+/// Number of columns of [`verify_header`].
+const VERIFY_COUNT: usize = COLUMNS + 7;
+
+/// The header of a study's CSV: [`HEADER`], or [`verify_header`] when `verified`.
+pub fn header(verified: bool) -> String {
+    if verified {
+        verify_header()
+    } else {
+        HEADER.to_string()
+    }
+}
+
 impl Cell {
-    /// The cell as a `phase.csv` row (no newline) for the base file with hash `hash`.
+    /// The cell as a `phase.csv` row (no newline) for the base file with hash `hash`; a
+    /// verified cell adds the [`VERIFY_COLUMNS`].
     pub(crate) fn row(&self, hash: u64) -> String {
+        let mut row = self.plain_row(hash);
+        if let Some(v) = &self.verify {
+            let label = |r: Option<Regime>| r.map_or("-", Regime::as_str);
+            row += &format!(
+                ",{},{:e},{:e},{},{},{},{:016x}",
+                v.label_agreement,
+                v.v_s_over_v_m_min,
+                v.v_s_over_v_m_max,
+                label(v.regime_base),
+                label(v.regime_finer),
+                v.runs,
+                v.seed
+            );
+        }
+        row
+    }
+
+    fn plain_row(&self, hash: u64) -> String {
         let clean = crate::design::csv_field(&self.reason);
         format!(
             "{:e},{:e},{:e},{},{},{:e},{:e},{:e},{},{:e},{:e},{},{:e},{:e},{:e},{:e},{:.3},{:016x},{}",
@@ -42,12 +82,31 @@ impl Cell {
         )
     }
 
-    fn parse(line: &str) -> Option<(Cell, u64)> {
-        let f: Vec<&str> = line.splitn(COLUMNS, ',').collect();
-        if f.len() != COLUMNS {
+    /// A row of a file whose header is [`HEADER`] (`verified` false) or [`verify_header`].
+    fn parse(line: &str, verified: bool) -> Option<(Cell, u64)> {
+        // The free-text reason never holds a comma (`csv_field`): split on every comma.
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() != if verified { VERIFY_COUNT } else { COLUMNS } {
             return None;
         }
         let num = |i: usize| f[i].parse::<f64>().ok();
+        let label = |s: &str| match s {
+            "-" => Some(None),
+            r => r.parse().ok().map(Some),
+        };
+        let verify = if verified {
+            Some(super::cell::Verification {
+                label_agreement: num(19)?,
+                v_s_over_v_m_min: num(20)?,
+                v_s_over_v_m_max: num(21)?,
+                regime_base: label(f[22])?,
+                regime_finer: label(f[23])?,
+                runs: f[24].parse().ok()?,
+                seed: u64::from_str_radix(f[25], 16).ok()?,
+            })
+        } else {
+            None
+        };
         Some((
             Cell {
                 weight: num(0)?,
@@ -70,6 +129,7 @@ impl Cell {
                 writhe_snapshot: num(15)?,
                 wall_time_s: num(16)?,
                 reason: f[18].into(),
+                verify,
             },
             u64::from_str_radix(f[17], 16).ok()?,
         ))
@@ -85,6 +145,8 @@ pub struct PhaseCsv {
     pub fresh: bool,
     /// An incomplete last line (no newline: a write cut short) was cut off the file.
     pub dropped_partial_row: bool,
+    /// The file's header is [`verify_header`] (else [`HEADER`], or the file is fresh).
+    pub verified: bool,
 }
 
 /// Read `phase.csv` for resuming: rows of other base files are skipped; a last line without
@@ -101,6 +163,7 @@ pub fn read_phase_csv(csv: &Path, base_hash: u64) -> Result<PhaseCsv, PhaseError
             .collect(),
         fresh: r.fresh,
         dropped_partial_row: r.dropped_partial_row,
+        verified: r.verified,
     })
 }
 
@@ -113,23 +176,42 @@ pub struct Rows {
     pub fresh: bool,
     /// An incomplete last line (no newline: a write cut short) was cut off the file.
     pub dropped_partial_row: bool,
+    /// The file's header is [`verify_header`] (else [`HEADER`], or the file is fresh).
+    pub verified: bool,
 }
 
 /// Open a study's CSV of rows (`phase.csv`, `refine.csv`) for appending, writing the header
-/// first when the file is `fresh`. Rows are then written one per `write_all` and flushed, so a
-/// crash leaves whole lines or a torn last one ([`read_rows`] drops it).
-pub(crate) fn append_rows(csv: &Path, fresh: bool) -> Result<std::fs::File, PhaseError> {
+/// first when the file is `fresh` ([`header`]`(verified)`). Rows are then written one per
+/// `write_all` and flushed, so a crash leaves whole lines or a torn last one ([`read_rows`]
+/// drops it). An existing file whose header is the other kind (`had_verified` differs from
+/// `verified`) is [`PhaseError::Verify`]: its rows cannot be mixed.
+pub(crate) fn append_rows(
+    csv: &Path,
+    fresh: bool,
+    had_verified: bool,
+    verified: bool,
+) -> Result<std::fs::File, PhaseError> {
     let io = |source| PhaseError::Io {
         file: csv.to_path_buf(),
         source,
     };
+    if !fresh && had_verified != verified {
+        return Err(PhaseError::Verify {
+            file: csv.to_path_buf(),
+            why: if verified {
+                "it was written without verification and this study verifies its cells".into()
+            } else {
+                "it was written with verification (verify = { ... }) and this study has none".into()
+            },
+        });
+    }
     let mut file = std::fs::OpenOptions::new()
         .create(true)
         .append(true)
         .open(csv)
         .map_err(io)?;
     if fresh {
-        file.write_all(format!("{HEADER}\n").as_bytes())
+        file.write_all(format!("{}\n", header(verified)).as_bytes())
             .and_then(|_| file.flush())
             .map_err(io)?;
     }
@@ -175,7 +257,9 @@ pub fn read_rows(csv: &Path) -> Result<Rows, PhaseError> {
     out.fresh = text.is_empty();
     for (n, line) in text.lines().enumerate() {
         if n == 0 {
-            if line != HEADER {
+            if line == verify_header() {
+                out.verified = true;
+            } else if line != HEADER {
                 return Err(PhaseError::Csv {
                     file: csv.to_path_buf(),
                     line: 1,
@@ -186,7 +270,7 @@ pub fn read_rows(csv: &Path) -> Result<Rows, PhaseError> {
         if line.trim().is_empty() {
             continue;
         }
-        let row = Cell::parse(line).ok_or(PhaseError::Csv {
+        let row = Cell::parse(line, out.verified).ok_or(PhaseError::Csv {
             file: csv.to_path_buf(),
             line: n + 1,
         })?;
@@ -195,7 +279,8 @@ pub fn read_rows(csv: &Path) -> Result<Rows, PhaseError> {
     Ok(out)
 }
 
-/// A cell's row without its wall time (what must agree between two runs of one cell).
+/// A cell's row without its wall time (what must agree between two runs of one cell; a
+/// verified cell's wall time is the sum of its runs').
 pub fn comparable_row(c: &Cell, hash: u64) -> String {
     let row = c.row(hash);
     let mut f: Vec<&str> = row.split(',').collect();
@@ -230,10 +315,11 @@ mod tests {
             writhe_snapshot: -0.375,
             wall_time_s: 1.5,
             reason: "step rejected, at t = 1\nagain".into(),
+            verify: None,
         };
         let row = c.row(0xabc);
         assert_eq!(row.split(',').count(), HEADER.split(',').count(), "{row}");
-        let (d, h) = Cell::parse(&row).unwrap();
+        let (d, h) = Cell::parse(&row, false).unwrap();
         assert_eq!(h, 0xabc);
         assert_eq!((d.weight, d.torque, d.lifted_arcs_max), (300.0, 15.0, 2));
         assert!(d.v_s_over_v_m.is_nan());
@@ -262,13 +348,31 @@ mod tests {
             reason: String::new(),
             ..c
         };
-        let (d, _) = Cell::parse(&m.row(1)).unwrap();
+        let (d, _) = Cell::parse(&m.row(1), false).unwrap();
         assert_eq!(d.regime, Some(Regime::M));
         assert_eq!(d.regime_detail, "heading;pulse_speed");
         assert_eq!(d.v_s_over_v_m, 0.29);
         assert_eq!(d.regime_inputs(), m.regime_inputs());
         // A label that is not a regime is not a row.
         let bad = m.row(1).replacen(",M,", ",X,", 1);
-        assert!(Cell::parse(&bad).is_none());
+        assert!(Cell::parse(&bad, false).is_none());
+        // A verified cell round-trips its verification columns, and is not a plain row.
+        let v = Cell {
+            verify: Some(crate::design::phase::cell::Verification {
+                label_agreement: 0.75,
+                v_s_over_v_m_min: 0.25,
+                v_s_over_v_m_max: 0.3125,
+                regime_base: Some(Regime::S),
+                regime_finer: None,
+                runs: 4,
+                seed: 0xfeed,
+            }),
+            ..m.clone()
+        };
+        let row = v.row(1);
+        assert_eq!(row.split(',').count(), verify_header().split(',').count());
+        assert_eq!(Cell::parse(&row, true).unwrap().0.verify, v.verify);
+        assert!(Cell::parse(&row, false).is_none());
+        assert!(Cell::parse(&m.row(1), true).is_none());
     }
 }

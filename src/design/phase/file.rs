@@ -32,6 +32,12 @@ pub struct Phase {
     /// `Some(K)`: `refine = true`, bisect the boundaries `K = refine_steps` times per
     /// neighbour pair ([`super::refine`]); `None`: boundaries through cell midpoints.
     pub refine: Option<usize>,
+    /// `verify = { finer, perturbations, ... }`: each cell re-run finer and perturbed
+    /// ([`Verify`]); `None` when absent or when it asks for no extra run.
+    pub verify: Option<Verify>,
+    /// How a cell's `W` is set and whether the cells are dynamically similar
+    /// (`weight_via`, `similar`; [`Protocol`]).
+    pub protocol: Protocol,
     /// `[accuracy]`, if given ([`crate::design::accuracy`]).
     pub accuracy: Option<problem::AccuracySpec>,
     /// The model chosen for it (set by [`prepare_accuracy`]).
@@ -54,6 +60,113 @@ struct PhaseTable {
     #[serde(default)]
     refine: bool,
     refine_steps: Option<toml::Value>,
+    verify: Option<VerifyTable>,
+    weight_via: Option<String>,
+    #[serde(default)]
+    similar: bool,
+}
+
+/// `[phase] weight_via`: which physical parameter sets a cell's scaled weight
+/// `W = rho g a^2 L^3 / B`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WeightVia {
+    /// The bending stiffness `B` (with `C` and `EA` scaled alike): the default, and the
+    /// studies before this key.
+    #[default]
+    Stiffness,
+    /// Gravity `g` (`B`, `rho` the base's).
+    Gravity,
+    /// The density `rho` (`B`, `g` the base's).
+    Density,
+}
+
+/// How the grid's cells are made from the base problem ([`cell_problem_with`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Protocol {
+    /// Which parameter sets `W`.
+    pub weight_via: WeightVia,
+    /// `similar = true`: every cell keeps the base's ratio of the pulse time `L / v_m` to the
+    /// elastic time `L^2 sqrt(rho A / B)`, i.e. `v_m L sqrt(rho A / B)` constant, by setting
+    /// `v_m`; the duration, step and output interval follow the pulse time.
+    pub similar: bool,
+}
+
+impl Protocol {
+    /// Whether this is today's protocol (`W` through `B`, no similarity): rows keyed as before.
+    pub fn is_default(&self) -> bool {
+        *self == Protocol::default()
+    }
+
+    /// Mix the protocol into a rows' hash (unchanged for the default protocol).
+    pub fn row_hash(&self, hash: u64) -> u64 {
+        if self.is_default() {
+            hash
+        } else {
+            let text = format!(
+                "{hash:016x} weight_via={:?} similar={}",
+                self.weight_via, self.similar
+            );
+            crate::design::fnv1a(text.as_bytes())
+        }
+    }
+}
+
+/// Most perturbed runs per cell (`verify.perturbations`).
+pub const MAX_PERTURBATIONS: usize = 64;
+
+/// `[phase] verify = { finer = true, perturbations = K }`: how each cell is checked
+/// ([`super::cell::simulate_verified`]).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Verify {
+    /// `finer` (default false): also run the cell at half the step and twice the elements;
+    /// the cell's reported label (and every value of its row) is then the finer run's.
+    pub finer: bool,
+    /// `perturbations` (default 0, at most [`MAX_PERTURBATIONS`]): also run the cell `K`
+    /// times perturbed as an ensemble ([`crate::design::ensemble`]) at the study's resolution.
+    pub perturbations: usize,
+    /// `seed` (default [`crate::design::ensemble::SEED`]): the cells' seeds derive from it
+    /// and the cell's `(W, G)`, so a cell's runs do not depend on the shard it is in.
+    pub seed: u64,
+    /// `step` (default [`crate::design::ensemble::STEP`], at least 1): the perturbed runs' step
+    /// ladder, from `dt / step` to `dt * step`.
+    pub step: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct VerifyTable {
+    #[serde(default)]
+    finer: bool,
+    #[serde(default)]
+    perturbations: i64,
+    seed: Option<i64>,
+    step: Option<f64>,
+}
+
+impl Verify {
+    /// The perturbation sizes of the perturbed runs.
+    pub fn perturbation(&self) -> crate::design::ensemble::Perturbation {
+        crate::design::ensemble::Perturbation {
+            step: self.step,
+            ..Default::default()
+        }
+    }
+
+    /// The resume key of a verified row: the base problem's hash mixed with the settings, so
+    /// rows of another verification (or of none) are never reused.
+    pub fn row_hash(&self, base_hash: u64) -> u64 {
+        let text = format!(
+            "{base_hash:016x} finer={} perturbations={} seed={} step={:e}",
+            self.finer, self.perturbations, self.seed, self.step
+        );
+        crate::design::fnv1a(text.as_bytes())
+    }
+
+    /// Runs per cell: the study's, the finer one, the perturbed ones.
+    pub fn runs(&self) -> usize {
+        1 + self.finer as usize + self.perturbations
+    }
 }
 
 /// A grid axis as written: a list, or `{ from, to, count, spacing = "log" | "linear" }`
@@ -110,6 +223,15 @@ fn grid_axis(v: &toml::Value) -> Result<Vec<f64>, String> {
                 .collect())
         }
         other => Err(format!("{other} is neither a list nor a range table")),
+    }
+}
+
+impl Phase {
+    /// The resume key of the rows of `phase.csv` and `refine.csv`: the base problem's hash,
+    /// mixed with the protocol (unless the default) and the verification settings (if any).
+    pub fn row_hash(&self) -> u64 {
+        let h = self.protocol.row_hash(self.base_hash);
+        self.verify.map_or(h, |v| v.row_hash(h))
     }
 }
 
@@ -185,6 +307,56 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
                 )
             })?,
     };
+    let verify = match &t.verify {
+        None => None,
+        Some(v) => {
+            if !(0..=MAX_PERTURBATIONS as i64).contains(&v.perturbations) {
+                return Err(invalid(
+                    "verify",
+                    format!("{{ perturbations = {} }}", v.perturbations),
+                    &format!("perturbations an integer in [0, {MAX_PERTURBATIONS}] (perturbed runs per cell)"),
+                ));
+            }
+            if v.seed.is_some_and(|s| s < 0) {
+                return Err(invalid(
+                    "verify",
+                    format!("{{ seed = {} }}", v.seed.unwrap_or(0)),
+                    "seed an integer >= 0",
+                ));
+            }
+            let step = v.step.unwrap_or(crate::design::ensemble::STEP);
+            if !(step.is_finite() && (1.0..=10.0).contains(&step)) {
+                return Err(invalid(
+                    "verify",
+                    format!("{{ step = {step} }}"),
+                    "step a number in [1, 10] (the perturbed runs step from dt/step to dt*step)",
+                ));
+            }
+            let verify = Verify {
+                finer: v.finer,
+                perturbations: v.perturbations as usize,
+                seed: v.seed.map_or(crate::design::ensemble::SEED, |s| s as u64),
+                step,
+            };
+            (verify.runs() > 1).then_some(verify)
+        }
+    };
+    let weight_via = match t.weight_via.as_deref() {
+        None | Some("stiffness") => WeightVia::Stiffness,
+        Some("gravity") => WeightVia::Gravity,
+        Some("density") => WeightVia::Density,
+        Some(other) => {
+            return Err(invalid(
+                "weight_via",
+                format!("\"{other}\""),
+                "\"stiffness\", \"gravity\" or \"density\" (the parameter that sets W)",
+            ))
+        }
+    };
+    let protocol = Protocol {
+        weight_via,
+        similar: t.similar,
+    };
     let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
     let base_text = match problem::read(&base_path) {
         Ok(text) => text,
@@ -241,20 +413,69 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         weight,
         torque,
         refine: t.refine.then_some(steps),
+        verify,
+        protocol,
     })
 }
 
-/// The base problem with scaled weight `w` and scaled torque `g` (see the module doc).
+/// The base problem with scaled weight `w` and scaled torque `g` (see the module doc): `W`
+/// through the bending stiffness, the default [`Protocol`].
 pub fn cell_problem(base: &Problem, w: f64, g: f64) -> Problem {
+    cell_problem_with(base, w, g, Protocol::default())
+}
+
+/// The base problem with scaled weight `w` and scaled torque `g` under `protocol`: `W` through
+/// `B` (`C` and `EA` scaled alike), `g` or `rho`; `G` through the muscle stress,
+/// `Gamma = G B / (a^3 L)`; with `similar`, `v_m = v_m0 sqrt(B rho0 / (B0 rho))` and the
+/// duration, step (adaptive: its bounds) and output interval scaled by `v_m0 / v_m`.
+pub fn cell_problem_with(base: &Problem, w: f64, g: f64, protocol: Protocol) -> Problem {
     let mut p = base.clone();
     let r = &base.rod;
-    let b = r.density * base.gravity.g * r.diameter.powi(2) * r.length.powi(3) / w;
-    let k = b / r.bending_stiffness;
-    p.rod.bending_stiffness = b;
-    p.rod.twist_stiffness = r.twist_stiffness.map(|c| c * k);
-    p.rod.stretch_stiffness = r.stretch_stiffness.map(|ea| ea * k);
+    let (a2l3, gravity) = (r.diameter.powi(2) * r.length.powi(3), base.gravity.g);
+    match protocol.weight_via {
+        WeightVia::Stiffness => {
+            let b = r.density * gravity * a2l3 / w;
+            let k = b / r.bending_stiffness;
+            p.rod.bending_stiffness = b;
+            p.rod.twist_stiffness = r.twist_stiffness.map(|c| c * k);
+            p.rod.stretch_stiffness = r.stretch_stiffness.map(|ea| ea * k);
+        }
+        WeightVia::Gravity => p.gravity.g = w * r.bending_stiffness / (r.density * a2l3),
+        WeightVia::Density => p.rod.density = w * r.bending_stiffness / (gravity * a2l3),
+    }
+    let b = p.rod.bending_stiffness;
     p.gait.stress = g * b / (r.diameter.powi(3) * r.length);
+    if protocol.similar {
+        let factor = ((b / r.bending_stiffness) * (r.density / p.rod.density)).sqrt();
+        p.gait.speed = base.gait.speed * factor;
+        // Times follow the pulse time L / v_m.
+        let tau = 1.0 / factor;
+        let t = &mut p.time;
+        t.duration = t.duration.map(|d| d * tau);
+        t.dt = t.dt.map(|d| d * tau);
+        t.dt_max = t.dt_max.map(|d| d * tau);
+        t.dt_min = t.dt_min.map(|d| d * tau);
+        p.output.interval = p.output.interval.map(|i| i * tau);
+    }
     p
+}
+
+/// The finer problem of a cell's verification: half the step (an adaptive run: an eighth of
+/// the error tolerance, which halves the steps of a second-order method, local error ~ h^3)
+/// and twice the elements.
+pub fn finer_problem(p: &Problem) -> Problem {
+    let mut f = p.clone();
+    f.rod.elements *= 2;
+    if f.time.adaptive {
+        let tol = f
+            .time
+            .error_tolerance
+            .unwrap_or(problem::time::DEFAULT_TOLERANCE);
+        f.time.error_tolerance = Some(tol / 8.0);
+    } else if let Some(dt) = f.time.dt {
+        f.time.dt = Some(dt / 2.0);
+    }
+    f
 }
 
 /// Apply the phase file's `[accuracy]` before the sweep (as
@@ -300,5 +521,65 @@ mod tests {
         assert!((e1 / e0 - 1.0).abs() < 1e-12);
         assert_eq!(p.gait.speed, base.gait.speed);
         assert_eq!(p.rod.length, base.rod.length);
+    }
+
+    fn groups(p: &Problem) -> (f64, f64, f64) {
+        let r = &p.rod;
+        let w =
+            r.density * p.gravity.g * r.diameter.powi(2) * r.length.powi(3) / r.bending_stiffness;
+        let g = p.gait.stress * r.diameter.powi(3) * r.length / r.bending_stiffness;
+        let area = std::f64::consts::PI * r.diameter.powi(2) / 4.0;
+        let similarity = p.gait.speed * r.length * (r.density * area / r.bending_stiffness).sqrt();
+        (w, g, similarity)
+    }
+
+    #[test]
+    fn every_protocol_sets_the_groups_and_similar_keeps_the_time_ratio() {
+        let base = problem::load(Path::new("problems/s_start.toml")).unwrap();
+        let (_, _, s0) = groups(&base);
+        for via in [WeightVia::Stiffness, WeightVia::Gravity, WeightVia::Density] {
+            for similar in [false, true] {
+                let pr = Protocol {
+                    weight_via: via,
+                    similar,
+                };
+                for (w, g) in [(30.0, 8.0), (2336.0, 61.6)] {
+                    let p = cell_problem_with(&base, w, g, pr);
+                    let (wp, gp, s) = groups(&p);
+                    assert!((wp / w - 1.0).abs() < 1e-12, "{pr:?}: W {wp}");
+                    assert!((gp / g - 1.0).abs() < 1e-12, "{pr:?}: G {gp}");
+                    // Only the named parameter moves.
+                    assert_eq!(p.rod.density == base.rod.density, via != WeightVia::Density);
+                    assert_eq!(p.gravity.g == base.gravity.g, via != WeightVia::Gravity);
+                    assert_eq!(
+                        p.rod.bending_stiffness == base.rod.bending_stiffness,
+                        via != WeightVia::Stiffness
+                    );
+                    if similar {
+                        assert!((s / s0 - 1.0).abs() < 1e-12, "{pr:?}: {s} vs {s0}");
+                        // The run lasts the same number of pulse times and steps.
+                        let pulses = |q: &Problem| q.time.duration.unwrap() * q.gait.speed;
+                        assert!((pulses(&p) / pulses(&base) - 1.0).abs() < 1e-12);
+                        let steps = |q: &Problem| q.time.duration.unwrap() / q.time.dt.unwrap();
+                        assert!((steps(&p) / steps(&base) - 1.0).abs() < 1e-9);
+                    } else {
+                        assert_eq!(p.gait.speed, base.gait.speed);
+                        assert_eq!(p.time.dt, base.time.dt);
+                    }
+                }
+            }
+        }
+        // The default protocol is cell_problem's, and keys rows as before.
+        let d = cell_problem_with(&base, 300.0, 15.0, Protocol::default());
+        assert_eq!(
+            format!("{d:?}"),
+            format!("{:?}", cell_problem(&base, 300.0, 15.0))
+        );
+        assert_eq!(Protocol::default().row_hash(42), 42);
+        let gravity = Protocol {
+            weight_via: WeightVia::Gravity,
+            similar: false,
+        };
+        assert_ne!(gravity.row_hash(42), 42);
     }
 }

@@ -1,13 +1,13 @@
 //! Merging the output directories of a sharded sweep into one.
 use super::cell::Cell;
-use super::csv::{comparable_row, read_phase_csv, HEADER};
+use super::csv::{comparable_row, header, read_phase_csv};
+use super::refine::Refinement;
 use super::sweep::{finish, write_info, RunInfo};
 use super::PhaseError;
 use crate::design::fnv1a;
 use crate::problem;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use super::refine::Refinement;
 
 /// What [`merge()`] combined.
 #[derive(Debug)]
@@ -77,6 +77,28 @@ pub fn merge(
                         ),
                     ));
                 }
+                if r.protocol != info.protocol {
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "ran with {:?}, another directory with {:?}",
+                            info.protocol, r.protocol
+                        ),
+                    ));
+                }
+                if r.verify != info.verify {
+                    let say = |v: &Option<super::Verify>| {
+                        v.map_or("no verification".to_string(), |v| format!("verify = {v:?}"))
+                    };
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "ran with {}, another directory with {}",
+                            say(&info.verify),
+                            say(&r.verify)
+                        ),
+                    ));
+                }
                 if r.weight != info.weight || r.torque != info.torque {
                     return Err(mismatch(
                         dir,
@@ -90,6 +112,8 @@ pub fn merge(
         }
         let hash = u64::from_str_radix(&info.base_hash, 16)
             .map_err(|_| mismatch(dir, "phase.json: base_hash is not hexadecimal".into()))?;
+        let hash = info.protocol.row_hash(hash);
+        let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
         for (key, c) in read_phase_csv(&dir.join("phase.csv"), hash)?.cells {
             // A row's regime is a function of its values: a label that disagrees was edited
             // (or written by another version) and would enter the map unchecked.
@@ -146,7 +170,9 @@ pub fn merge(
                 .join(", "),
         });
     }
-    let hash = u64::from_str_radix(&info.base_hash, 16).expect("checked above");
+    let base_hash = u64::from_str_radix(&info.base_hash, 16).expect("checked above");
+    let hash = info.protocol.row_hash(base_hash);
+    let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
     // The base problem, for the refinement's simulations: the file the shards ran, unchanged.
     let base = match info.refine_steps {
         None => None,
@@ -168,7 +194,7 @@ pub fn merge(
                     u64::from_str_radix(&c.base_file_hash, 16).ok(),
                     c.base_file_hash.clone(),
                 ),
-                None => (Some(hash), info.base_hash.clone()),
+                None => (Some(base_hash), info.base_hash.clone()),
             };
             if Some(fnv1a(text.as_bytes())) != file_hash {
                 return Err(refuse(format!(
@@ -192,7 +218,7 @@ pub fn merge(
         file: out.to_path_buf(),
         source,
     })?;
-    let mut text = format!("{HEADER}\n");
+    let mut text = format!("{}\n", header(info.verify.is_some()));
     for c in &cells {
         text += &(c.row(hash) + "\n");
     }
@@ -208,7 +234,7 @@ pub fn merge(
     let refine = base
         .as_ref()
         .zip(info.refine_steps)
-        .map(|(b, k)| (b, hash, k));
+        .map(|(b, k)| (b, hash, k, info.verify, info.protocol));
     let refinement = finish(
         out,
         &info.weight,

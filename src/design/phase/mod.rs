@@ -22,6 +22,18 @@
 //! simulations go to `refine.csv`). A sharded run (`--shard I/N`, `N > 1`) never refines: it
 //! lacks the rest of the grid; [`merge()`] refines when the shards' phase file asked for it.
 //!
+//! `verify = { finer = true, perturbations = K }` (optional `seed`, `step`; [`file::Verify`]):
+//! each cell is also run at half the step and twice the elements and `K` times perturbed
+//! ([`crate::design::ensemble`]); the reported label is the finest run's, `phase.csv` gains
+//! the agreement of the runs, the spread of `v_s/v_m` and the labels at both resolutions
+//! ([`cell::simulate_verified`]), and the boundaries are fitted through unanimous cells only
+//! ([`sweep::confident_labels`], [`sweep::Exclusions`] in `boundaries.json`).
+//!
+//! `weight_via = "stiffness" | "gravity" | "density"` (default "stiffness") names the parameter
+//! that sets `W`, and `similar = true` keeps the cells dynamically similar: `v_m L sqrt(rho A /
+//! B)` the base's, the times scaled with `L / v_m` ([`file::cell_problem_with`]). The rest of
+//! this paragraph is the default.
+//!
 //! Each cell keeps the base's geometry, density, gravity, friction, gait shape, pulse speed and
 //! time stepping. `W` is set through the bending stiffness, `B = rho g a^2 L^3 / W`, with the
 //! twist and stretching stiffnesses scaled by the same factor (so `C/B` and `EA a^2/B` stay the
@@ -48,11 +60,17 @@ pub mod refine;
 pub mod sweep;
 
 pub use boundaries::{boundaries, fit_boundaries, Boundary};
-pub use cell::{simulate, Cell};
-pub use csv::{comparable_row, read_phase_csv, read_rows, PhaseCsv, Rows, HEADER};
-pub use file::{cell_problem, load, prepare_accuracy, Phase};
+pub use cell::{cell_seed, simulate, simulate_verified, Cell, Verification};
+pub use csv::{
+    comparable_row, header, read_phase_csv, read_rows, verify_header, PhaseCsv, Rows, HEADER,
+    VERIFY_COLUMNS,
+};
+pub use file::{
+    cell_problem, cell_problem_with, finer_problem, load, prepare_accuracy, Phase, Protocol,
+    Verify, WeightVia,
+};
 pub use merge::{merge, Merged};
-pub use sweep::{sweep, sweep_shard, RunInfo, Shard, Sweep};
+pub use sweep::{confident_labels, sweep, sweep_shard, Exclusions, RunInfo, Shard, Sweep};
 
 use crate::plot;
 use std::path::PathBuf;
@@ -91,6 +109,14 @@ pub enum PhaseError {
         count: usize,
         /// The first ten.
         cells: String,
+    },
+    /// A study CSV written with the other kind of rows (with or without verification).
+    #[error("{file}: cannot append to it: {why}; move the file away or choose another --out")]
+    Verify {
+        /// The file.
+        file: PathBuf,
+        /// Why.
+        why: String,
     },
     /// A figure could not be drawn.
     #[error("{file}: {source}")]

@@ -29,8 +29,9 @@
 //! first. Pairs are bisected in parallel (rayon, one pair per core; the steps of one pair run one
 //! after another, as each depends on the last).
 
-use super::cell::{simulate, Cell};
-use super::csv::{append_rows, read_rows, HEADER};
+use super::cell::{simulate_verified, Cell};
+use super::csv::{append_rows, header, read_rows};
+use super::file::{Protocol, Verify};
 use super::PhaseError;
 use crate::observe::Regime;
 use crate::problem::Problem;
@@ -254,19 +255,25 @@ pub struct Refinement {
     pub dropped_partial_row: bool,
 }
 
-/// Refine the boundaries of a complete grid (`cells` weight-major over `weight` x `torque`)
+/// Refine the boundaries of a complete grid (`labels` weight-major over `weight` x `torque`,
+/// `None` for a cell that takes no part: failed, or not unanimous in a verified study)
 /// by bisection of every neighbour pair of different regimes, `steps` times, simulating
-/// `base` (hash `base_hash`) at the midpoints and keeping the simulations in `out/refine.csv`
-/// (see the module doc). `report(done, cell)` is called after each new simulation.
+/// `base` at the midpoints and keeping the simulations in `out/refine.csv` under the rows'
+/// hash `base_hash` (see the module doc). With `verify` every midpoint is verified like a grid
+/// cell ([`simulate_verified`]): the bisection follows its reported (finest) label, and its
+/// row in `refine.csv` has the agreement of its runs. `report(done, cell)` is called after
+/// each new simulation. The midpoints are made from `base` by `protocol`, as the grid's cells.
 #[allow(clippy::too_many_arguments)]
 pub fn refine(
     base: &Problem,
     base_hash: u64,
     steps: usize,
+    verify: Option<&Verify>,
+    protocol: Protocol,
     out: &Path,
     weight: &[f64],
     torque: &[f64],
-    cells: &[Cell],
+    labels: &[Option<Regime>],
     report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Refinement, PhaseError> {
     let csv = out.join("refine.csv");
@@ -285,9 +292,8 @@ pub fn refine(
         .filter(|(_, h)| *h == base_hash)
         .map(|(c, _)| (key(c.weight, c.torque), c.clone()))
         .collect();
-    let file = append_rows(&csv, old.fresh)?;
-    let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
-    let pairs = neighbour_pairs(weight, torque, &labels);
+    let file = append_rows(&csv, old.fresh, old.verified, verify.is_some())?;
+    let pairs = neighbour_pairs(weight, torque, labels);
     let (reused, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
     // The file, the new rows and the first write error.
     let sink = Mutex::new((file, Vec::<Cell>::new(), None::<std::io::Error>));
@@ -298,7 +304,7 @@ pub fn refine(
                 c.clone()
             }
             None => {
-                let c = simulate(base, w, g);
+                let c = simulate_verified(base, w, g, verify, protocol);
                 let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
                 let line = c.row(base_hash) + "\n";
                 let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
@@ -332,7 +338,7 @@ pub fn refine(
             .then(a.weight.total_cmp(&b.weight))
             .then(ha.cmp(hb))
     });
-    let mut text = format!("{HEADER}\n");
+    let mut text = format!("{}\n", header(verify.is_some()));
     for (c, h) in &rows {
         text += &(c.row(*h) + "\n");
     }

@@ -1,9 +1,9 @@
 //! The sweep over the grid (whole or one shard): cells in parallel, each appended to
 //! `phase.csv` when done, then the boundaries and the figures.
 use super::boundaries::{boundaries, fit_boundaries, Boundary};
-use super::cell::{simulate, Cell};
+use super::cell::{simulate_verified, Cell};
 use super::csv::{append_rows, read_phase_csv};
-use super::file::Phase;
+use super::file::{Phase, Protocol, Verify};
 use super::refine::{self, Refinement};
 use super::PhaseError;
 use crate::design::accuracy::StudyAccuracy;
@@ -87,6 +87,12 @@ pub struct RunInfo {
     /// The model chosen for the phase file's `[accuracy]` (absent without one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub accuracy: Option<StudyAccuracy>,
+    /// The cells' verification (`verify = { ... }`; absent without one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verify: Option<Verify>,
+    /// How the cells are made (`weight_via`, `similar`; absent: the default).
+    #[serde(default, skip_serializing_if = "Protocol::is_default")]
+    pub protocol: Protocol,
 }
 
 pub(super) fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
@@ -128,9 +134,10 @@ pub fn sweep_shard(
     std::fs::create_dir_all(out).map_err(io(out))?;
     let csv = out.join("phase.csv");
     let key = |w: f64, g: f64| (w.to_bits(), g.to_bits());
-    let old = read_phase_csv(&csv, ph.base_hash)?;
+    let hash = ph.row_hash();
+    let old = read_phase_csv(&csv, hash)?;
     let mut done = old.cells;
-    let file = append_rows(&csv, old.fresh)?;
+    let file = append_rows(&csv, old.fresh, old.verified, ph.verify.is_some())?;
     write_info(
         out,
         &RunInfo {
@@ -142,6 +149,8 @@ pub fn sweep_shard(
             shard,
             refine_steps: ph.refine,
             accuracy: ph.chosen.clone(),
+            verify: ph.verify,
+            protocol: ph.protocol,
         },
     )?;
     let grid: Vec<(f64, f64)> = ph
@@ -162,9 +171,9 @@ pub fn sweep_shard(
     let new: Vec<Cell> = todo
         .par_iter()
         .map(|&(w, g)| {
-            let c = simulate(&ph.base, w, g);
+            let c = simulate_verified(&ph.base, w, g, ph.verify.as_ref(), ph.protocol);
             let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
-            let line = c.row(ph.base_hash) + "\n";
+            let line = c.row(hash) + "\n";
             let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
             if let Err(e) = r {
                 s.2.get_or_insert(e);
@@ -186,7 +195,9 @@ pub fn sweep_shard(
         .map(|&(w, g)| done[&key(w, g)].clone())
         .collect();
     let refinement = if shard.is_none_or(|s| s.count == 1) {
-        let refine = ph.refine.map(|k| (&ph.base, ph.base_hash, k));
+        let refine = ph
+            .refine
+            .map(|k| (&ph.base, hash, k, ph.verify, ph.protocol));
         finish(out, &ph.weight, &ph.torque, &cells, refine, refine_report)?
     } else {
         None
@@ -201,14 +212,16 @@ pub fn sweep_shard(
 }
 
 /// The end of a run that holds the whole grid: the boundary points (bisected when `refine`
-/// gives the base problem, its hash and the steps; else the cell midpoints), `boundaries.json`
-/// and the figures.
+/// gives the base problem, the rows' hash, the steps and the verification; else the cell
+/// midpoints), `boundaries.json` and the figures. With verified cells only the unanimous ones
+/// ([`Cell::unanimous`]) take part in the boundaries (as if failed), and `boundaries.json`
+/// says how many cells and neighbour pairs were left out ([`Exclusions`]).
 pub(super) fn finish(
     out: &Path,
     weight: &[f64],
     torque: &[f64],
     cells: &[Cell],
-    refine: Option<(&Problem, u64, usize)>,
+    refine: Option<(&Problem, u64, usize, Option<Verify>, Protocol)>,
     refine_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Option<Refinement>, PhaseError> {
     // A grid in which every cell failed has nothing to fit or draw: the command line reports
@@ -216,28 +229,84 @@ pub(super) fn finish(
     if cells.iter().all(|c| c.status != crate::design::Status::Ok) {
         return Ok(None);
     }
+    let verified = cells.iter().any(|c| c.verify.is_some());
+    let labels = confident_labels(cells);
     let refinement = match refine {
-        Some((base, hash, steps)) => Some(refine::refine(
+        Some((base, hash, steps, verify, protocol)) => Some(refine::refine(
             base,
             hash,
             steps,
+            verify.as_ref(),
+            protocol,
             out,
             weight,
             torque,
-            cells,
+            &labels,
             refine_report,
         )?),
         None => None,
     };
     let bounds = match &refinement {
         Some(r) => fit_boundaries(&r.points),
-        None => {
-            let labels: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
-            boundaries(weight, torque, &labels)
-        }
+        None => boundaries(weight, torque, &labels),
     };
-    figures(out, weight, torque, cells, &bounds)?;
+    let exclusions = verified.then(|| Exclusions::of(weight, torque, cells));
+    figures(out, weight, torque, cells, &bounds, exclusions.as_ref())?;
     Ok(refinement)
+}
+
+/// The labels the boundaries are fitted through: each cell's, `None` for a failed cell and for
+/// a verified cell whose runs disagree ([`Cell::unanimous`]).
+pub fn confident_labels(cells: &[Cell]) -> Vec<Option<Regime>> {
+    cells
+        .iter()
+        .map(|c| c.regime.filter(|_| c.unanimous()))
+        .collect()
+}
+
+/// What the boundary fits of a verified study left out (`boundaries.json`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Exclusions {
+    /// Cells that finished but whose runs disagree on the label (agreement below 1).
+    pub excluded_cells: usize,
+    /// Neighbour pairs of different labels (the pairs a boundary is fitted through) that were
+    /// left out because a cell of the pair is not unanimous.
+    pub excluded_pairs: usize,
+    /// The left-out cells, `[W, G, label_agreement]`.
+    pub uncertain: Vec<[f64; 3]>,
+}
+
+impl Exclusions {
+    /// The exclusions of a weight-major grid of cells.
+    pub fn of(weight: &[f64], torque: &[f64], cells: &[Cell]) -> Self {
+        let all: Vec<Option<Regime>> = cells.iter().map(|c| c.regime).collect();
+        let kept = confident_labels(cells);
+        let (a, b) = (
+            refine::neighbour_pairs(weight, torque, &all).len(),
+            refine::neighbour_pairs(weight, torque, &kept).len(),
+        );
+        let uncertain: Vec<[f64; 3]> = cells
+            .iter()
+            .filter(|c| c.regime.is_some() && !c.unanimous())
+            .map(|c| {
+                let agreement = c.verify.as_ref().map_or(1.0, |v| v.label_agreement);
+                [c.weight, c.torque, agreement]
+            })
+            .collect();
+        Exclusions {
+            excluded_cells: uncertain.len(),
+            excluded_pairs: a - b,
+            uncertain,
+        }
+    }
+}
+
+/// `boundaries.json` of a verified study: the lines and what their fits left out.
+#[derive(serde::Serialize)]
+struct VerifiedBoundaries<'a> {
+    boundaries: &'a [Boundary],
+    #[serde(flatten)]
+    exclusions: &'a Exclusions,
 }
 
 /// The figures of a complete grid, each as PNG and SVG (`phase`, `speed`, Fig. 3a-c, drawn
@@ -249,9 +318,18 @@ fn figures(
     torque: &[f64],
     cells: &[Cell],
     bounds: &[Boundary],
+    exclusions: Option<&Exclusions>,
 ) -> Result<(), PhaseError> {
     let file = out.join("boundaries.json");
-    let text = serde_json::to_string_pretty(bounds).expect("serialisable");
+    // Without verification the file is the array of lines, as it always was.
+    let text = match exclusions {
+        Some(exclusions) => serde_json::to_string_pretty(&VerifiedBoundaries {
+            boundaries: bounds,
+            exclusions,
+        }),
+        None => serde_json::to_string_pretty(bounds),
+    }
+    .expect("serialisable");
     std::fs::write(&file, text + "\n").map_err(|source| PhaseError::Io { file, source })?;
     let cells: Vec<figs::MapCell> = cells
         .iter()
@@ -264,6 +342,7 @@ fn figures(
             v_s_over_v_m: c.v_s_over_v_m,
             writhe_max: c.writhe_max,
             writhe_snapshot: c.writhe_snapshot,
+            uncertain: c.regime.is_some() && !c.unanimous(),
         })
         .collect();
     let lines: Vec<figs::MapLine> = bounds
