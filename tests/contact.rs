@@ -323,13 +323,13 @@ fn s_start_residuals(coupling: bool) -> Vec<Vec<f64>> {
     out
 }
 
-/// Every step's residual sequence of one run (see `Stats::residuals`).
-type Residuals = Vec<Vec<f64>>;
+/// Residual sequences per step: with coupled and with lagged normal forces.
+type ResidualRuns = (Vec<Vec<f64>>, Vec<Vec<f64>>);
 
 /// The S-start's residual sequences with coupled and with lagged normal forces, computed
 /// once for the convergence test and its pin.
-fn residual_runs() -> &'static (Residuals, Residuals) {
-    static RUNS: std::sync::OnceLock<(Residuals, Residuals)> = std::sync::OnceLock::new();
+fn residual_runs() -> &'static ResidualRuns {
+    static RUNS: std::sync::OnceLock<ResidualRuns> = std::sync::OnceLock::new();
     RUNS.get_or_init(|| (s_start_residuals(true), s_start_residuals(false)))
 }
 

@@ -12,6 +12,8 @@ use crate::newton::{Failure, Newton, Path};
 pub(super) struct Saved {
     q: Vec<f64>,
     dq: Vec<f64>,
+    /// The symmetric direction (normal forces lagged), for a coupled step that fails.
+    pub(super) dq_symmetric: Vec<f64>,
 }
 
 impl Saved {
@@ -36,13 +38,22 @@ impl Saved {
         iteration: usize,
         merit: &dyn Fn(&[f64]) -> f64,
     ) -> Result<(), ContactFailure> {
-        nw.dq.copy_from_slice(&self.dq);
-        let alpha = nw.backtrack(m, &self.q, d.f0, d.slope, false, merit);
+        let slope = match d.symmetric_slope {
+            Some(slope) => {
+                nw.dq.copy_from_slice(&self.dq_symmetric);
+                slope
+            }
+            None => {
+                nw.dq.copy_from_slice(&self.dq);
+                d.slope
+            }
+        };
+        let alpha = nw.backtrack(m, &self.q, d.f0, slope, false, merit);
         let Some(alpha) = alpha else {
             return Err(Failure::LineSearch {
                 path: Path::ActiveSet,
                 iteration,
-                slope: d.slope,
+                slope,
             }
             .into());
         };
@@ -65,4 +76,7 @@ pub(super) struct Deferred {
     pub(super) f0: f64,
     /// Directional derivative of the merit along the saved direction.
     pub(super) slope: f64,
+    /// For a coupled direction: the merit's slope along the symmetric one
+    /// ([`Saved::dq_symmetric`]), which a failed test backtracks along instead.
+    pub(super) symmetric_slope: Option<f64>,
 }
