@@ -12,6 +12,7 @@
 //! the previous results. [`schema`] lists every key of `summary.json` and every column of the
 //! studies' CSV files with its unit and meaning.
 
+pub mod ensemble;
 pub mod lock;
 pub mod movie;
 pub mod schema;
@@ -87,9 +88,9 @@ pub struct Summary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub accuracy: Option<AccuracyReport>,
     /// `slither run --ensemble K`: the perturbed runs and the spread of every scalar
-    /// observable over them (`crate::design::ensemble`); absent otherwise.
+    /// observable over them ([`ensemble`], run by `crate::design::ensemble`); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub ensemble: Option<crate::design::ensemble::Ensemble>,
+    pub ensemble: Option<ensemble::Ensemble>,
 }
 
 /// How `slither run --accuracy` chose its model (see `crate::design::selection`).
