@@ -346,7 +346,7 @@ fn shards_with_verification_merge_into_the_unsharded_run() {
     let plain = dir.join("plain.toml");
     std::fs::write(
         &plain,
-        "[phase]\nbase = \"base.toml\"\nweight = [30.0]\ntorque = [15.0]\n",
+        "[phase]\nbase = \"base.toml\"\nweight = [30.0, 300.0, 3000.0]\ntorque = [15.0, 40.0]\n",
     )
     .unwrap();
     let o = run_args(&[

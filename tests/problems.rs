@@ -121,8 +121,14 @@ fn s_start_fallbacks_start_the_conic_path_near_the_solution() {
         "{fb} fallbacks, {conic} conic solves, {} halvings",
         o.stats.step_halvings
     );
-    assert!(fb >= 5, "the scene must exercise the fallback: {fb}");
-    assert!(conic <= 5 * fb, "{conic} conic solves for {fb} fallbacks");
+    // Re-pinned after the contact rewrite (reversals and landings taken in the step, early
+    // status changes, one front round): 4 fallbacks and 29 conic solves, where there were 6
+    // and 28. The easy fallbacks are gone; the ones left are the hard steps (one of them
+    // alone needed 18 solves before), so the pin bounds the total cost of the fallback path
+    // (28 before, 29 now; 32 leaves room for another machine's round-off) and still asks the
+    // scene to exercise it.
+    assert!(fb >= 1, "the scene must exercise the fallback: {fb}");
+    assert!(conic <= 32, "{conic} conic solves for {fb} fallbacks");
     assert_eq!(o.stats.contact.warm_conic_restarts, 0);
     assert_eq!(o.stats.step_halvings, 0);
 }
@@ -232,11 +238,11 @@ fn pin_s_start_at_100_elements_has_no_fallback_storm() {
     let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
     assert!(per_step <= 3.88, "{per_step} Newton iterations per step");
-    // Most of its fallbacks are stick-slide cycles caught by the exact-repeat test (5 of 6),
-    // not 40-iteration failures.
+    // Its fallbacks were mostly stick-slide cycles caught by the exact-repeat test (5 of 6)
+    // before the contact rewrite; after it, 0 cycles of 5 fallbacks (re-pinned: a cycle is
+    // still counted as a fallback, never beside one).
     assert!(
-        st.contact.contact_cycles >= 1
-            && st.contact.contact_cycles <= st.contact.active_set_fallbacks,
+        st.contact.contact_cycles <= st.contact.active_set_fallbacks,
         "{} cycles of {} fallbacks",
         st.contact.contact_cycles,
         st.contact.active_set_fallbacks
