@@ -224,6 +224,11 @@ pub(super) fn finish(
     refine: Option<(&Problem, u64, usize, Option<Verify>, Protocol)>,
     refine_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Option<Refinement>, PhaseError> {
+    // A grid in which every cell failed has nothing to fit or draw: the command line reports
+    // it (exit 3, "every cell failed") instead of a plot error.
+    if cells.iter().all(|c| c.status != Status::Ok) {
+        return Ok(None);
+    }
     let verified = cells.iter().any(|c| c.verify.is_some());
     let labels = confident_labels(cells);
     let refinement = match refine {
