@@ -226,7 +226,7 @@ pub(super) fn finish(
 ) -> Result<Option<Refinement>, PhaseError> {
     // A grid in which every cell failed has nothing to fit or draw: the command line reports
     // it (exit 3, "every cell failed") instead of a plot error.
-    if cells.iter().all(|c| c.status != crate::design::Status::Ok) {
+    if cells.iter().all(|c| c.status != Status::Ok) {
         return Ok(None);
     }
     let verified = cells.iter().any(|c| c.verify.is_some());
