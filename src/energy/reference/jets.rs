@@ -6,11 +6,7 @@
 //! ([`super::closed`]) and the fused stencil of real runs ([`crate::energy::node`]) are
 //! tested against these.
 
-#[cfg(doc)]
-use super::autodiff;
 use crate::energy::jet::{cross, dot, embed, lift, scale, to_na, transport, Jet, JV};
-#[cfg(doc)]
-use crate::energy::stencil::StencilEnergy;
 use crate::energy::stencil::{BendStencil, TwistStencil};
 use crate::rod::frames::StencilFrame;
 use nalgebra::{SMatrix, SVector};
@@ -55,7 +51,8 @@ impl BendStencil<'_> {
     /// edge's frame over its own 3 coordinates, the four projections of the curvature
     /// binormal on the reference frames over the 6 positional coordinates, and
     /// `kappa = 1/2 sum_j (cos theta^j (kb.a1^j) + sin theta^j (kb.a2^j), ...)` over all 8.
-    /// Equal to [`autodiff::derivatives`] of [`StencilEnergy::eval`] up to round-off.
+    /// Equal to [`super::autodiff::derivatives`] of
+    /// [`crate::energy::stencil::StencilEnergy::eval`] up to round-off.
     pub fn derivatives(&self, y: [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
         let [e0, e1] = EdgeJets::of_stencil(self.frame, &y);
         self.derivatives_with([&e0, &e1], &y)
@@ -96,7 +93,8 @@ impl TwistStencil<'_> {
     /// Value, gradient and Hessian in the 8 intrinsic coordinates, by staged jets: each
     /// edge's frame over its own 3 coordinates, the reference twist over the 6 positional
     /// coordinates, and `m = theta^1 - theta^0 + r` over all 8. Equal to
-    /// [`autodiff::derivatives`] of [`StencilEnergy::eval`] up to round-off.
+    /// [`super::autodiff::derivatives`] of
+    /// [`crate::energy::stencil::StencilEnergy::eval`] up to round-off.
     pub fn derivatives(&self, y: [f64; 8]) -> (f64, SVector<f64, 8>, SMatrix<f64, 8, 8>) {
         let [e0, e1] = EdgeJets::of_stencil(self.frame, &y);
         self.derivatives_with([&e0, &e1], &y)
