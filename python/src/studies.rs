@@ -191,7 +191,9 @@ pub fn phase(
             }
         };
         design::phase::sweep_shard(&ph, &out, shard, &report, &refine_report).map_err(|e| match e {
-            PhaseError::Csv { .. } => PyValueError::new_err(e.to_string()),
+            PhaseError::Csv { .. } | PhaseError::Verify { .. } => {
+                PyValueError::new_err(e.to_string())
+            }
             _ => PyOSError::new_err(e.to_string()),
         })
     })??;
