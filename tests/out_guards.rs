@@ -75,7 +75,10 @@ fn a_study_refuses_a_directory_of_another_subcommand() {
     let study = dir.join("study.toml");
     let (o, e) = slither(&[p("optimize"), p("--quiet"), &study, p("--out"), &out]);
     assert_eq!(o.status.code(), Some(2), "{e}");
-    assert!(e.contains("slither phase") && e.contains("phase.csv"), "{e}");
+    assert!(
+        e.contains("slither phase") && e.contains("phase.csv"),
+        "{e}"
+    );
     assert!(!out.join("history.csv").exists());
     assert_eq!(std::fs::read(out.join("phase.csv")).unwrap(), before);
     // run into it: refused too.
@@ -85,11 +88,21 @@ fn a_study_refuses_a_directory_of_another_subcommand() {
     assert!(!out.join("summary.json").exists());
     // and a phase study into a run's directory.
     let run_out = dir.join("run");
-    let (o, e) = slither(&[p("run"), p("--quiet"), p("--no-plots"), &base, p("--out"), &run_out]);
+    let (o, e) = slither(&[
+        p("run"),
+        p("--quiet"),
+        p("--no-plots"),
+        &base,
+        p("--out"),
+        &run_out,
+    ]);
     assert!(o.status.success(), "{e}");
     let (o, e) = slither(&[p("phase"), p("--quiet"), &f, p("--out"), &run_out]);
     assert_eq!(o.status.code(), Some(2), "{e}");
-    assert!(e.contains("slither run") && e.contains("summary.json"), "{e}");
+    assert!(
+        e.contains("slither run") && e.contains("summary.json"),
+        "{e}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -120,7 +133,15 @@ fn merge_refuses_its_input_as_output_and_an_edited_regime() {
     let f = phase_file(&dir, "weight = [300.0, 1000.0]\ntorque = [15.0]\n");
     let (a, b) = (dir.join("a"), dir.join("b"));
     for (s, d) in [("1/2", &a), ("2/2", &b)] {
-        let (o, e) = slither(&[p("phase"), p("--quiet"), &f, p("--shard"), p(s), p("--out"), d]);
+        let (o, e) = slither(&[
+            p("phase"),
+            p("--quiet"),
+            &f,
+            p("--shard"),
+            p(s),
+            p("--out"),
+            d,
+        ]);
         assert!(o.status.success(), "{e}");
     }
     // Into one of its inputs: refused, the shard untouched.
@@ -135,7 +156,11 @@ fn merge_refuses_its_input_as_output_and_an_edited_regime() {
     let mut fields: Vec<String> = lines[1].split(',').map(String::from).collect();
     assert_eq!(fields[3], "ok", "{text}");
     let stated = fields[4].clone();
-    fields[4] = if stated == "S" { "U".into() } else { "S".into() };
+    fields[4] = if stated == "S" {
+        "U".into()
+    } else {
+        "S".into()
+    };
     lines[1] = fields.join(",");
     std::fs::write(a.join("phase.csv"), lines.join("\n") + "\n").unwrap();
     let merged = dir.join("merged");
@@ -163,6 +188,9 @@ fn a_huge_phase_grid_needs_force() {
         e.contains("phase.weight") && e.contains("100000000 cells") && e.contains("--force"),
         "{e}"
     );
-    assert!(!out.exists(), "refused before the output directory is created");
+    assert!(
+        !out.exists(),
+        "refused before the output directory is created"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -41,10 +41,12 @@ impl Writer {
 
 /// The subcommand whose results `out` holds, other than `me`, with the file that shows it.
 pub fn other_writer(out: &Path, me: Writer) -> Option<(Writer, &'static str)> {
-    Writer::ALL
-        .into_iter()
-        .filter(|&w| w != me)
-        .find_map(|w| w.marks().iter().find(|f| out.join(f).exists()).map(|f| (w, *f)))
+    Writer::ALL.into_iter().filter(|&w| w != me).find_map(|w| {
+        w.marks()
+            .iter()
+            .find(|f| out.join(f).exists())
+            .map(|f| (w, *f))
+    })
 }
 
 /// Refuse (exit 2) an output directory that holds another subcommand's results.
@@ -117,11 +119,7 @@ pub const MAX_PHASE_STEPS: f64 = 2.0e7;
 
 /// The size of a phase study (cells, steps in all) and, above the limits, the error text
 /// naming the file and the keys to change.
-pub fn phase_size(
-    file: &Path,
-    cells: usize,
-    steps_per_cell: f64,
-) -> (f64, Option<String>) {
+pub fn phase_size(file: &Path, cells: usize, steps_per_cell: f64) -> (f64, Option<String>) {
     let total = cells as f64 * steps_per_cell;
     let why = if cells > MAX_PHASE_CELLS {
         Some(format!(

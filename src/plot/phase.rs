@@ -160,7 +160,12 @@ pub fn supported_box(
         }
     };
     let logs = |f: fn(&(f64, f64)) -> f64| -> Vec<f64> {
-        points.iter().map(f).filter(|x| *x > 0.0).map(f64::log10).collect()
+        points
+            .iter()
+            .map(f)
+            .filter(|x| *x > 0.0)
+            .map(f64::log10)
+            .collect()
     };
     (span(logs(|p| p.0), lw), span(logs(|p| p.1), lg))
 }
@@ -668,11 +673,20 @@ mod tests {
         // Points from W = 100 to 1000 and G = 10 to 30: the box shrinks to them.
         let pts = [(100.0, 10.0), (300.0, 20.0), (1000.0, 30.0)];
         let (w, g) = supported_box(&pts, lw, lg);
-        assert!((w.0 - 2.0).abs() < 1e-12 && (w.1 - 3.0).abs() < 1e-12, "{w:?}");
-        assert!((g.0 - 1.0).abs() < 1e-12 && (g.1 - 30f64.log10()).abs() < 1e-12, "{g:?}");
+        assert!(
+            (w.0 - 2.0).abs() < 1e-12 && (w.1 - 3.0).abs() < 1e-12,
+            "{w:?}"
+        );
+        assert!(
+            (g.0 - 1.0).abs() < 1e-12 && (g.1 - 30f64.log10()).abs() < 1e-12,
+            "{g:?}"
+        );
         // A line through them is cut to W in [100, 1000].
         let seg = boundary_segment(0.5, 0.0, w, g).unwrap();
-        assert!(seg.iter().all(|p| (99.999..=1000.001).contains(&p.0)), "{seg:?}");
+        assert!(
+            seg.iter().all(|p| (99.999..=1000.001).contains(&p.0)),
+            "{seg:?}"
+        );
         // One weight only: that axis keeps the box's range.
         let (w, _) = supported_box(&[(100.0, 10.0), (100.0, 30.0)], lw, lg);
         assert_eq!(w, lw);
