@@ -20,34 +20,16 @@ fn slither(args: &[&Path]) -> (Output, String) {
     (o, e)
 }
 
-/// A tiny S-start base (20 elements, two steps).
-const BASE: &str = "\
-[rod]
-length = 1.0
-diameter = 0.02
-elements = 20
-density = 1000.0
-bending_stiffness = 0.01308
+mod common;
 
-[ground]
-mu_forward = 0.55
-mu_backward = 0.70
-mu_sideways = 1.00
-
-[gait]
-kind = \"s-start\"
-stress = 24525.0
-sigma = 0.0525
-speed = 0.28
-
-[time]
-dt = 1e-2
-duration = 0.02
-";
+/// The phase tests' tiny S-start base (20 elements), cut to two steps.
+fn base() -> String {
+    common::TINY_S_START.replace("duration = 0.1", "duration = 0.02")
+}
 
 /// Write the base and a phase file with the given grid lines into `dir`.
 fn phase_file(dir: &Path, grid: &str) -> PathBuf {
-    std::fs::write(dir.join("base.toml"), BASE).unwrap();
+    std::fs::write(dir.join("base.toml"), base()).unwrap();
     let f = dir.join("phase.toml");
     std::fs::write(&f, format!("[phase]\nbase = \"base.toml\"\n{grid}")).unwrap();
     f

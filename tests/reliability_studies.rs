@@ -14,36 +14,18 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// A tiny S-start base (20 elements, two steps).
-const BASE: &str = "\
-[rod]
-length = 1.0
-diameter = 0.02
-elements = 20
-density = 1000.0
-bending_stiffness = 0.01308
+mod common;
 
-[ground]
-mu_forward = 0.55
-mu_backward = 0.70
-mu_sideways = 1.00
-
-[gait]
-kind = \"s-start\"
-stress = 24525.0
-sigma = 0.0525
-speed = 0.28
-
-[time]
-dt = 1e-2
-duration = 0.02
-";
+/// The phase tests' tiny S-start base (20 elements), cut to two steps.
+fn base() -> String {
+    common::TINY_S_START.replace("duration = 0.1", "duration = 0.02")
+}
 
 #[test]
 fn a_phase_study_in_which_every_cell_fails_exits_3() {
     let dir = scratch("allfail");
     // The issue's repro: a scaled torque whose muscle couple overflows, so every cell fails.
-    std::fs::write(dir.join("base.toml"), BASE).unwrap();
+    std::fs::write(dir.join("base.toml"), base()).unwrap();
     std::fs::write(
         dir.join("phase.toml"),
         "[phase]\nbase = \"base.toml\"\nweight = [300.0, 1000.0]\ntorque = [1e308]\n",
