@@ -18,6 +18,11 @@ pub const ALONG_TANGENT_TOL: f64 = 1e-6;
 /// so twist and writhe would be arbitrary there.
 pub const ANTIPARALLEL_TOL: f64 = 1e-6;
 
+/// [`parse_curve_csv`] rejects a value whose magnitude exceeds this (1e30, in the curve's
+/// length unit; the observable universe is about 1e27 m). Writhe multiplies up to four
+/// coordinates, so a finite but huge value (say 1e85) overflows to infinity or NaN there.
+pub const MAX_ABS: f64 = 1e30;
+
 /// Parse CSV text: a header row, then rows `x,y,z,d1x,d1y,d1z` (row `i`'s
 /// `d1` is the director of the edge starting at node `i`; for an open curve
 /// the last row's `d1` is ignored). Blank lines are skipped; fields may be
@@ -25,7 +30,7 @@ pub const ANTIPARALLEL_TOL: f64 = 1e-6;
 /// `slither run`) marks a leading arc-length column, which is skipped.
 ///
 /// Errors carry the 1-based line number and say what is wrong: wrong field
-/// count, a field that is not a number, a non-finite value, a zero director
+/// count, a field that is not a number, a non-finite value or one beyond [`MAX_ABS`], a zero director
 /// (for rows whose director is used), a first line that looks like data
 /// instead of a header, fewer than 3 data rows, a zero-length edge (a node repeated), a
 /// director along its edge's tangent (see [`ALONG_TANGENT_TOL`]), or a curve that doubles
@@ -85,6 +90,17 @@ pub fn parse_curve_csv(text: &str, closed: bool) -> Result<FramedCurve, CsvError
                 return Err(CsvError {
                     line: line_no,
                     message: format!("field {} ({}) is not finite: {:?}", k + 1, NAMES[k], f),
+                });
+            }
+            if x.abs() > MAX_ABS {
+                return Err(CsvError {
+                    line: line_no,
+                    message: format!(
+                        "field {} ({}) = {:?} is out of range: allowed magnitude at most {MAX_ABS:e}",
+                        k + 1,
+                        NAMES[k],
+                        f
+                    ),
                 });
             }
             v[k] = x;

@@ -94,7 +94,7 @@ mod writhe;
 #[cfg(test)]
 mod tests;
 
-pub use csv::{parse_curve_csv, ALONG_TANGENT_TOL, REPEAT_TOL};
+pub use csv::{parse_curve_csv, ALONG_TANGENT_TOL, MAX_ABS, REPEAT_TOL};
 pub use densities::{densities, densities_shortened};
 pub use twist::twist;
 pub use writhe::{gauss_link, writhe, COPLANAR_TOL};

@@ -455,6 +455,7 @@ fn csv_errors_report_line_numbers() {
         (format!("{h}{ok}{ok}{ok}1,2,abc,0,1,0\n"), 5, "not a number"),
         (format!("{h}{ok}1,2,inf,0,1,0\n{ok}"), 3, "not finite"),
         (format!("{h}{ok}1,2,3,0,NaN,0\n{ok}"), 3, "not finite"),
+        (format!("{h}{ok}1,2,-3e85,0,1,0\n{ok}"), 3, "out of range"),
         (format!("{h}{ok}{ok}"), 3, "fewer than 3"),
         (format!("{ok}{ok}{ok}{ok}"), 1, "header"),
         (String::new(), 1, "empty"),
@@ -471,6 +472,25 @@ fn csv_errors_report_line_numbers() {
     assert!(parse_curve_csv(&text, false).is_ok());
     let e: Box<dyn std::error::Error> = Box::new(parse_curve_csv("", true).unwrap_err());
     assert!(!e.to_string().is_empty());
+}
+
+/// The largest coordinates the reader accepts still give finite topology and densities
+/// (a helix of radius 1e29: writhe multiplies up to four coordinates).
+#[test]
+fn csv_largest_accepted_coordinates_give_finite_topology() {
+    let r = 0.99 * MAX_ABS;
+    let mut text = String::from("x,y,z,d1x,d1y,d1z\n");
+    for i in 0..12 {
+        let t = i as f64 * 0.5;
+        text += &format!("{:e},{:e},{:e},0,0,1\n", r * t.cos(), r * t.sin(), 0.08 * r * t);
+    }
+    for closed in [false, true] {
+        let c = parse_curve_csv(&text, closed).unwrap();
+        let t = topology(&c);
+        assert!(t.tw.is_finite() && t.wr.is_finite(), "{t:?}");
+        let d = densities(&c, r);
+        assert!(!d.lambda.is_empty() && d.lambda.iter().all(|x| x.is_finite()));
+    }
 }
 
 // twist is unchanged by a constant rotation of all directors
