@@ -203,6 +203,22 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
                 )
             })
         };
+        // The gait parameters and the duration are inputs of a re-run: finite and positive.
+        let input = |i: usize| -> Result<f64, DesignError> {
+            let x = num(i)?;
+            if x.is_finite() && x > 0.0 {
+                Ok(x)
+            } else {
+                Err(bad(
+                    line_no,
+                    format!(
+                        "column `{}` = {:?} is out of range: allowed finite and > 0",
+                        HISTORY_HEADER.split(',').nth(i).unwrap_or("?"),
+                        f[i]
+                    ),
+                ))
+            }
+        };
         let eval = f[0].trim().parse::<usize>().map_err(|_| {
             bad(
                 line_no,
@@ -222,11 +238,11 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
         let e = Evaluation {
             eval,
             point: GaitParams {
-                stress: num(1)?,
-                sigma: num(2)?,
-                speed: num(3)?,
+                stress: input(1)?,
+                sigma: input(2)?,
+                speed: input(3)?,
             },
-            duration: num(4)?,
+            duration: input(4)?,
             g: num(5)?,
             w: num(6)?,
             v_s: num(7)?,
