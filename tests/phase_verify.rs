@@ -221,6 +221,7 @@ fn uncertain_cells_of_a_synthetic_study_are_left_out_of_the_fits_and_counted() {
         accuracy: None,
         verify: Some(v),
         protocol: phase::Protocol::default(),
+        growth: None,
     };
     std::fs::write(
         shard.join("phase.json"),

@@ -190,7 +190,17 @@ pub fn phase(
                 ));
             }
         };
-        design::phase::sweep_shard(&ph, &out, shard, &report, &refine_report).map_err(|e| match e {
+        let growth_report = |done: usize, c: &design::phase::Cell| {
+            if progress {
+                say(&format!(
+                    "growth {done}: W = {} G = {}: {}",
+                    c.weight,
+                    c.torque,
+                    c.regime.map_or("-", |r| r.as_str())
+                ));
+            }
+        };
+        design::phase::sweep_shard(&ph, &out, shard, &report, &refine_report, &growth_report).map_err(|e| match e {
             PhaseError::Csv { .. } | PhaseError::Verify { .. } => {
                 PyValueError::new_err(e.to_string())
             }

@@ -1,6 +1,6 @@
 //! `slither merge`: combine the output directories of sharded `slither phase` runs.
 use super::lock_out;
-use super::phase::{refine_line, refine_summary};
+use super::phase::{growth_line, growth_summary, refine_line, refine_summary};
 use slither::design;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -30,7 +30,9 @@ pub fn merge(args: &Args) -> ExitCode {
     }
     let t0 = Instant::now();
     let report = |done: usize, c: &design::phase::Cell| eprintln!("{}", refine_line(done, c));
-    match design::phase::merge(dirs, out, &report) {
+    let growth_report =
+        |done: usize, c: &design::phase::Cell| eprintln!("{}", growth_line(done, c));
+    match design::phase::merge(dirs, out, &report, &growth_report) {
         Ok(m) => {
             eprintln!(
                 "merged {} cells from {} directories ({} found twice with identical results); wrote {}",
@@ -41,6 +43,9 @@ pub fn merge(args: &Args) -> ExitCode {
             );
             if let Some(r) = &m.refinement {
                 eprintln!("{}", refine_summary(r, t0.elapsed().as_secs_f64()));
+            }
+            if let Some((g, simulated)) = &m.growth {
+                eprintln!("{}", growth_summary(g, *simulated));
             }
             ExitCode::SUCCESS
         }

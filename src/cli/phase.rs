@@ -139,8 +139,17 @@ pub fn phase(args: &Args) -> ExitCode {
             None => {}
         }
     };
+    let growth_report = |done: usize, c: &design::phase::Cell| {
+        let line = growth_line(done, c);
+        match &bar {
+            Some(b) => b.println(line),
+            None if !quiet || c.status != design::Status::Ok => eprintln!("{line}"),
+            None => {}
+        }
+    };
     let t0 = Instant::now();
-    let result = design::phase::sweep_shard(&ph, out, shard, &report, &refine_report);
+    let result =
+        design::phase::sweep_shard(&ph, out, shard, &report, &refine_report, &growth_report);
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
@@ -179,6 +188,9 @@ pub fn phase(args: &Args) -> ExitCode {
     if let Some(r) = &sw.refinement {
         eprintln!("{}", refine_summary(r, t0.elapsed().as_secs_f64()));
     }
+    if let Some((g, simulated)) = &sw.growth {
+        eprintln!("{}", growth_summary(g, *simulated));
+    }
     if failed == sw.cells.len() && !sw.cells.is_empty() {
         eprintln!(
             "error: {}: every cell failed; see {}",
@@ -207,6 +219,20 @@ pub fn refine_line(done: usize, c: &design::phase::Cell) -> String {
             c.weight, c.torque, c.reason
         )
     }
+}
+
+/// One simulation of the growth line, for the log.
+pub fn growth_line(done: usize, c: &design::phase::Cell) -> String {
+    refine_line(done, c).replacen("refine", "growth", 1)
+}
+
+/// The growth line's verdict, for the last lines of `phase` and `merge`.
+pub fn growth_summary(g: &design::phase::growth::GrowthLine, simulated: usize) -> String {
+    format!(
+        "growth line ({} sizes, {simulated} simulated now): {}; wrote growth.csv, growth.json, growth.png",
+        g.points.len(),
+        g.verdict
+    )
 }
 
 /// The refinement's counts, for the last lines of `phase` and `merge`.

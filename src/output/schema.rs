@@ -385,7 +385,7 @@ pub fn markdown() -> String {
     table(&mut out, SUMMARY, "key");
     out.push_str(
         "\n## `phase.csv` (`slither phase`, `slither merge`)\n\n\
-         One row per cell, in this column order; `refine.csv` has the same columns.\n\n",
+         One row per cell, in this column order; `refine.csv` and `growth.csv` have the same columns.\n\n",
     );
     table(&mut out, PHASE_CSV, "column");
     out.push_str(

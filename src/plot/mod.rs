@@ -23,6 +23,7 @@
 mod axes;
 mod charts;
 pub mod colormap;
+pub mod growth;
 mod kymograph;
 pub mod movie;
 pub mod phase;

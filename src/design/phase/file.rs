@@ -42,6 +42,8 @@ pub struct Phase {
     pub accuracy: Option<problem::AccuracySpec>,
     /// The model chosen for it (set by [`prepare_accuracy`]).
     pub chosen: Option<StudyAccuracy>,
+    /// `growth = { ... }`: the base snake grown along a line of sizes ([`super::growth`]).
+    pub growth: Option<super::growth::Growth>,
 }
 
 #[derive(Deserialize)]
@@ -64,6 +66,7 @@ struct PhaseTable {
     weight_via: Option<String>,
     #[serde(default)]
     similar: bool,
+    growth: Option<super::growth::GrowthTable>,
 }
 
 /// `[phase] weight_via`: which physical parameter sets a cell's scaled weight
@@ -357,6 +360,13 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         weight_via,
         similar: t.similar,
     };
+    let growth = match &t.growth {
+        None => None,
+        Some(g) => Some(
+            super::growth::parse(g, grid_axis)
+                .map_err(|(value, allowed)| invalid("growth", value, &allowed))?,
+        ),
+    };
     let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
     let base_text = match problem::read(&base_path) {
         Ok(text) => text,
@@ -415,6 +425,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         refine: t.refine.then_some(steps),
         verify,
         protocol,
+        growth,
     })
 }
 

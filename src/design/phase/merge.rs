@@ -18,6 +18,8 @@ pub struct Merged {
     pub duplicates: usize,
     /// The bisection of the boundaries, when the shards' phase file asked for it.
     pub refinement: Option<Refinement>,
+    /// The growth line and how many of its sizes were simulated now (`growth = { ... }`).
+    pub growth: Option<(super::growth::GrowthLine, usize)>,
 }
 
 /// Combine the `phase.csv` of shard directories (of one phase file and base problem, checked
@@ -32,6 +34,7 @@ pub fn merge(
     dirs: &[PathBuf],
     out: &Path,
     refine_report: &(dyn Fn(usize, &Cell) + Sync),
+    growth_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Merged, PhaseError> {
     let mismatch = |dir: &Path, why: String| PhaseError::Merge {
         dir: dir.to_path_buf(),
@@ -173,14 +176,17 @@ pub fn merge(
     let base_hash = u64::from_str_radix(&info.base_hash, 16).expect("checked above");
     let hash = info.protocol.row_hash(base_hash);
     let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
-    // The base problem, for the refinement's simulations: the file the shards ran, unchanged.
-    let base = match info.refine_steps {
-        None => None,
-        Some(_) => {
+    // The base problem, for the refinement's and the growth line's simulations: the file the
+    // shards ran, unchanged.
+    let base = match (info.refine_steps, &info.growth) {
+        (None, None) => None,
+        _ => {
             let path = PathBuf::from(&info.base_file);
             let refuse = |why: String| PhaseError::Merge {
                 dir: path.clone(),
-                why: format!("cannot refine the boundaries (refine = true): {why}"),
+                why: format!(
+                    "cannot refine the boundaries (refine = true) or run the growth line: {why}"
+                ),
             };
             let text = std::fs::read_to_string(&path).map_err(|e| {
                 refuse(format!(
@@ -243,9 +249,22 @@ pub fn merge(
         refine,
         refine_report,
     )?;
+    let growth = match (&base, &info.growth) {
+        (Some(b), Some(g)) => Some(super::sweep::grow(
+            out,
+            b,
+            base_hash,
+            g,
+            info.verify.as_ref(),
+            &cells,
+            growth_report,
+        )?),
+        _ => None,
+    };
     Ok(Merged {
         cells,
         duplicates,
         refinement,
+        growth,
     })
 }

@@ -4,6 +4,7 @@ use super::boundaries::{boundaries, fit_boundaries, Boundary};
 use super::cell::{simulate_verified, Cell};
 use super::csv::{append_rows, read_phase_csv};
 use super::file::{Phase, Protocol, Verify};
+use super::growth::{self, Growth, GrowthLine};
 use super::refine::{self, Refinement};
 use super::PhaseError;
 use crate::design::accuracy::StudyAccuracy;
@@ -30,6 +31,9 @@ pub struct Sweep {
     /// The bisection of the boundaries, when the phase file asked for it and the run holds the
     /// whole grid.
     pub refinement: Option<Refinement>,
+    /// The growth line (`growth = { ... }`) and how many of its sizes were simulated now,
+    /// when the run holds the whole grid.
+    pub growth: Option<(GrowthLine, usize)>,
 }
 
 /// One share of a sweep's cells: `index` of `count` (1-based), for spreading a study over a
@@ -93,6 +97,9 @@ pub struct RunInfo {
     /// How the cells are made (`weight_via`, `similar`; absent: the default).
     #[serde(default, skip_serializing_if = "Protocol::is_default")]
     pub protocol: Protocol,
+    /// The growth line (`growth = { ... }`; absent without one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub growth: Option<Growth>,
 }
 
 pub(super) fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
@@ -104,14 +111,16 @@ pub(super) fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
 /// Run the diagram into `out` (`phase.csv`, `phase.json`, `boundaries.json` and the figures,
 /// each as PNG and SVG, and with `refine = true` `refine.csv`), reusing finished rows.
 /// `report(done, total, cell)` is called after each newly simulated cell of the grid,
-/// `refine_report(done, cell)` after each new refinement simulation.
+/// `refine_report(done, cell)` after each new refinement simulation, `growth_report(done,
+/// cell)` after each new simulation of the growth line.
 pub fn sweep(
     ph: &Phase,
     out: &Path,
     report: &(dyn Fn(usize, usize, &Cell) + Sync),
     refine_report: &(dyn Fn(usize, &Cell) + Sync),
+    growth_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Sweep, PhaseError> {
-    sweep_shard(ph, out, None, report, refine_report)
+    sweep_shard(ph, out, None, report, refine_report, growth_report)
 }
 
 /// [`sweep`] of one shard's cells only (all with `None`). A shard's directory gets
@@ -123,6 +132,7 @@ pub fn sweep_shard(
     shard: Option<Shard>,
     report: &(dyn Fn(usize, usize, &Cell) + Sync),
     refine_report: &(dyn Fn(usize, &Cell) + Sync),
+    growth_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Sweep, PhaseError> {
     let io = |file: &Path| {
         let file = file.to_path_buf();
@@ -151,6 +161,7 @@ pub fn sweep_shard(
             accuracy: ph.chosen.clone(),
             verify: ph.verify,
             protocol: ph.protocol,
+            growth: ph.growth.clone(),
         },
     )?;
     let grid: Vec<(f64, f64)> = ph
@@ -194,7 +205,8 @@ pub fn sweep_shard(
         .iter()
         .map(|&(w, g)| done[&key(w, g)].clone())
         .collect();
-    let refinement = if shard.is_none_or(|s| s.count == 1) {
+    let whole = shard.is_none_or(|s| s.count == 1);
+    let refinement = if whole {
         let refine = ph
             .refine
             .map(|k| (&ph.base, hash, k, ph.verify, ph.protocol));
@@ -202,12 +214,25 @@ pub fn sweep_shard(
     } else {
         None
     };
+    let growth = match (&ph.growth, whole) {
+        (Some(g), true) => Some(grow(
+            out,
+            &ph.base,
+            ph.base_hash,
+            g,
+            ph.verify.as_ref(),
+            &cells,
+            growth_report,
+        )?),
+        _ => None,
+    };
     Ok(Sweep {
         cells,
         simulated,
         reused,
         dropped_partial_row: old.dropped_partial_row,
         refinement,
+        growth,
     })
 }
 
@@ -253,6 +278,51 @@ pub(super) fn finish(
     let exclusions = verified.then(|| Exclusions::of(weight, torque, cells));
     figures(out, weight, torque, cells, &bounds, exclusions.as_ref())?;
     Ok(refinement)
+}
+
+/// The growth line of a whole grid: its simulations ([`growth::run`]) and its figure,
+/// `growth.png` / `growth.svg`, over the grid's cells.
+pub(super) fn grow(
+    out: &Path,
+    base: &Problem,
+    base_hash: u64,
+    g: &Growth,
+    verify: Option<&Verify>,
+    grid: &[Cell],
+    report: &(dyn Fn(usize, &Cell) + Sync),
+) -> Result<(GrowthLine, usize), PhaseError> {
+    let (line, simulated) = growth::run(base, base_hash, g, verify, out, report)?;
+    let mark = |c: &Cell| plot::growth::Mark {
+        weight: c.weight,
+        torque: c.torque,
+        regime: c.regime,
+        v_s_over_v_m: c.v_s_over_v_m,
+        uncertain: c.regime.is_some() && !c.unanimous(),
+        diameter: None,
+    };
+    let background: Vec<plot::growth::Mark> = grid.iter().map(mark).collect();
+    let sizes: Vec<plot::growth::Mark> = line
+        .points
+        .iter()
+        .map(|r| plot::growth::Mark {
+            weight: r.point.weight,
+            torque: r.point.torque,
+            regime: r.regime.parse().ok(),
+            v_s_over_v_m: r.v_s_over_v_m,
+            uncertain: !r.confident,
+            diameter: Some(r.point.diameter),
+        })
+        .collect();
+    for ext in ["png", "svg"] {
+        let f = out.join(format!("growth.{ext}"));
+        plot::growth::growth_chart(&f, &background, &sizes, &line.verdict).map_err(|source| {
+            PhaseError::Plot {
+                file: f.clone(),
+                source,
+            }
+        })?;
+    }
+    Ok((line, simulated))
 }
 
 /// The labels the boundaries are fitted through: each cell's, `None` for a failed cell and for

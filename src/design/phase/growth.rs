@@ -1,0 +1,424 @@
+//! The growth line of a phase study (`[phase] growth = { ... }`): the base snake grown
+//! geometrically similar, from one diameter to another, at fixed Young's modulus, density,
+//! aspect ratio `L/a`, friction and pulse speed `v_m`, with the muscle stress of an allometric
+//! law (by default Moon 2007 for snakes, `Gamma = 7.72 kPa (a / 1 cm)^1.39`).
+//!
+//! Growing the snake by `s = a / a0` keeps `L/a`; `B` grows like `s^4`, so
+//! `W = rho g a^2 L^3 / B` grows like `s` and `G = Gamma a^3 L / B` like `Gamma(a) / Gamma0`.
+//! The ratio of the pulse time `L / v_m` to the elastic time `L^2 sqrt(rho A / B)` is
+//! `v_m (L/a) 4 sqrt(rho / E)`: unchanged, since `v_m` and `E` are. So the snake of diameter
+//! `a` is, in every dimensionless group, the base's cell `(W(a), G(a))` under the protocol
+//! `similar = true` with `W` set through `B` ([`PROTOCOL`]), and that is how it is simulated:
+//! on the same mesh and at the same step per pulse as the grid's cells. [`grown_problem`] is
+//! the snake itself in SI units; a test runs both and compares.
+//!
+//! The line's simulations are kept in `growth.csv` (rows as `phase.csv`'s, resumable), its
+//! values and the size at which the S-start stops in `growth.json`, and its figure in
+//! `growth.png` / `growth.svg` ([`crate::plot::growth`]).
+use super::cell::{simulate_verified, Cell};
+use super::csv::{append_rows, read_phase_csv};
+use super::file::{Protocol, Verify, WeightVia};
+use super::PhaseError;
+use crate::design::Status;
+use crate::observe::Regime;
+use crate::problem::Problem;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::Path;
+use std::sync::Mutex;
+
+/// Moon (2007): a snake's muscle stress at [`MOON_REFERENCE`], in Pa (7.72 kPa).
+pub const MOON_STRESS: f64 = 7720.0;
+/// The diameter (m) at which [`MOON_STRESS`] holds: 1 cm.
+pub const MOON_REFERENCE: f64 = 0.01;
+/// Moon (2007): the exponent of the muscle stress in the diameter.
+pub const MOON_EXPONENT: f64 = 1.39;
+/// Most sizes on a growth line.
+pub const MAX_SIZES: usize = 200;
+
+/// How the growth line's snakes are made from the base: `W` through `B`, dynamically similar.
+pub const PROTOCOL: Protocol = Protocol {
+    weight_via: WeightVia::Stiffness,
+    similar: true,
+};
+
+/// `[phase] growth = { diameters, stress, reference_diameter, exponent }`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Growth {
+    /// The diameters `a` (m), increasing.
+    pub diameters: Vec<f64>,
+    /// Muscle stress (Pa) at `reference_diameter`.
+    pub stress: f64,
+    /// The diameter (m) at which `stress` holds.
+    pub reference_diameter: f64,
+    /// `Gamma(a) = stress (a / reference_diameter)^exponent`.
+    pub exponent: f64,
+}
+
+/// The table as written (checked by [`parse`]).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct GrowthTable {
+    diameters: toml::Value,
+    stress: Option<f64>,
+    reference_diameter: Option<f64>,
+    exponent: Option<f64>,
+}
+
+/// Validate a `growth` table: `Err((value, allowed))` for the message of `phase.growth`.
+pub(super) fn parse(
+    t: &GrowthTable,
+    axis: impl Fn(&toml::Value) -> Result<Vec<f64>, String>,
+) -> Result<Growth, (String, String)> {
+    let diameters = axis(&t.diameters).map_err(|why| {
+        (
+            format!("{{ diameters = {} }}", t.diameters),
+            format!("diameters (m) a list or {{ from, to, count, spacing }}: {why}"),
+        )
+    })?;
+    let ok = !diameters.is_empty()
+        && diameters.len() <= MAX_SIZES
+        && diameters.iter().all(|&a| a.is_finite() && a > 0.0)
+        && diameters.windows(2).all(|w| w[1] > w[0]);
+    if !ok {
+        return Err((
+            format!("{{ diameters = {diameters:?} }}"),
+            format!("diameters (m): 1 to {MAX_SIZES} values > 0, strictly increasing"),
+        ));
+    }
+    let g = Growth {
+        diameters,
+        stress: t.stress.unwrap_or(MOON_STRESS),
+        reference_diameter: t.reference_diameter.unwrap_or(MOON_REFERENCE),
+        exponent: t.exponent.unwrap_or(MOON_EXPONENT),
+    };
+    let checks = [
+        (
+            "stress",
+            g.stress,
+            g.stress > 0.0,
+            "stress (Pa) finite and > 0",
+        ),
+        (
+            "reference_diameter",
+            g.reference_diameter,
+            g.reference_diameter > 0.0,
+            "reference_diameter (m) finite and > 0",
+        ),
+        (
+            "exponent",
+            g.exponent,
+            g.exponent.abs() <= 10.0,
+            "exponent in [-10, 10]",
+        ),
+    ];
+    for (key, v, fine, allowed) in checks {
+        if !(v.is_finite() && fine) {
+            return Err((format!("{{ {key} = {v} }}"), allowed.to_string()));
+        }
+    }
+    Ok(g)
+}
+
+/// One size on the line.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct GrowthPoint {
+    /// Diameter `a` (m).
+    pub diameter: f64,
+    /// Length `L` (m): the base's `L/a` times `a`.
+    pub length: f64,
+    /// Muscle stress `Gamma(a)` (Pa).
+    pub stress: f64,
+    /// Scaled weight `W`.
+    pub weight: f64,
+    /// Scaled torque `G`.
+    pub torque: f64,
+}
+
+impl Growth {
+    /// The muscle stress `Gamma(a)` (Pa) of diameter `a` (m).
+    pub fn muscle_stress(&self, a: f64) -> f64 {
+        self.stress * (a / self.reference_diameter).powf(self.exponent)
+    }
+
+    /// Young's modulus (Pa) of the base: `E = 64 B / (pi a^4)` (a solid circular section).
+    pub fn young_modulus(base: &Problem) -> f64 {
+        64.0 * base.rod.bending_stiffness / (std::f64::consts::PI * base.rod.diameter.powi(4))
+    }
+
+    /// The line's sizes with their `W` and `G` (`W` grows like `a`, `G` like `Gamma(a)`).
+    pub fn points(&self, base: &Problem) -> Vec<GrowthPoint> {
+        let r = &base.rod;
+        let w0 = r.density * base.gravity.g * r.diameter.powi(2) * r.length.powi(3)
+            / r.bending_stiffness;
+        let g0 = base.gait.stress * r.diameter.powi(3) * r.length / r.bending_stiffness;
+        self.diameters
+            .iter()
+            .map(|&a| {
+                let s = a / r.diameter;
+                let stress = self.muscle_stress(a);
+                GrowthPoint {
+                    diameter: a,
+                    length: r.length * s,
+                    stress,
+                    weight: w0 * s,
+                    torque: g0 * stress / base.gait.stress,
+                }
+            })
+            .collect()
+    }
+}
+
+/// The snake of diameter `a` itself, in SI units: the base grown by `s = a / a0` (length,
+/// diameter; `B`, `C` like `s^4`, `EA` like `s^2`; the step, duration, output interval and
+/// step bounds like `s`, the pulse time `L / v_m`), muscle stress `Gamma(a)`, everything else
+/// the base's. Simulating it gives the same dimensionless motion as the line's cell
+/// ([`PROTOCOL`]); the line is simulated through the cell.
+pub fn grown_problem(base: &Problem, growth: &Growth, a: f64) -> Problem {
+    let s = a / base.rod.diameter;
+    let mut p = base.clone();
+    p.rod.length *= s;
+    p.rod.diameter = a;
+    p.rod.bending_stiffness *= s.powi(4);
+    p.rod.twist_stiffness = p.rod.twist_stiffness.map(|c| c * s.powi(4));
+    p.rod.stretch_stiffness = p.rod.stretch_stiffness.map(|ea| ea * s * s);
+    p.gait.stress = growth.muscle_stress(a);
+    let t = &mut p.time;
+    t.duration = t.duration.map(|d| d * s);
+    t.dt = t.dt.map(|d| d * s);
+    t.dt_max = t.dt_max.map(|d| d * s);
+    t.dt_min = t.dt_min.map(|d| d * s);
+    p.output.interval = p.output.interval.map(|i| i * s);
+    p
+}
+
+/// Where the S-start stops along the line: between the last size with a confident S label
+/// and the next size, which is not S.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Stop {
+    /// The largest diameter (m) that S-starts, below the first larger size that does not.
+    pub last_s: f64,
+    /// That next diameter (m), and its label (`-`: failed or not confident).
+    pub next: f64,
+    /// The next size's label.
+    pub next_label: String,
+}
+
+/// What `growth.json` holds.
+#[derive(Clone, Debug, Serialize)]
+pub struct GrowthLine {
+    /// The law and the sizes.
+    pub growth: Growth,
+    /// The base's Young's modulus (Pa), kept along the line.
+    pub young_modulus: f64,
+    /// The base's diameter (m).
+    pub base_diameter: f64,
+    /// Every size with its cell's values.
+    pub points: Vec<GrowthRow>,
+    /// Every place where the confident S label ends going to larger sizes (none: the line
+    /// never S-starts, or S-starts up to its largest size).
+    pub stops: Vec<Stop>,
+    /// The diameters (m) with a confident S label.
+    pub s_diameters: Vec<f64>,
+    /// The answer in one sentence.
+    pub verdict: String,
+}
+
+/// One size of `growth.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct GrowthRow {
+    /// The size.
+    #[serde(flatten)]
+    pub point: GrowthPoint,
+    /// `W / G`.
+    pub w_over_g: f64,
+    /// The cell's label (`-`: failed).
+    pub regime: String,
+    /// Every run of the cell agrees on the label (always true without verification).
+    pub confident: bool,
+    /// The fraction of the cell's runs giving its label (1 without verification).
+    pub label_agreement: f64,
+    /// `v_s / v_m`.
+    pub v_s_over_v_m: f64,
+    /// Smallest and largest `v_s/v_m` over the cell's runs (the value itself without
+    /// verification).
+    pub v_s_over_v_m_range: [f64; 2],
+}
+
+impl GrowthLine {
+    /// The line's values from its points and cells (in diameter order).
+    pub fn new(base: &Problem, growth: &Growth, cells: &[(GrowthPoint, Cell)]) -> Self {
+        let points: Vec<GrowthRow> = cells
+            .iter()
+            .map(|(p, c)| {
+                let v = c.v_s_over_v_m;
+                let (agreement, range) = c.verify.as_ref().map_or((1.0, [v, v]), |x| {
+                    (x.label_agreement, [x.v_s_over_v_m_min, x.v_s_over_v_m_max])
+                });
+                GrowthRow {
+                    point: *p,
+                    w_over_g: p.weight / p.torque,
+                    regime: c.regime.map_or("-".into(), |r| r.to_string()),
+                    confident: c.status == Status::Ok && c.unanimous(),
+                    label_agreement: agreement,
+                    v_s_over_v_m: v,
+                    v_s_over_v_m_range: range,
+                }
+            })
+            .collect();
+        let is_s = |r: &GrowthRow| r.confident && r.regime == Regime::S.as_str();
+        let stops: Vec<Stop> = points
+            .windows(2)
+            .filter(|w| is_s(&w[0]) && !is_s(&w[1]))
+            .map(|w| Stop {
+                last_s: w[0].point.diameter,
+                next: w[1].point.diameter,
+                next_label: if w[1].confident {
+                    w[1].regime.clone()
+                } else {
+                    format!("{} (not confident)", w[1].regime)
+                },
+            })
+            .collect();
+        // Centimetres to 4 significant digits, without trailing zeros.
+        let cm = |a: f64| {
+            let s = format!("{:.4}", a * 100.0);
+            format!("{} cm", s.trim_end_matches('0').trim_end_matches('.'))
+        };
+        let (first, last) = (
+            growth.diameters[0],
+            growth.diameters[growth.diameters.len() - 1],
+        );
+        let s_diameters: Vec<f64> = points
+            .iter()
+            .filter(|r| is_s(r))
+            .map(|r| r.point.diameter)
+            .collect();
+        let label = |r: &GrowthRow| {
+            if r.confident {
+                r.regime.clone()
+            } else {
+                format!("{} (not confident)", r.regime)
+            }
+        };
+        let verdict = if s_diameters.is_empty() {
+            format!(
+                "no size between {} and {} S-starts (confidently)",
+                cm(first),
+                cm(last)
+            )
+        } else {
+            let list: Vec<String> = s_diameters.iter().map(|&a| cm(a)).collect();
+            let mut v = format!(
+                "confident S at {} of {} sizes ({})",
+                s_diameters.len(),
+                points.len(),
+                list.join(", ")
+            );
+            match stops.first() {
+                None => {
+                    v += &format!(
+                    "; no threshold between {} and {}: the S-start does not stop along the line",
+                    cm(first),
+                    cm(last)
+                )
+                }
+                Some(s) => {
+                    v += &format!(
+                        "; the S-start stops between {} (S) and {} ({})",
+                        cm(s.last_s),
+                        cm(s.next),
+                        s.next_label
+                    );
+                    if stops.len() > 1 {
+                        v += &format!("; it stops {} times along the line", stops.len());
+                    }
+                }
+            }
+            // Below the smallest S-start: the size under it.
+            if let Some(k) = points.iter().position(is_s).filter(|&k| k > 0) {
+                let below = &points[k - 1];
+                v += &format!(
+                    "; below {}, {} is {}",
+                    cm(points[k].point.diameter),
+                    cm(below.point.diameter),
+                    label(below)
+                );
+            }
+            v
+        };
+        GrowthLine {
+            growth: growth.clone(),
+            young_modulus: Growth::young_modulus(base),
+            base_diameter: base.rod.diameter,
+            points,
+            stops,
+            s_diameters,
+            verdict,
+        }
+    }
+}
+
+/// Simulate the growth line of `base` into `out/growth.csv` (reusing the rows of the hash
+/// `hash`, as `phase.csv`'s: the base, the protocol [`PROTOCOL`] and the verification), each
+/// size verified as a grid cell would be, in parallel; then write `growth.json`. Returns
+/// the line and how many sizes were simulated now. `report(done, cell)` after each new one.
+pub fn run(
+    base: &Problem,
+    base_hash: u64,
+    growth: &Growth,
+    verify: Option<&Verify>,
+    out: &Path,
+    report: &(dyn Fn(usize, &Cell) + Sync),
+) -> Result<(GrowthLine, usize), PhaseError> {
+    let io = |file: &Path| {
+        let file = file.to_path_buf();
+        move |source| PhaseError::Io {
+            file: file.clone(),
+            source,
+        }
+    };
+    let hash = PROTOCOL.row_hash(base_hash);
+    let hash = verify.map_or(hash, |v| v.row_hash(hash));
+    let csv = out.join("growth.csv");
+    let old = read_phase_csv(&csv, hash)?;
+    let file = append_rows(&csv, old.fresh, old.verified, verify.is_some())?;
+    let points = growth.points(base);
+    let key = |p: &GrowthPoint| (p.weight.to_bits(), p.torque.to_bits());
+    let sink = Mutex::new((file, 0usize, None::<std::io::Error>));
+    let todo: Vec<&GrowthPoint> = points
+        .iter()
+        .filter(|p| !old.cells.contains_key(&key(p)))
+        .collect();
+    let new: Vec<Cell> = todo
+        .par_iter()
+        .map(|p| {
+            let c = simulate_verified(base, p.weight, p.torque, verify, PROTOCOL);
+            let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
+            let line = c.row(hash) + "\n";
+            let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
+            if let Err(e) = r {
+                s.2.get_or_insert(e);
+            }
+            s.1 += 1;
+            report(s.1, &c);
+            c
+        })
+        .collect();
+    if let Some(e) = sink.into_inner().unwrap_or_else(|e| e.into_inner()).2 {
+        return Err(io(&csv)(e));
+    }
+    let simulated = new.len();
+    let mut done = old.cells;
+    for c in new {
+        done.insert((c.weight.to_bits(), c.torque.to_bits()), c);
+    }
+    let cells: Vec<(GrowthPoint, Cell)> =
+        points.iter().map(|p| (*p, done[&key(p)].clone())).collect();
+    let line = GrowthLine::new(base, growth, &cells);
+    let json = out.join("growth.json");
+    let text = serde_json::to_string_pretty(&line).expect("serialisable") + "\n";
+    std::fs::write(&json, text).map_err(io(&json))?;
+    Ok((line, simulated))
+}
