@@ -35,6 +35,7 @@
 //! [`evaluate()`] is the one pipeline that simulates a scene and measures it here.
 
 pub mod evaluate;
+pub mod periodic;
 pub mod regime;
 
 pub use evaluate::{evaluate, measure, Measure, Observed};
