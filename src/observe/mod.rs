@@ -37,6 +37,7 @@
 pub mod evaluate;
 pub mod periodic;
 pub mod regime;
+pub mod tracks;
 
 pub use evaluate::{evaluate, measure, Measure, Observed};
 pub use regime::{classify, Regime, RegimeInputs, RegimeReason};
