@@ -142,3 +142,38 @@ fn the_bundled_scene_lays_parallel_tracks_at_an_angle_to_its_axis() {
         "late tracks spread over {lo:.1} to {hi:.1} degrees"
     );
 }
+
+/// `[study] objective = "broadside"` is for a sidewinding base; other values are refused with
+/// the file, the key and the allowed values.
+#[test]
+fn the_broadside_objective_is_checked_on_load() {
+    let study = |body: &str| {
+        slither::design::parse_study(
+            &format!("{body}\n[optimize]\nspeed = [0.2, 0.3]\n"),
+            Path::new("problems/inline_study.toml"),
+        )
+    };
+    let ok = study("[study]\nbase = \"sidewinding.toml\"\nobjective = \"broadside\"").unwrap();
+    assert_eq!(ok.objective, slither::design::Objective::Broadside);
+    assert_eq!(ok.turn_penalty, slither::design::DEFAULT_TURN_PENALTY);
+    let e = study("[study]\nbase = \"s_start.toml\"\nobjective = \"broadside\"")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("inline_study.toml")
+            && e.contains("study.objective")
+            && e.contains("sidewinding"),
+        "{e}"
+    );
+    let e = study("[study]\nbase = \"sidewinding.toml\"\nobjective = \"sideways\"")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("study.objective") && e.contains("\"broadside\""),
+        "{e}"
+    );
+    let e = study("[study]\nbase = \"sidewinding.toml\"\nturn_penalty = 0.01")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("study.turn_penalty"), "{e}");
+}

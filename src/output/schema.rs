@@ -317,7 +317,7 @@ pub const HISTORY_CSV: &[Field] = &[
     f(
         "objective",
         "m/s",
-        "the cost minimised: -v_s plus penalties (1000 for a failed run)",
+        "the objective without penalties: -v_s, or with objective = \"broadside\" minus the mean lateral speed per cycle plus turn_penalty times the mean |turn| per cycle; 1000 for a failed run",
     ),
     f(
         "base_hash",
