@@ -88,12 +88,14 @@ fn heavy_adult_cannot_s_start() {
     );
 }
 
-/// The bundled sidewinding run, shared by its physics test and its pin (one simulation):
+/// The oblique periodic S-starts (the former bundled sidewinding scene, now a fixture; the
+/// bundled scene is measured per cycle in tests/sidewinding.rs), shared by its physics test and
+/// its pin (one simulation):
 /// its observables and the line-search backtracks of the run.
 fn sidewinding() -> &'static (Observables, usize) {
     static RUN: std::sync::OnceLock<(Observables, usize)> = std::sync::OnceLock::new();
     RUN.get_or_init(|| {
-        let (_, ob, o) = run("problems/sidewinding.toml");
+        let (_, ob, o) = run("tests/fixtures/sidewinding_oblique.toml");
         (ob, o.stats.newton.backtracks)
     })
 }

@@ -206,6 +206,9 @@ pub fn run(args: &Args) -> ExitCode {
         summary.ensemble = Some(e);
     }
     summary.observables = Some(observables);
+    if o.error.is_none() {
+        summary.periodic = observe::periodic::of_outcome(&model, &o);
+    }
     let extra = [
         ("elevation", fields.elevation.clone()),
         ("slip_speed", fields.slip.clone()),
@@ -289,6 +292,20 @@ pub fn run(args: &Args) -> ExitCode {
             ob.regime,
             out.display()
         );
+        if let Some(p) = &summary.periodic {
+            let miss = p.missed();
+            eprintln!(
+                "periodic: {} cycles after {} settling; broadside >= {:.1} deg, |turn| <= {:.1} deg/cycle, displacement >= {:.3} L/cycle, stationary contact share >= {:.2}; lateral speed {:.3} v_m; sidewinding: {}",
+                p.cycles.len(),
+                p.settling_cycles,
+                p.broadside_deg_min,
+                p.turn_deg_max_abs,
+                p.displacement_over_length_min,
+                p.stationary_contact_share_min,
+                p.lateral_speed_over_v_m,
+                if p.sidewinding { "yes".to_string() } else { format!("no ({miss})") }
+            );
+        }
     }
     ExitCode::SUCCESS
 }

@@ -74,14 +74,19 @@ pub struct Evaluation {
     pub wall_time_s: f64,
     /// Why a failed run failed (empty when it finished).
     pub reason: String,
+    /// The objective of a finished run without penalties (m/s): `-v_s`, or for
+    /// `objective = "broadside"` minus the mean lateral speed per cycle plus `turn_penalty`
+    /// times the mean |turn| per cycle (the `objective` column).
+    #[serde(skip)]
+    pub objective_value: f64,
 }
 
 impl Evaluation {
-    /// The objective at this point, without any out-of-bounds penalty: `-v_s` (m/s), or
-    /// [`FAILED_COST`] for a failed run.
+    /// The objective at this point, without any out-of-bounds penalty (m/s):
+    /// `objective_value` (`-v_s` by default), or [`FAILED_COST`] for a failed run.
     pub fn objective(&self) -> f64 {
         match self.status {
-            Status::Ok => -self.v_s,
+            Status::Ok => self.objective_value,
             Status::Failed => FAILED_COST,
         }
     }
@@ -254,6 +259,7 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
             status,
             wall_time_s: num(14)?,
             reason: f[17].to_string(),
+            objective_value: num(15)?,
         };
         h.rows.push((e, f[16].trim().to_string()));
     }

@@ -106,7 +106,7 @@ pub fn check_optimum(
         .iter()
         .map(|v| &v.0)
         .filter(|e| e.status == Status::Ok && study.meets_heading(e) && e.point != best.point)
-        .max_by(|a, b| a.v_s.total_cmp(&b.v_s));
+        .max_by(|a, b| b.objective().total_cmp(&a.objective()));
     let of = |e: &Evaluation, seed: u64| {
         let s = super::ensemble::Spec { seed, ..*spec };
         let en = super::ensemble::run(&study.problem_at(&e.point), &s, &|_, _| {});

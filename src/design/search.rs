@@ -554,7 +554,7 @@ pub fn optimize(
     let best = visited
         .iter()
         .filter(|v| v.0.status == Status::Ok && study.meets_heading(&v.0))
-        .max_by(|a, b| a.0.v_s.total_cmp(&b.0.v_s))
+        .max_by(|a, b| b.0.objective().total_cmp(&a.0.objective()))
         .map(|v| v.0.clone());
     let initial = visited
         .first()

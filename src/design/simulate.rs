@@ -28,11 +28,16 @@ pub fn simulate(study: &Study, p: &GaitParams, progress: &mut dyn FnMut(f64)) ->
         status: Status::Failed,
         wall_time_s: 0.0,
         reason: String::new(),
+        objective_value: f64::NAN,
     };
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         let o = observe::evaluate(&model, observe::Measure::Full, progress, &mut |_| {})
             .map_err(|err| err.to_string())?;
-        Ok::<_, String>((o.observables, o.outcome.error.map(|err| err.to_string())))
+        let periodic = observe::periodic::of_outcome(&model, &o.outcome);
+        Ok::<_, String>((
+            (o.observables, periodic),
+            o.outcome.error.map(|err| err.to_string()),
+        ))
     }));
     match run {
         // A run cut short has not measured the gait: its observables stay NaN (regime "-").
@@ -40,17 +45,29 @@ pub fn simulate(study: &Study, p: &GaitParams, progress: &mut dyn FnMut(f64)) ->
             e.reason = reason;
             e.regime = "-".into();
         }
-        Ok(Ok((ob, None))) => {
+        Ok(Ok(((ob, periodic), None))) => {
             e.v_s = ob.v_s;
             e.v_s_over_v_m = ob.v_s_over_v_m;
             e.writhe_max = ob.writhe_max;
             e.writhe_mean = ob.writhe_mean;
             e.displacement_angle_deg = ob.displacement_angle_deg;
             e.regime = ob.regime.to_string();
-            if ob.v_s.is_finite() {
-                e.status = Status::Ok;
-            } else {
+            let value = match study.objective {
+                Objective::Vs => -ob.v_s,
+                Objective::Broadside => periodic.as_ref().map_or(f64::NAN, |p| {
+                    -p.lateral_speed_over_v_m * model.gait.speed
+                        + study.turn_penalty * p.turn_deg_mean_abs
+                }),
+            };
+            e.objective_value = value;
+            if !ob.v_s.is_finite() {
                 e.reason = "v_s is not finite".into();
+            } else if !value.is_finite() {
+                e.reason =
+                    "no full cycle after the settling one: the broadside objective is not measured"
+                        .into();
+            } else {
+                e.status = Status::Ok;
             }
         }
         Ok(Err(reason)) => e.reason = reason,

@@ -35,7 +35,9 @@
 //! [`evaluate()`] is the one pipeline that simulates a scene and measures it here.
 
 pub mod evaluate;
+pub mod periodic;
 pub mod regime;
+pub mod tracks;
 
 pub use evaluate::{evaluate, measure, Measure, Observed};
 pub use regime::{classify, Regime, RegimeInputs, RegimeReason};

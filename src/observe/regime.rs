@@ -262,7 +262,7 @@ pub struct RegimeReason {
     pub checks: Vec<Check>,
 }
 
-fn check(quantity: &'static str, value: f64, op: &'static str, threshold: f64) -> Check {
+pub(crate) fn check(quantity: &'static str, value: f64, op: &'static str, threshold: f64) -> Check {
     let holds = match op {
         "<" => value < threshold,
         "<=" => value <= threshold,

@@ -79,6 +79,11 @@ pub struct Summary {
     /// Gait observables and regime (present when the run has frames).
     #[serde(flatten)]
     pub observables: Option<crate::observe::Observables>,
+    /// Periodic-gait observables, cycle by cycle, and the sidewinding label
+    /// ([`crate::observe::periodic`]); absent for a gait without a launch period and for a
+    /// failed run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub periodic: Option<crate::observe::periodic::Periodic>,
     /// Tip (head) position at the end (m).
     pub head_final: [f64; 3],
     /// Tail position at the end (m).
@@ -198,6 +203,7 @@ impl Summary {
             conic_solves_per_step: o.stats.contact.conic_solves as f64
                 / o.stats.steps.max(1) as f64,
             observables: None,
+            periodic: None,
             head_final: s.node(m.real.start),
             tail_final: s.node(m.real.end - 1),
             accuracy: None,

@@ -46,6 +46,7 @@ const fn only(
 
 const ACCURACY: &str = "with --accuracy or [accuracy]";
 const ENSEMBLE: &str = "with --ensemble K";
+const SIDEWINDING: &str = "with a sidewinding gait";
 
 /// Keys of `summary.json` (`slither run`). A failed run writes every gait observable and
 /// `regime` / `regime_reason` as `null`: it has not measured them.
@@ -133,6 +134,37 @@ pub const SUMMARY: &[Field] = &[
     f("regime_reason.checks[].op", "", "the comparison: <, <=, > or >="),
     f("regime_reason.checks[].threshold", "", "the threshold it was compared with"),
     f("regime_reason.checks[].holds", "", "whether the comparison holds (false for NaN)"),
+    only("periodic.period", "s", SIDEWINDING, "launch period P of the gait"),
+    only("periodic.settling_cycles", "", SIDEWINDING, "cycles at the start that are not measured (1)"),
+    only("periodic.cycles[].index", "", SIDEWINDING, "cycle number k, counted from 0 at the first launch: the interval [k P, (k + 1) P]"),
+    only("periodic.cycles[].t_start", "s", SIDEWINDING, "time of the cycle's first observation frame"),
+    only("periodic.cycles[].t_end", "s", SIDEWINDING, "time of its last observation frame"),
+    only("periodic.cycles[].displacement_over_length", "", SIDEWINDING, "centroid displacement over the cycle (ground plane), over L"),
+    only("periodic.cycles[].travel_angle_deg", "degrees", SIDEWINDING, "angle between that displacement and the cycle-mean tail-to-head axis (0 to 180; 90 is broadside)"),
+    only("periodic.cycles[].broadside_deg", "degrees", SIDEWINDING, "min(travel_angle_deg, 180 - travel_angle_deg)"),
+    only("periodic.cycles[].turn_deg", "degrees", SIDEWINDING, "signed rotation of the tail-to-head direction over the cycle (counter-clockwise positive)"),
+    only("periodic.cycles[].lateral_speed_over_v_m", "", SIDEWINDING, "displacement across the cycle-mean axis over P v_m"),
+    only("periodic.cycles[].along_speed_over_v_m", "", SIDEWINDING, "displacement along the cycle-mean axis (tail to head positive) over P v_m"),
+    only("periodic.cycles[].stationary_contact_share", "", SIDEWINDING, "share of the contact node-time with slip at most 0.1 v_m"),
+    only("periodic.cycles[].stationary_body_fraction", "", SIDEWINDING, "mean share of all nodes in stationary contact"),
+    only("periodic.cycles[].contact_patches_mean", "", SIDEWINDING, "mean number of contact patches per frame"),
+    only("periodic.lateral_speed_over_v_m", "", SIDEWINDING, "mean lateral speed over v_m of the measured cycles"),
+    only("periodic.turn_deg_mean_abs", "degrees", SIDEWINDING, "mean |turn| per cycle"),
+    only("periodic.broadside_deg_min", "degrees", SIDEWINDING, "smallest broadside angle over the cycles"),
+    only("periodic.turn_deg_max_abs", "degrees", SIDEWINDING, "largest |turn| over the cycles"),
+    only("periodic.displacement_over_length_min", "", SIDEWINDING, "smallest displacement per cycle over L"),
+    only("periodic.stationary_contact_share_min", "", SIDEWINDING, "smallest stationary contact share over the cycles"),
+    only("periodic.spread.displacement_over_length", "", SIDEWINDING, "range (max - min) over the cycles of displacement_over_length"),
+    only("periodic.spread.broadside_deg", "degrees", SIDEWINDING, "range over the cycles of broadside_deg"),
+    only("periodic.spread.turn_deg", "degrees", SIDEWINDING, "range over the cycles of turn_deg"),
+    only("periodic.spread.lateral_speed_over_v_m", "", SIDEWINDING, "range over the cycles of lateral_speed_over_v_m"),
+    only("periodic.spread.stationary_contact_share", "", SIDEWINDING, "range over the cycles of stationary_contact_share"),
+    only("periodic.sidewinding", "", SIDEWINDING, "whether every sidewinding criterion holds (guide: Regimes)"),
+    only("periodic.sidewinding_checks[].quantity", "", SIDEWINDING, "a sidewinding criterion: cycles, broadside_deg_min, turn_deg_max_abs, displacement_over_length_min or stationary_contact_share_min"),
+    only("periodic.sidewinding_checks[].value", "", SIDEWINDING, "its value"),
+    only("periodic.sidewinding_checks[].op", "", SIDEWINDING, "the comparison: <= or >="),
+    only("periodic.sidewinding_checks[].threshold", "", SIDEWINDING, "the threshold"),
+    only("periodic.sidewinding_checks[].holds", "", SIDEWINDING, "whether it holds (false for NaN)"),
     f("head_final", "m", "head (s = 0) position at the end"),
     f("tail_final", "m", "tail position at the end"),
     only("accuracy.target", "", ACCURACY, "allowed relative error of v_s/v_m"),
@@ -285,7 +317,7 @@ pub const HISTORY_CSV: &[Field] = &[
     f(
         "objective",
         "m/s",
-        "the cost minimised: -v_s plus penalties (1000 for a failed run)",
+        "the objective without penalties: -v_s, or with objective = \"broadside\" minus the mean lateral speed per cycle plus turn_penalty times the mean |turn| per cycle; 1000 for a failed run",
     ),
     f(
         "base_hash",

@@ -417,6 +417,14 @@ pub const STUDY_KEYS: &[(&str, &str)] = &[
     ("study.tolerance", "a finite number >= 0 (m/s)"),
     ("study.penalty", "a finite number >= 0 (m/s)"),
     ("study.max_heading_deg", "a number in (0, 180] (degrees)"),
+    (
+        "study.objective",
+        "\"v_s\" (default) or \"broadside\" (a sidewinding base only)",
+    ),
+    (
+        "study.turn_penalty",
+        "a finite number >= 0 (m/s per degree per cycle), only with objective = \"broadside\"",
+    ),
     ("optimize.stress", "[lo, hi] with 0 <= lo < hi, finite (Pa)"),
     (
         "optimize.sigma",
