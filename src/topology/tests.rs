@@ -482,7 +482,12 @@ fn csv_largest_accepted_coordinates_give_finite_topology() {
     let mut text = String::from("x,y,z,d1x,d1y,d1z\n");
     for i in 0..12 {
         let t = i as f64 * 0.5;
-        text += &format!("{:e},{:e},{:e},0,0,1\n", r * t.cos(), r * t.sin(), 0.08 * r * t);
+        text += &format!(
+            "{:e},{:e},{:e},0,0,1\n",
+            r * t.cos(),
+            r * t.sin(),
+            0.08 * r * t
+        );
     }
     for closed in [false, true] {
         let c = parse_curve_csv(&text, closed).unwrap();
