@@ -81,8 +81,16 @@ fn phase_reruns_one_cell_into_a_run_directory() {
         "[phase]\nbase = \"base.toml\"\nweight = [300.0, 600.0]\ntorque = [15.0]\n",
     )
     .unwrap();
-    let (o, e) = slither(&["phase", "--quiet", "phase.toml", "--out", "ph"], &dir);
+    let (o, e) = slither(
+        &["phase", "--quiet", "--gallery", "phase.toml", "--out", "ph"],
+        &dir,
+    );
     assert!(o.status.success(), "{e}");
+    // The gallery: one thumbnail per cell, the picture sized for the 2 x 1 grid.
+    let png = std::fs::read(dir.join("ph/phase_gallery.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    let be = |i: usize| u32::from_be_bytes(png[i..i + 4].try_into().unwrap());
+    assert_eq!((be(16), be(20)), slither::plot::gallery::gallery_size(2, 1));
     let (o, e) = slither(
         &["phase", "phase.toml", "--cell", "600,15", "--out", "cell"],
         &dir,
@@ -144,5 +152,37 @@ fn phase_reruns_one_cell_into_a_run_directory() {
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(e.contains("slither phase"), "{e}");
     assert!(!dir.join("ph/summary.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn gallery_thumbnails_are_the_cells_at_their_writhe_snapshot() {
+    let dir = scratch("gallery");
+    base(&dir);
+    let f = dir.join("phase.toml");
+    std::fs::write(
+        &f,
+        "[phase]\nbase = \"base.toml\"\nweight = [300.0, 600.0]\ntorque = [0.0, 15.0]\n",
+    )
+    .unwrap();
+    let ph = slither::design::phase::load(&f).unwrap();
+    let cells: Vec<_> = [(300.0, 0.0), (300.0, 15.0), (600.0, 15.0)]
+        .iter()
+        .map(|&(w, g)| slither::design::phase::simulate(&ph.base, w, g))
+        .collect();
+    let th = slither::design::phase::gallery::thumbs(&ph, &cells);
+    assert_eq!(th.len(), 3);
+    // t* = (L/2 - s_b0) / v_m of the tiny S-start is past its 0.1 s: the last frame, t = 0.1;
+    // without a torque (G = 0) there is no gait, and the last frame is shown too.
+    for (t, c) in th.iter().zip(&cells) {
+        assert_eq!(
+            (t.weight, t.torque, t.regime),
+            (c.weight, c.torque, c.regime)
+        );
+        assert_eq!(t.x.len(), 21, "one position per node");
+        assert!((t.t - 0.1).abs() < 1e-9, "{}", t.t);
+    }
+    // The heavier snake's body differs from the lighter one's at the same instant.
+    assert_ne!(th[1].x, th[2].x);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -30,6 +30,10 @@ pub struct Args {
     /// with trajectory, summary, figures, tracks and movie.
     #[arg(long, value_name = "W,G", conflicts_with = "shard")]
     pub cell: Option<String>,
+    /// Also write phase_gallery.png: each cell simulated again to picture the body at its
+    /// writhe snapshot (top and side views on the W, G grid; about one more sweep's time).
+    #[arg(long, conflicts_with_all = ["shard", "cell"])]
+    pub gallery: bool,
 }
 
 /// `--cell W,G`: the grid's weight and torque equal (to 1e-9 relative) to the values given;
@@ -246,6 +250,16 @@ pub fn phase(args: &Args) -> ExitCode {
     );
     if let Some(r) = &sw.refinement {
         eprintln!("{}", refine_summary(r, t0.elapsed().as_secs_f64()));
+    }
+    if args.gallery {
+        match design::phase::gallery::write_gallery(&ph, &sw.cells, out) {
+            Ok(p) if !quiet => eprintln!("wrote {}", p.display()),
+            Ok(_) => {}
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(1);
+            }
+        }
     }
     if failed == sw.cells.len() && !sw.cells.is_empty() {
         eprintln!(
