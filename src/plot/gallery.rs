@@ -31,7 +31,7 @@ const LEFT: i32 = 80;
 const TOP: i32 = 50;
 const BOTTOM: i32 = 50;
 /// Height exaggeration of the side views.
-pub const SIDE_ZOOM: f64 = 3.0;
+pub const SIDE_ZOOM: f64 = 2.0;
 
 /// The picture size (px) of a gallery of `nw` weights by `ng` torques.
 pub fn gallery_size(nw: usize, ng: usize) -> (u32, u32) {
@@ -88,11 +88,14 @@ fn draw<DB: DrawingBackend>(
             .map_err(draw_err)
     };
     text(
-        format!(
-            "Phase gallery: the body at the writhe snapshot; top view above, side view (height x{SIDE_ZOOM}) below"
-        ),
-        (LEFT, 14),
-        18,
+        "Phase gallery: the body at the writhe snapshot".to_string(),
+        (LEFT, 6),
+        17,
+    )?;
+    text(
+        format!("top view above, side view below (height x{SIDE_ZOOM}); red: the head"),
+        (LEFT, 27),
+        14,
     )?;
     // Column j: weight j; row i from the top: torque ng - 1 - i.
     let origin = |wi: usize, gi: usize| {
