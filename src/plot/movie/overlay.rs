@@ -50,7 +50,7 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
     if let Some(r) = &clip.regime {
         second += &format!("   regime {r}");
     }
-    root.draw(&Text::new(second, (8, 8 + fb as i32), small.clone()))
+    root.draw(&Text::new(second, (8, 8 + fb), small.clone()))
         .map_err(draw_err)?;
 
     // Bottom band: legend.
