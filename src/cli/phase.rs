@@ -81,6 +81,10 @@ fn rerun_cell(args: &Args, mut ph: design::phase::Phase, text: &str) -> ExitCode
         }
     };
     let out = args.out.as_path();
+    // Refused before `[accuracy]` could record its choice in a study's directory.
+    if let Err(code) = super::guard::check_writer(out, super::guard::Writer::Run) {
+        return code;
+    }
     if ph.accuracy.is_some() {
         let prepared =
             design::phase::prepare_accuracy(&mut ph, out, &mut selection_log(args.quiet));
