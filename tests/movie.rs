@@ -329,3 +329,37 @@ fn slither_movie_renders_a_stored_run() {
     assert!(d.join("summary.json").is_file() && !d.join("movie.gif").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn output_movie_false_skips_the_movie_alone() {
+    let d = tmp_dir("off");
+    let text = std::fs::read_to_string("problems/slide.toml").unwrap();
+    assert!(text.contains("[output]"));
+    let problem = d.join("slide.toml");
+    std::fs::write(
+        &problem,
+        text.replace("[output]", "[output]\nmovie = false"),
+    )
+    .unwrap();
+    let bin = env!("CARGO_BIN_EXE_slither");
+    let run = |extra: &[&str]| {
+        let out = d.join("out");
+        let o = std::process::Command::new(bin)
+            .arg("run")
+            .arg(&problem)
+            .args(["--quiet", "--out"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out
+    };
+    let out = run(&[]);
+    assert!(out.join("tracks.png").is_file() && out.join("snapshots.png").is_file());
+    assert!(!out.join("movie.gif").exists());
+    // `--movie` writes it for one run all the same.
+    let out = run(&["--movie"]);
+    assert!(out.join("movie.gif").is_file());
+    let _ = std::fs::remove_dir_all(&d);
+}
