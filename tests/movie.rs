@@ -21,20 +21,39 @@ fn slide() -> (Model, Vec<sim::Frame>, observe::Fields) {
     (m, o.frames, fl)
 }
 
-/// Decoded GIF frames as RGBA, with the picture size.
+/// Decoded GIF frames as RGBA, with the picture size: each frame as a viewer shows it, drawn
+/// over the previous one (the movie's frames after the first hold only what changed, the rest
+/// transparent, and are kept, not disposed).
 fn decode(bytes: &[u8]) -> (usize, usize, Vec<Vec<u8>>) {
     let mut opts = gif::DecodeOptions::new();
     opts.set_color_output(gif::ColorOutput::RGBA);
     let mut d = opts.read_info(bytes).expect("a valid GIF header");
     let (w, h) = (d.width() as usize, d.height() as usize);
+    let mut canvas = vec![0u8; 4 * w * h];
     let mut frames = Vec::new();
     while let Some(f) = d.read_next_frame().expect("a valid GIF frame") {
-        assert_eq!(
-            (f.width as usize, f.height as usize),
-            (w, h),
-            "full-size frames"
+        let (fx, fy, fw, fh) = (
+            f.left as usize,
+            f.top as usize,
+            f.width as usize,
+            f.height as usize,
         );
-        frames.push(f.buffer.to_vec());
+        assert!(fx + fw <= w && fy + fh <= h, "frame inside the picture");
+        if frames.is_empty() {
+            assert_eq!((fx, fy, fw, fh), (0, 0, w, h), "a full first frame");
+        } else {
+            assert_eq!(f.dispose, gif::DisposalMethod::Keep);
+        }
+        for y in 0..fh {
+            for x in 0..fw {
+                let p = &f.buffer[4 * (y * fw + x)..4 * (y * fw + x) + 4];
+                if p[3] != 0 {
+                    let i = 4 * ((fy + y) * w + fx + x);
+                    canvas[i..i + 4].copy_from_slice(p);
+                }
+            }
+        }
+        frames.push(canvas.clone());
     }
     (w, h, frames)
 }
@@ -225,16 +244,21 @@ fn slither_movie_renders_a_stored_run() {
     let d = tmp_dir("cli");
     let bin = env!("CARGO_BIN_EXE_slither");
     let o = std::process::Command::new(bin)
-        .args(["run", "problems/slide.toml", "--quiet", "--movie", "--out"])
+        .args(["run", "problems/slide.toml", "--quiet", "--out"])
         .arg(&d)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    // `--movie` writes the run's movie; the tracks come with every run's figures.
+    // Every run writes its movie and tracks with its figures.
     for f in ["movie.gif", "tracks.png", "tracks.svg"] {
         assert!(d.join(f).is_file(), "{f} missing");
     }
     let clip = output::movie::clip_from_dir(&d).unwrap();
+    // The regime shown is the summary's.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(clip.regime.as_deref(), summary["regime"].as_str());
+    assert!(clip.regime.is_some());
     let (_, _, run_movie) = decode(&std::fs::read(d.join("movie.gif")).unwrap());
     assert_eq!(run_movie.len(), clip.t.len());
     // `slither movie` from the stored trajectory.npz, top view, 20 fps, to a chosen file.
@@ -273,5 +297,69 @@ fn slither_movie_renders_a_stored_run() {
         .unwrap();
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("3d, top, side"));
+    // A still: one PNG frame of the chosen size.
+    let png = d.join("still.png");
+    let o = std::process::Command::new(bin)
+        .arg("movie")
+        .arg(&d)
+        .args(["--still", "0.2", "--size", "320x200", "--out"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    // Width and height in the IHDR chunk.
+    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    assert_eq!((be(16), be(20)), (320, 200));
+    let _ = std::fs::remove_dir_all(&d);
+    // `--no-plots` skips the movie with the figures.
+    let o = std::process::Command::new(bin)
+        .args([
+            "run",
+            "problems/slide.toml",
+            "--quiet",
+            "--no-plots",
+            "--out",
+        ])
+        .arg(&d)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(d.join("summary.json").is_file() && !d.join("movie.gif").exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn output_movie_false_skips_the_movie_alone() {
+    let d = tmp_dir("off");
+    let text = std::fs::read_to_string("problems/slide.toml").unwrap();
+    assert!(text.contains("[output]"));
+    let problem = d.join("slide.toml");
+    std::fs::write(
+        &problem,
+        text.replace("[output]", "[output]\nmovie = false"),
+    )
+    .unwrap();
+    let bin = env!("CARGO_BIN_EXE_slither");
+    let run = |extra: &[&str]| {
+        let out = d.join("out");
+        let o = std::process::Command::new(bin)
+            .arg("run")
+            .arg(&problem)
+            .args(["--quiet", "--out"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out
+    };
+    let out = run(&[]);
+    assert!(out.join("tracks.png").is_file() && out.join("snapshots.png").is_file());
+    assert!(!out.join("movie.gif").exists());
+    // `--movie` writes it for one run all the same.
+    let out = run(&["--movie"]);
+    assert!(out.join("movie.gif").is_file());
     let _ = std::fs::remove_dir_all(&d);
 }

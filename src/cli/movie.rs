@@ -23,6 +23,22 @@ pub struct Args {
     /// DIR/movie_<view>_<colour>.gif).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Picture size WxH in px (160x120 to 4000x4000; default 480x300).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Write one frame, the one nearest this time (s), as a PNG still instead of the movie
+    /// (default DIR/still_<T>.png).
+    #[arg(long)]
+    pub still: Option<f64>,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("size {s:?} is not WxH in px, e.g. 640x400");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    Ok((
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    ))
 }
 
 pub fn movie(a: &Args) -> ExitCode {
@@ -34,8 +50,25 @@ pub fn movie(a: &Args) -> ExitCode {
         view: a.view,
         colour: a.colour,
         fps: a.fps,
+        size: a.size.unwrap_or(MovieOptions::default().size),
         ..Default::default()
     };
+    if let Some(t) = a.still {
+        if !t.is_finite() {
+            eprintln!("error: --still {t} is not allowed: must be a finite time (s)");
+            return ExitCode::from(2);
+        }
+        return match output::movie::still_of_dir(&a.dir, &opts, t, a.out.as_deref()) {
+            Ok(path) => {
+                eprintln!("wrote {}", path.display());
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        };
+    }
     match output::movie::movie_of_dir(&a.dir, &opts, a.out.as_deref()) {
         Ok((path, s)) => {
             eprintln!(

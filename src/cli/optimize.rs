@@ -209,6 +209,17 @@ pub fn optimize(args: &Args) -> ExitCode {
         }
         return ExitCode::from(3);
     };
+    // The best evaluation again as a run directory (figures, tracks, movie) in best/.
+    let best_run = super::run::rerun_into(
+        &study.problem_at(&best.point),
+        path,
+        &out.join("best"),
+        quiet,
+        "best evaluation",
+    );
+    if let Err(code) = best_run {
+        return code;
+    }
     if !quiet {
         if r.dropped_partial_row {
             eprintln!(

@@ -25,6 +25,79 @@ pub struct Args {
     /// Run even above the size limits (10 000 cells, 2e7 time steps in all).
     #[arg(long)]
     pub force: bool,
+    /// Re-run one cell of the grid, W,G (values of phase.weight and phase.torque), into the
+    /// run directory --out, as `slither run` would: the model the study builds for that cell,
+    /// with trajectory, summary, figures, tracks and movie.
+    #[arg(long, value_name = "W,G", conflicts_with = "shard")]
+    pub cell: Option<String>,
+    /// Also write phase_gallery.png: each cell simulated again to picture the body at its
+    /// writhe snapshot (top and side views on the W, G grid; about one more sweep's time).
+    #[arg(long, conflicts_with_all = ["shard", "cell"])]
+    pub gallery: bool,
+}
+
+/// `--cell W,G`: the grid's weight and torque equal (to 1e-9 relative) to the values given;
+/// errors name the allowed values.
+fn grid_cell(ph: &design::phase::Phase, text: &str) -> Result<(f64, f64), String> {
+    let file = ph.file.display();
+    let (w, g) = text
+        .split_once(',')
+        .and_then(|(w, g)| Some((w.trim().parse::<f64>().ok()?, g.trim().parse::<f64>().ok()?)))
+        .ok_or_else(|| format!("--cell {text:?}: not W,G (two numbers, e.g. --cell 0.5,2)"))?;
+    let find = |v: f64, grid: &[f64]| {
+        grid.iter()
+            .copied()
+            .find(|&x| (x - v).abs() <= 1e-9 * x.abs().max(v.abs()))
+    };
+    let list = |grid: &[f64]| {
+        grid.iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let w = find(w, &ph.weight).ok_or_else(|| {
+        format!(
+            "--cell {text}: W = {w} is not on the grid of {file} (phase.weight: {})",
+            list(&ph.weight)
+        )
+    })?;
+    let g = find(g, &ph.torque).ok_or_else(|| {
+        format!(
+            "--cell {text}: G = {g} is not on the grid of {file} (phase.torque: {})",
+            list(&ph.torque)
+        )
+    })?;
+    Ok((w, g))
+}
+
+/// `slither phase FILE --cell W,G --out DIR`: the cell's problem (after the file's
+/// `[accuracy]`, as the study does) run into the run directory `out`.
+fn rerun_cell(args: &Args, mut ph: design::phase::Phase, text: &str) -> ExitCode {
+    let (w, g) = match grid_cell(&ph, text) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let out = args.out.as_path();
+    // Refused before `[accuracy]` could record its choice in a study's directory.
+    if let Err(code) = super::guard::check_writer(out, super::guard::Writer::Run) {
+        return code;
+    }
+    if ph.accuracy.is_some() {
+        let prepared =
+            design::phase::prepare_accuracy(&mut ph, out, &mut selection_log(args.quiet));
+        if let Err(code) = study_accuracy(out, args.quiet, prepared, ph.chosen.as_ref()) {
+            return code;
+        }
+    }
+    let p = design::phase::cell_problem_with(&ph.base, w, g, ph.protocol);
+    let what = format!("{}: cell W = {w}, G = {g}", args.file.display());
+    match super::run::rerun_into(&p, &args.file, out, args.quiet, &what) {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(code) => code,
+    }
 }
 
 pub fn phase(args: &Args) -> ExitCode {
@@ -41,6 +114,9 @@ pub fn phase(args: &Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if let Some(text) = &args.cell {
+        return rerun_cell(args, ph, text);
+    }
     let cells = ph.weight.len() * ph.torque.len();
     let steps = slither::problem::limits::run_size(&ph.base).steps;
     let (total_steps, too_big) = super::guard::phase_size(path, cells, steps);
@@ -190,6 +266,16 @@ pub fn phase(args: &Args) -> ExitCode {
     }
     if let Some((g, simulated)) = &sw.growth {
         eprintln!("{}", growth_summary(g, *simulated));
+    }
+    if args.gallery {
+        match design::phase::gallery::write_gallery(&ph, &sw.cells, out) {
+            Ok(p) if !quiet => eprintln!("wrote {}", p.display()),
+            Ok(_) => {}
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(1);
+            }
+        }
     }
     if failed == sw.cells.len() && !sw.cells.is_empty() {
         eprintln!(

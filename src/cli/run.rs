@@ -6,7 +6,7 @@ use slither::observe::{self, Measure, Observed};
 use slither::{output, problem, sim};
 use std::cell::RefCell;
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
@@ -222,12 +222,7 @@ pub fn run(args: &Args) -> ExitCode {
         return ExitCode::from(1);
     }
     if !no_plots {
-        if let Err(e) = output::write_figures(stage, &model, &o.frames, &fields) {
-            eprintln!("error: {}: cannot write figures: {e}", out.display());
-            return ExitCode::from(1);
-        }
         // Ground tracks always; the movie unless the problem file turns it off.
-        let want_movie = args.movie || p.output.movie;
         let title = path
             .file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned());
@@ -236,20 +231,11 @@ pub fn run(args: &Args) -> ExitCode {
             .as_ref()
             .filter(|_| o.error.is_none())
             .map(|ob| ob.regime.to_string());
-        let clip = output::movie::clip_from_run(&model, &o.frames, &fields, &title, regime);
-        let made = output::movie::write_tracks(stage, &clip).and_then(|_| {
-            if want_movie {
-                output::movie::write_movie(stage, "movie.gif", &clip, &Default::default())
-                    .map(|_| ())
-            } else {
-                Ok(())
-            }
-        });
+        let want_movie = args.movie || p.output.movie;
+        let made =
+            output::rundir::write_plots(stage, &model, &o, &fields, &title, regime, want_movie);
         if let Err(e) = made {
-            eprintln!(
-                "error: {}: cannot write the movie or the tracks: {e}",
-                out.display()
-            );
+            eprintln!("error: {}: {e}", out.display());
             return ExitCode::from(1);
         }
     }
@@ -370,6 +356,50 @@ fn on_interrupt() {
         // async-signal-safe.
         unsafe {
             libc::signal(libc::SIGINT, handler as *const () as libc::sighandler_t);
+        }
+    }
+}
+
+/// Simulate `p` again into the run directory `dir` with figures, tracks and movie (the best
+/// evaluation of `slither optimize`, a cell of `slither phase --cell`), after the guard that
+/// `dir` holds no study's results; `label` is the file named as the problem, `what` says what
+/// is re-run in the closing line.
+pub fn rerun_into(
+    p: &problem::Problem,
+    label: &Path,
+    dir: &Path,
+    quiet: bool,
+    what: &str,
+) -> Result<output::rundir::RunDir, ExitCode> {
+    let _lock = lock_out(dir)?;
+    super::guard::check_writer(dir, super::guard::Writer::Run)?;
+    match output::rundir::write_run_dir(p, label, dir, true) {
+        Ok(r) => {
+            if !quiet {
+                let ob = r.summary.observables.as_ref();
+                eprintln!(
+                    "{what}: {} steps in {:.2} s; v_s = {:.4} m/s, regime {}{}; wrote {}",
+                    r.summary.steps,
+                    r.summary.wall_time_s,
+                    ob.map_or(f64::NAN, |o| o.v_s),
+                    ob.map_or("-".to_string(), |o| o.regime.to_string()),
+                    r.movie.map_or(String::new(), |m| format!(
+                        " (movie: {} frames, {:.1} MB, {:.2} s)",
+                        m.frames,
+                        m.bytes as f64 / 1e6,
+                        m.seconds
+                    )),
+                    dir.display()
+                );
+            }
+            if let Some(e) = &r.summary.error {
+                eprintln!("note: {what}: the run stopped early: {e}");
+            }
+            Ok(r)
+        }
+        Err(e) => {
+            eprintln!("error: {what}: {e}");
+            Err(ExitCode::from(1))
         }
     }
 }

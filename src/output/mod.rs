@@ -15,6 +15,7 @@
 pub mod ensemble;
 pub mod lock;
 pub mod movie;
+pub mod rundir;
 pub mod schema;
 pub mod staging;
 pub mod vtk;
@@ -622,21 +623,4 @@ pub fn write_figures(
     })?;
     let _ = std::fs::remove_dir_all(&staging);
     Ok(())
-}
-
-/// Write a run's `movie.gif` (3D view, coloured by contact state) and `tracks.png` /
-/// `tracks.svg` from its frames and fields; `title` is shown on the movie, `regime` when known.
-/// Returns what the movie took.
-pub fn write_movie_and_tracks(
-    dir: &Path,
-    m: &Model,
-    frames: &[Frame],
-    fl: &crate::observe::Fields,
-    title: &str,
-    regime: Option<String>,
-) -> Result<crate::plot::movie::MovieStats, String> {
-    let clip = movie::clip_from_run(m, frames, fl, title, regime);
-    let stats = movie::write_movie(dir, "movie.gif", &clip, &Default::default())?;
-    movie::write_tracks(dir, &clip)?;
-    Ok(stats)
 }

@@ -180,9 +180,14 @@ pub fn clip_from_dir(dir: &Path) -> Result<Clip, String> {
         Some(vm) => 0.1 * vm,
         None => 1e-3 * length,
     });
-    let regime = summary
-        .as_ref()
-        .and_then(|s| s["observables"]["regime"].as_str().map(str::to_string));
+    let regime = summary.as_ref().and_then(|s| {
+        // The observables sit at the summary's top level (older runs: under
+        // "observables").
+        s["regime"]
+            .as_str()
+            .or_else(|| s["observables"]["regime"].as_str())
+            .map(str::to_string)
+    });
     let title = summary
         .as_ref()
         .and_then(|s| s["problem"].as_str())
@@ -289,4 +294,22 @@ pub fn movie_of_dir(
     };
     let stats = write_gif_file(&path, &clip, opts)?;
     Ok((path, stats))
+}
+
+/// `slither movie DIR --still T`: the movie frame nearest time `t` (s) of the run in `dir` as
+/// a PNG at `out` (default `DIR/still_<t>.png`). Returns the file written.
+pub fn still_of_dir(
+    dir: &Path,
+    opts: &MovieOptions,
+    t: f64,
+    out: Option<&Path>,
+) -> Result<std::path::PathBuf, String> {
+    let clip = clip_from_dir(dir)?;
+    let path = match out {
+        Some(p) => p.to_path_buf(),
+        None => dir.join(format!("still_{t}.png")),
+    };
+    crate::plot::movie::still(&path, &clip, opts, t)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path)
 }

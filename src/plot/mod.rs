@@ -18,11 +18,12 @@
 //! (`scatter.rs`), [`tracks()`] (ground tracks, `tracks.rs`, PNG or SVG), and the animated GIF
 //! of a run, [`movie`] (`movie/`); axis ranges, tick labels, cell edges, legends and the canvas are shared in
 //! `axes.rs`, colour maps in [`colormap`]; the phase diagram's map and charts in [`phase`]
-//! (`phase.rs`).
+//! (`phase.rs`), its gallery of thumbnails in [`gallery`] (`gallery.rs`).
 
 mod axes;
 mod charts;
 pub mod colormap;
+pub mod gallery;
 pub mod growth;
 mod kymograph;
 pub mod movie;

@@ -314,8 +314,8 @@ keys! {
     // [output]
     OUTPUT_INTERVAL = "output.interval", "s", Rule("duration / 100"), Positive, "",
         "Interval between recorded frames (trajectory, kymographs, observables).";
-    OUTPUT_MOVIE = "output.movie", "", Flag(false), Text("true or false"), "",
-        "Whether `slither run` writes `movie.gif` beside its figures (`--movie` does for one run; rendering costs more than a quarter of a short run's time, so it is off unless asked).";
+    OUTPUT_MOVIE = "output.movie", "", Flag(true), Text("true or false"), "",
+        "Whether `slither run` writes `movie.gif` beside its figures (not with `--no-plots`; `--movie` writes it even when this is false).";
     // [ground]
     GROUND_MU_FORWARD = "ground.mu_forward", "", Real(0.11), NonNegative, "",
         "Coulomb coefficient resisting forward (toward the head) sliding. Without a `[ground]` table there is no ground.";

@@ -55,6 +55,7 @@ pub mod boundaries;
 pub mod cell;
 pub mod csv;
 pub mod file;
+pub mod gallery;
 pub mod growth;
 pub mod merge;
 pub mod refine;

@@ -135,7 +135,8 @@ pub struct MovieOptions {
     pub fps: f64,
     /// Longest movie (s) before frames are skipped at a stride. Default 15.
     pub max_seconds: f64,
-    /// Picture size (px). Default 640 x 400.
+    /// Picture size (px). Default 480 x 300 (the size that keeps a run's movie cheap: its
+    /// LZW compression and rasterising both cost in proportion to the pixels).
     pub size: (u32, u32),
 }
 
@@ -146,7 +147,7 @@ impl Default for MovieOptions {
             colour: Colouring::Contact,
             fps: 10.0,
             max_seconds: 15.0,
-            size: (640, 400),
+            size: (480, 300),
         }
     }
 }

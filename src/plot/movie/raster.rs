@@ -73,8 +73,8 @@ pub(super) fn ground(
         } else {
             GROUND
         };
-        for px in 0..w {
-            cv.put(py * w + px, c);
+        for p in cv.rgb[3 * py * w..3 * (py + 1) * w].chunks_exact_mut(3) {
+            p.copy_from_slice(&c);
         }
     }
     // Grid lines: straight in any projection, drawn in pieces of one cell, each piece's colour
@@ -88,15 +88,23 @@ pub(super) fn ground(
         for i in -n..=n {
             let major = (if axis == 0 { ox + i } else { oy + i }).rem_euclid(5) == 0;
             let colour = if major { GRID_MAJOR } else { GRID };
-            for j in -n..n {
-                let at = |k: i64| -> [f64; 3] {
-                    if axis == 0 {
-                        [(ox + i) as f64 * cell, (oy + k) as f64 * cell, 0.0]
-                    } else {
-                        [(ox + k) as f64 * cell, (oy + i) as f64 * cell, 0.0]
-                    }
-                };
+            // Each vertex is projected once and shared by the two pieces that meet there.
+            let at = |k: i64| -> [f64; 3] {
+                if axis == 0 {
+                    [(ox + i) as f64 * cell, (oy + k) as f64 * cell, 0.0]
+                } else {
+                    [(ox + k) as f64 * cell, (oy + i) as f64 * cell, 0.0]
+                }
+            };
+            // Only the pieces within `reach` of the centre can show (|i| and |j| in cells).
+            let half = ((n * n - i * i) as f64).max(0.0).sqrt().ceil() as i64 + 1;
+            let (ja, jb) = ((-half).max(-n), half.min(n));
+            let mut prev = cam.project(at(ja));
+            for j in ja..jb {
                 let (p, q) = (at(j), at(j + 1));
+                let next = cam.project(q);
+                let (a, b) = (prev, next);
+                prev = next;
                 let mid = [
                     0.5 * (p[0] + q[0]) - centre[0],
                     0.5 * (p[1] + q[1]) - centre[1],
@@ -106,7 +114,7 @@ pub(super) fn ground(
                 if fade <= 0.0 {
                     continue;
                 }
-                let (Some(a), Some(b)) = (cam.project(p), cam.project(q)) else {
+                let (Some(a), Some(b)) = (a, b) else {
                     continue;
                 };
                 // Cells below ~4 px would merge into noise: fade them too.
@@ -121,17 +129,46 @@ pub(super) fn ground(
     // Shadow: darkest under a sphere resting on the ground, fading with height; the ground
     // point under each pixel near a sphere's foot is found by casting the pixel's ray.
     let mut shade = vec![0.0f32; w * h];
+    // The ground disc under a sphere, of radius `r`, spans on screen the box of the four
+    // points `r` along the camera's horizontal right and forward directions (its projection
+    // is near an ellipse with those axes), widened by a pixel and a tenth.
+    let fh = {
+        let n = (cam.fwd[0] * cam.fwd[0] + cam.fwd[1] * cam.fwd[1]).sqrt();
+        if n > 1e-9 {
+            [cam.fwd[0] / n, cam.fwd[1] / n]
+        } else {
+            // Looking straight down: screen up is the forward direction on the ground.
+            [cam.up[0], cam.up[1]]
+        }
+    };
+    let rh = [cam.right[0], cam.right[1]];
     for b in balls {
         let foot = [b.c[0], b.c[1], 0.0];
-        let Some((sx, sy, z)) = cam.project(foot) else {
-            continue;
-        };
         let height = (b.c[2] - b.r).max(0.0);
         let alpha = (SHADOW_MAX / (1.0 + height / (4.0 * b.r))) as f32;
         let r = b.r * (1.0 + 0.15 * height / b.r).min(2.0);
-        let rp = (r * cam.px_per_m(z) * 1.6 + 2.0).ceil();
-        let (x0, x1) = clamp_span(sx - rp, sx + rp, w);
-        let (y0, y1) = clamp_span(sy - rp, sy + rp, h);
+        let (mut xa, mut xb, mut ya, mut yb) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        let mut seen = 0;
+        for (u, v) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)] {
+            let g = [
+                foot[0] + r * (u * rh[0] + v * fh[0]),
+                foot[1] + r * (u * rh[1] + v * fh[1]),
+                0.0,
+            ];
+            if let Some((x, y, _)) = cam.project(g) {
+                xa = xa.min(x);
+                xb = xb.max(x);
+                ya = ya.min(y);
+                yb = yb.max(y);
+                seen += 1;
+            }
+        }
+        if seen < 4 {
+            continue;
+        }
+        let (mx, my) = (0.1 * (xb - xa) + 1.0, 0.1 * (yb - ya) + 1.0);
+        let (x0, x1) = clamp_span(xa - mx, xb + mx, w);
+        let (y0, y1) = clamp_span(ya - my, yb + my, h);
         let r2 = r * r;
         for py in y0..y1 {
             for px in x0..x1 {
@@ -149,11 +186,11 @@ pub(super) fn ground(
             }
         }
     }
-    for (i, &s) in shade.iter().enumerate() {
+    for (p, &s) in cv.rgb.chunks_exact_mut(3).zip(&shade) {
         if s > 0.0 {
-            let p = &mut cv.rgb[3 * i..3 * i + 3];
+            let k = 1.0 - s;
             for v in p {
-                *v = (*v as f32 * (1.0 - s)).round() as u8;
+                *v = (*v as f32 * k + 0.5) as u8;
             }
         }
     }
