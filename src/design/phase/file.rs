@@ -43,7 +43,7 @@ pub struct Phase {
     /// The model chosen for it (set by [`prepare_accuracy`]).
     pub chosen: Option<StudyAccuracy>,
     /// `growth = { ... }`: the base snake grown along a line of sizes ([`super::growth`]).
-    pub growth: Option<super::growth::Growth>,
+    pub growth: Option<super::allometry::Growth>,
 }
 
 #[derive(Deserialize)]
@@ -66,7 +66,7 @@ struct PhaseTable {
     weight_via: Option<String>,
     #[serde(default)]
     similar: bool,
-    growth: Option<super::growth::GrowthTable>,
+    growth: Option<super::allometry::GrowthTable>,
 }
 
 /// `[phase] weight_via`: which physical parameter sets a cell's scaled weight
@@ -363,7 +363,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
     let growth = match &t.growth {
         None => None,
         Some(g) => Some(
-            super::growth::parse(g, grid_axis)
+            super::allometry::parse(g, grid_axis)
                 .map_err(|(value, allowed)| invalid("growth", value, &allowed))?,
         ),
     };

@@ -51,6 +51,7 @@
 //! shard) and its end (boundaries, figures); [`boundaries`](mod@boundaries) the fitted boundary lines;
 //! [`refine`] their bisection; [`merge`](mod@merge) the shards' union. The figures are drawn by
 //! [`crate::plot::phase`].
+pub mod allometry;
 pub mod boundaries;
 pub mod cell;
 pub mod csv;
