@@ -173,6 +173,9 @@ pub fn run(
         let mut summary = Summary::new(&path, &model, &o);
         summary.accuracy = report;
         summary.observables = Some(observables);
+        if o.error.is_none() {
+            summary.periodic = observe::periodic::of_outcome(&model, &o);
+        }
         Ok(NativeRun {
             model,
             outcome: o,

@@ -226,11 +226,17 @@ pub fn run(args: &Args) -> ExitCode {
         let title = path
             .file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-        let regime = summary
-            .observables
-            .as_ref()
-            .filter(|_| o.error.is_none())
-            .map(|ob| ob.regime.to_string());
+        let regime = output::movie::movie_label(
+            summary
+                .observables
+                .as_ref()
+                .filter(|_| o.error.is_none())
+                .map(|ob| ob.regime.to_string()),
+            summary
+                .periodic
+                .as_ref()
+                .map(|p| (p.sidewinding, p.lateral_speed_over_v_m)),
+        );
         let want_movie = args.movie || p.output.movie;
         let made =
             output::rundir::write_plots(stage, &model, &o, &fields, &title, regime, want_movie);

@@ -64,6 +64,19 @@ pub fn lambda_at_nodes(s: &[f64], s_window: &[f64], lambda: &[Vec<f64>]) -> Vec<
         .collect()
 }
 
+/// The label a movie shows for a run: its regime and, for a periodic gait, whether it
+/// sidewinds and its lateral speed over `v_m` (`periodic`: `(sidewinding, lateral)`), e.g.
+/// `U; sidewinding no, lateral 0.27 v_m`.
+pub fn movie_label(regime: Option<String>, periodic: Option<(bool, f64)>) -> Option<String> {
+    regime.map(|r| match periodic {
+        Some((sw, lateral)) => format!(
+            "{r}; sidewinding {}, lateral {lateral:.2} v_m",
+            if sw { "yes" } else { "no" }
+        ),
+        None => r,
+    })
+}
+
 /// The clip of a run in memory: its frames, their fields, and the regime when known.
 pub fn clip_from_run(
     m: &Model,
@@ -183,10 +196,15 @@ pub fn clip_from_dir(dir: &Path) -> Result<Clip, String> {
     let regime = summary.as_ref().and_then(|s| {
         // The observables sit at the summary's top level (older runs: under
         // "observables").
-        s["regime"]
+        let regime = s["regime"]
             .as_str()
             .or_else(|| s["observables"]["regime"].as_str())
-            .map(str::to_string)
+            .map(str::to_string);
+        let p = &s["periodic"];
+        let periodic = p["sidewinding"]
+            .as_bool()
+            .zip(p["lateral_speed_over_v_m"].as_f64());
+        movie_label(regime, periodic)
     });
     let title = summary
         .as_ref()
@@ -312,4 +330,23 @@ pub fn still_of_dir(
     crate::plot::movie::still(&path, &clip, opts, t)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::movie_label;
+
+    #[test]
+    fn the_label_adds_the_periodic_verdict_to_the_regime() {
+        assert_eq!(movie_label(Some("S".into()), None).as_deref(), Some("S"));
+        assert_eq!(
+            movie_label(Some("U".into()), Some((false, 0.2661))).as_deref(),
+            Some("U; sidewinding no, lateral 0.27 v_m")
+        );
+        assert_eq!(
+            movie_label(Some("M".into()), Some((true, 0.3))).as_deref(),
+            Some("M; sidewinding yes, lateral 0.30 v_m")
+        );
+        assert_eq!(movie_label(None, Some((true, 0.3))), None);
+    }
 }

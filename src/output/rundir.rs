@@ -72,7 +72,18 @@ pub fn write_run_dir(p: &Problem, label: &Path, dir: &Path, plots: bool) -> Resu
         .map_err(|e| format!("{}: cannot create the staging folder: {e}", dir.display()))?;
     let stage = staging.dir().to_path_buf();
     let mut summary = super::Summary::new(label, &model, &o);
-    let regime = o.error.is_none().then(|| observables.regime.to_string());
+    summary.periodic = o
+        .error
+        .is_none()
+        .then(|| crate::observe::periodic::of_outcome(&model, &o))
+        .flatten();
+    let regime = super::movie::movie_label(
+        o.error.is_none().then(|| observables.regime.to_string()),
+        summary
+            .periodic
+            .as_ref()
+            .map(|p| (p.sidewinding, p.lateral_speed_over_v_m)),
+    );
     summary.observables = Some(observables);
     let extra = [
         ("elevation", fields.elevation.clone()),
