@@ -1,24 +1,14 @@
 //! Gaits on the bundled problems: the juvenile S-start, the heavy adult that cannot, periodic
 //! S-starts as sidewinding, and lateral undulation (issue: muscles, gaits, topology).
 //! These are full 4-5 s simulations (tens of seconds each in release).
-use slither::gait::Muscles;
+mod common;
+
 use slither::model::Model;
 use slither::observe::{self, Observables, Regime};
-use slither::{problem, sim};
-use std::path::Path;
+use slither::sim;
 
 fn run(path: &str) -> (Model, Observables, sim::Outcome) {
-    let p = problem::load(Path::new(path)).unwrap();
-    let m = Model::new(&p);
-    let o = sim::run(
-        &m,
-        Box::new(Muscles {
-            gait: m.gait.clone(),
-        }),
-        &mut |_| {},
-        &mut |_| {},
-    );
-    assert!(o.error.is_none(), "{path}: {:?}", o.error);
+    let (m, o) = common::run_file(path);
     let ob = observe::of_outcome(&m, &o);
     println!("{path}: {ob:?}\n  max strain {:.2e}, max penetration {:.2e} m, {} steps in {:.1} s, {} halvings", o.max_strain, o.max_penetration, o.stats.steps, o.wall_time_s, o.stats.step_halvings);
     (m, ob, o)

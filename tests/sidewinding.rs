@@ -2,27 +2,17 @@
 //! sidewinding criteria): the bundled `problems/sidewinding.toml` against the oblique crawl it
 //! replaced (`tests/fixtures/sidewinding_oblique.toml`), and the ground tracks of the bundled
 //! scene from its contact data. Two full runs, a few seconds each in release.
-use slither::gait::Muscles;
+mod common;
+
 use slither::model::Model;
 use slither::observe::periodic::{self, Periodic};
 use slither::observe::tracks::{self, Track};
-use slither::{problem, sim};
+use slither::sim;
 use std::path::Path;
 use std::sync::OnceLock;
 
 fn run(path: &str) -> (Model, sim::Outcome) {
-    let p = problem::load(Path::new(path)).unwrap();
-    let m = Model::new(&p);
-    let o = sim::run(
-        &m,
-        Box::new(Muscles {
-            gait: m.gait.clone(),
-        }),
-        &mut |_| {},
-        &mut |_| {},
-    );
-    assert!(o.error.is_none(), "{path}: {:?}", o.error);
-    (m, o)
+    common::run_file(path)
 }
 
 fn measured(path: &str) -> (Periodic, Vec<Track>) {

@@ -4,6 +4,22 @@ use slither::model::Model;
 use slither::problem;
 use std::path::Path;
 
+/// Simulate a problem file with its own gait; the run must finish.
+pub fn run_file(path: &str) -> (Model, slither::sim::Outcome) {
+    let p = problem::load(Path::new(path)).unwrap();
+    let m = Model::new(&p);
+    let o = slither::sim::run(
+        &m,
+        Box::new(slither::gait::Muscles {
+            gait: m.gait.clone(),
+        }),
+        &mut |_| {},
+        &mut |_| {},
+    );
+    assert!(o.error.is_none(), "{path}: {:?}", o.error);
+    (m, o)
+}
+
 /// Model from inline TOML.
 pub fn model(toml: &str) -> Model {
     let p = problem::parse(toml, Path::new("<inline>")).expect("valid inline problem");

@@ -154,11 +154,17 @@ pub fn grown_problem(base: &Problem, growth: &Growth, a: f64) -> Problem {
     p.rod.twist_stiffness = p.rod.twist_stiffness.map(|c| c * s.powi(4));
     p.rod.stretch_stiffness = p.rod.stretch_stiffness.map(|ea| ea * s * s);
     p.gait.stress = growth.muscle_stress(a);
-    let t = &mut p.time;
-    t.duration = t.duration.map(|d| d * s);
-    t.dt = t.dt.map(|d| d * s);
-    t.dt_max = t.dt_max.map(|d| d * s);
-    t.dt_min = t.dt_min.map(|d| d * s);
-    p.output.interval = p.output.interval.map(|i| i * s);
+    scale_times(&mut p, s);
     p
+}
+
+/// Multiply a problem's times by `k`: the duration, the step and its adaptive bounds, and the
+/// output interval (a run that follows a pulse time scaled by `k`).
+pub fn scale_times(p: &mut Problem, k: f64) {
+    let t = &mut p.time;
+    t.duration = t.duration.map(|d| d * k);
+    t.dt = t.dt.map(|d| d * k);
+    t.dt_max = t.dt_max.map(|d| d * k);
+    t.dt_min = t.dt_min.map(|d| d * k);
+    p.output.interval = p.output.interval.map(|i| i * k);
 }

@@ -218,6 +218,44 @@ pub(crate) fn append_rows(
     Ok(file)
 }
 
+/// Simulate the cells `todo` (`(W, G)` pairs) in parallel with `simulate`, appending each
+/// cell's row (under the rows' hash `hash`) to `file` as soon as it is done, and calling
+/// `report(done, cell)` after each. Returns the cells in `todo`'s order; the first write error
+/// is [`PhaseError::Io`] on `csv`, after every simulation has finished.
+pub(crate) fn simulate_appending(
+    todo: &[(f64, f64)],
+    simulate: &(dyn Fn(f64, f64) -> Cell + Sync),
+    file: std::fs::File,
+    csv: &Path,
+    hash: u64,
+    report: &(dyn Fn(usize, &Cell) + Sync),
+) -> Result<Vec<Cell>, PhaseError> {
+    use rayon::prelude::*;
+    let sink = std::sync::Mutex::new((file, 0usize, None::<std::io::Error>));
+    let cells: Vec<Cell> = todo
+        .par_iter()
+        .map(|&(w, g)| {
+            let c = simulate(w, g);
+            let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
+            let line = c.row(hash) + "\n";
+            let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
+            if let Err(e) = r {
+                s.2.get_or_insert(e);
+            }
+            s.1 += 1;
+            report(s.1, &c);
+            c
+        })
+        .collect();
+    match sink.into_inner().unwrap_or_else(|e| e.into_inner()).2 {
+        Some(source) => Err(PhaseError::Io {
+            file: csv.to_path_buf(),
+            source,
+        }),
+        None => Ok(cells),
+    }
+}
+
 /// Read every row of a `phase.csv` or `refine.csv` (of any base file), cutting a torn last line
 /// off the file as [`read_phase_csv`] does.
 pub fn read_rows(csv: &Path) -> Result<Rows, PhaseError> {

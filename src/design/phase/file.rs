@@ -460,13 +460,7 @@ pub fn cell_problem_with(base: &Problem, w: f64, g: f64, protocol: Protocol) -> 
         let factor = ((b / r.bending_stiffness) * (r.density / p.rod.density)).sqrt();
         p.gait.speed = base.gait.speed * factor;
         // Times follow the pulse time L / v_m.
-        let tau = 1.0 / factor;
-        let t = &mut p.time;
-        t.duration = t.duration.map(|d| d * tau);
-        t.dt = t.dt.map(|d| d * tau);
-        t.dt_max = t.dt_max.map(|d| d * tau);
-        t.dt_min = t.dt_min.map(|d| d * tau);
-        p.output.interval = p.output.interval.map(|i| i * tau);
+        super::allometry::scale_times(&mut p, 1.0 / factor);
     }
     p
 }

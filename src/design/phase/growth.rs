@@ -17,17 +17,14 @@
 //! `growth.png` / `growth.svg` ([`crate::plot::growth`]).
 pub use super::allometry::*;
 use super::cell::{simulate_verified, Cell};
-use super::csv::{append_rows, read_phase_csv};
+use super::csv::{append_rows, read_phase_csv, simulate_appending};
 use super::file::{Protocol, Verify, WeightVia};
 use super::PhaseError;
 use crate::design::Status;
 use crate::observe::Regime;
 use crate::problem::Problem;
-use rayon::prelude::*;
 use serde::Serialize;
-use std::io::Write;
 use std::path::Path;
-use std::sync::Mutex;
 
 /// How the growth line's snakes are made from the base: `W` through `B`, dynamically similar.
 pub const PROTOCOL: Protocol = Protocol {
@@ -228,29 +225,19 @@ pub fn run(
     let file = append_rows(&csv, old.fresh, old.verified, verify.is_some())?;
     let points = growth.points(base);
     let key = |p: &GrowthPoint| (p.weight.to_bits(), p.torque.to_bits());
-    let sink = Mutex::new((file, 0usize, None::<std::io::Error>));
-    let todo: Vec<&GrowthPoint> = points
+    let todo: Vec<(f64, f64)> = points
         .iter()
         .filter(|p| !old.cells.contains_key(&key(p)))
+        .map(|p| (p.weight, p.torque))
         .collect();
-    let new: Vec<Cell> = todo
-        .par_iter()
-        .map(|p| {
-            let c = simulate_verified(base, p.weight, p.torque, verify, PROTOCOL);
-            let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
-            let line = c.row(hash) + "\n";
-            let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
-            if let Err(e) = r {
-                s.2.get_or_insert(e);
-            }
-            s.1 += 1;
-            report(s.1, &c);
-            c
-        })
-        .collect();
-    if let Some(e) = sink.into_inner().unwrap_or_else(|e| e.into_inner()).2 {
-        return Err(io(&csv)(e));
-    }
+    let new = simulate_appending(
+        &todo,
+        &|w, g| simulate_verified(base, w, g, verify, PROTOCOL),
+        file,
+        &csv,
+        hash,
+        report,
+    )?;
     let simulated = new.len();
     let mut done = old.cells;
     for c in new {

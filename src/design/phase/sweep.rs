@@ -2,7 +2,7 @@
 //! `phase.csv` when done, then the boundaries and the figures.
 use super::boundaries::{boundaries, fit_boundaries, Boundary};
 use super::cell::{simulate_verified, Cell};
-use super::csv::{append_rows, read_phase_csv};
+use super::csv::{append_rows, read_phase_csv, simulate_appending};
 use super::file::{Phase, Protocol, Verify};
 use super::growth::{self, Growth, GrowthLine};
 use super::refine::{self, Refinement};
@@ -12,10 +12,7 @@ use crate::design::Status;
 use crate::observe::Regime;
 use crate::plot::{self, phase as figs};
 use crate::problem::Problem;
-use rayon::prelude::*;
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 /// What a sweep produced.
 #[derive(Debug)]
@@ -178,25 +175,14 @@ pub fn sweep_shard(
         .filter(|&(w, g)| !done.contains_key(&key(w, g)))
         .collect();
     let reused = grid.len() - todo.len();
-    let sink = Mutex::new((file, 0usize, None::<std::io::Error>));
-    let new: Vec<Cell> = todo
-        .par_iter()
-        .map(|&(w, g)| {
-            let c = simulate_verified(&ph.base, w, g, ph.verify.as_ref(), ph.protocol);
-            let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
-            let line = c.row(hash) + "\n";
-            let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
-            if let Err(e) = r {
-                s.2.get_or_insert(e);
-            }
-            s.1 += 1;
-            report(s.1, todo.len(), &c);
-            c
-        })
-        .collect();
-    if let Some(e) = sink.into_inner().unwrap_or_else(|e| e.into_inner()).2 {
-        return Err(io(&csv)(e));
-    }
+    let new = simulate_appending(
+        &todo,
+        &|w, g| simulate_verified(&ph.base, w, g, ph.verify.as_ref(), ph.protocol),
+        file,
+        &csv,
+        hash,
+        &|done, c| report(done, todo.len(), c),
+    )?;
     let simulated = new.len();
     for c in new {
         done.insert(key(c.weight, c.torque), c);
