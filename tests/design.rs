@@ -179,7 +179,11 @@ fn optimiser_improves_on_the_start_and_writes_every_evaluation() {
     assert_eq!(r.simulations + r.repeats, r.evaluations);
     assert_eq!(r.reused, 0);
     for (k, row) in rows.iter().enumerate() {
-        assert_eq!(row.len(), 18, "{row:?}");
+        assert_eq!(
+            row.len(),
+            design::HISTORY_HEADER.split(',').count(),
+            "{row:?}"
+        );
         assert_eq!(row[col("eval")], format!("{}", k + 1));
         assert_eq!(row[col("status")], "ok");
         let v_s: f64 = row[col("v_s")].parse().unwrap();
@@ -265,7 +269,7 @@ fn an_interrupted_study_resumes_without_losing_evaluations() {
     // Row numbers continue and the partial row is gone.
     for (k, row) in rows.iter().enumerate() {
         assert_eq!(row[0], format!("{}", k + 1));
-        assert_eq!(row.len(), 18);
+        assert_eq!(row.len(), design::HISTORY_HEADER.split(',').count());
     }
     // The same 8-evaluation study run from scratch visits the same points (deterministic).
     let fresh = path.parent().unwrap().join("fresh");
@@ -463,6 +467,9 @@ fn normalised_coordinates_map_and_clamp_exactly_to_the_bounds() {
             stress: 1.0,
             sigma: 0.0525,
             speed: 2.0,
+            period: 0.5,
+            spacing: 0.1,
+            lift: 1.0,
         },
     };
     let x0 = space.initial();
@@ -471,7 +478,10 @@ fn normalised_coordinates_map_and_clamp_exactly_to_the_bounds() {
         GaitParams {
             stress: 24525.0,
             sigma: 0.0525,
-            speed: 0.29
+            speed: 0.29,
+            period: 0.5,
+            spacing: 0.1,
+            lift: 1.0,
         }
     );
     let u0 = space.to_unit(&x0);

@@ -357,7 +357,7 @@ proptest! {
     fn history_csvs(muts in mutations()) {
         let d = scratch("history");
         let path = d.join(design::HISTORY_FILE);
-        let row = "1,24525,0.0525,0.28,3.57,15,300,0.08,0.3,0.4,0.2,29.2,S,ok,12.5,-0.08,00ff00ff00ff00ff,\n";
+        let row = "1,24525,0.0525,0.28,1.8,0.1,1.2,3.57,15,300,0.08,0.3,0.4,0.2,29.2,S,5,0.11,85,3.8,0.7,no,ok,12.5,-0.08,00ff00ff00ff00ff,\n";
         let text = format!("{}\n{row}{}", design::HISTORY_HEADER, row.replacen('1', "2", 1));
         std::fs::write(&path, mutate(&text, &muts)).unwrap();
         match design::read_history(&path) {

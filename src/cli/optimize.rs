@@ -34,6 +34,8 @@ struct StudyProgress {
     lines: bool,
     max: usize,
     done: usize,
+    /// The search space (which parameters the log lines name).
+    space: design::Space,
 }
 
 impl StudyProgress {
@@ -50,11 +52,9 @@ impl design::EvaluationObserver for StudyProgress {
     fn started(&mut self, count: usize, p: &design::GaitParams, cached: bool) {
         if let Some(b) = &self.bar {
             b.set_message(format!(
-                "eval {count}/{}: stress {} Pa, sigma {}, speed {} m/s{}",
+                "eval {count}/{}: {}{}",
                 self.max,
-                p.stress,
-                p.sigma,
-                p.speed,
+                self.space.describe(p),
                 if cached { " (cached)" } else { "" }
             ));
         }
@@ -78,14 +78,23 @@ impl design::EvaluationObserver for StudyProgress {
         };
         let result = match e.status {
             design::Status::Ok => format!(
-                "v_s = {:.5} m/s, v_s/v_m = {:.4}, {:.1} deg, Wr_max = {:.3}, regime {}",
-                e.v_s, e.v_s_over_v_m, e.displacement_angle_deg, e.writhe_max, e.regime
+                "v_s = {:.5} m/s, v_s/v_m = {:.4}, {:.1} deg, Wr_max = {:.3}, regime {}{}",
+                e.v_s,
+                e.v_s_over_v_m,
+                e.displacement_angle_deg,
+                e.writhe_max,
+                e.regime,
+                e.periodic
+                    .map_or(String::new(), |c| format!("; {}", c.describe()))
             ),
             design::Status::Failed => format!("FAILED: {}", e.reason),
         };
         self.say(format!(
-            "eval {count}/{} (row {}): stress {} Pa, sigma {}, speed {} m/s (G = {:.3}) -> {result} [{source}]",
-            self.max, e.eval, e.point.stress, e.point.sigma, e.point.speed, e.g
+            "eval {count}/{} (row {}): {} (G = {:.3}) -> {result} [{source}]",
+            self.max,
+            e.eval,
+            self.space.describe(&e.point),
+            e.g
         ));
     }
 }
@@ -136,6 +145,7 @@ pub fn optimize(args: &Args) -> ExitCode {
         lines: !quiet,
         max: study.max_evaluations,
         done: 0,
+        space: study.space.clone(),
     };
     let names: Vec<String> = study
         .space
@@ -170,12 +180,15 @@ pub fn optimize(args: &Args) -> ExitCode {
         ),
     };
     progress.say(format!(
-        "{}: {method} over {}; at most {} evaluations of {} ({} pulse times L/v_m each)",
+        "{}: {method} over {}; at most {} evaluations of {} ({} each)",
         path.display(),
         names.join(", "),
         study.max_evaluations,
         study.base_path.display(),
-        study.duration_pulses
+        match study.duration_periods {
+            Some(n) => format!("{n} launch periods"),
+            None => format!("{} pulse times L/v_m", study.duration_pulses),
+        }
     ));
     let result = design::optimize(&study, out, &mut progress);
     if let Some(b) = progress.bar.take() {
@@ -248,14 +261,15 @@ pub fn optimize(args: &Args) -> ExitCode {
             r.termination
         );
         eprintln!(
-            "start: stress {} Pa, sigma {}, speed {} m/s: v_s = {:.5} m/s (v_s/v_m = {:.4}), regime {}",
-            i.point.stress, i.point.sigma, i.point.speed, i.v_s, i.v_s_over_v_m, i.regime
+            "start: {}: v_s = {:.5} m/s (v_s/v_m = {:.4}), regime {}",
+            study.space.describe(&i.point),
+            i.v_s,
+            i.v_s_over_v_m,
+            i.regime
         );
         eprintln!(
-            "best:  stress {} Pa, sigma {}, speed {} m/s (G = {:.3}, W = {:.1}): v_s = {:.5} m/s (v_s/v_m = {:.4}), {:.1} deg off the head direction, writhe max {:.3} mean {:.3} turns, regime {}; wrote {}",
-            best.point.stress,
-            best.point.sigma,
-            best.point.speed,
+            "best:  {} (G = {:.3}, W = {:.1}): v_s = {:.5} m/s (v_s/v_m = {:.4}), {:.1} deg off the head direction, writhe max {:.3} mean {:.3} turns, regime {}; wrote {}",
+            study.space.describe(&best.point),
             best.g,
             best.w,
             best.v_s,
@@ -266,6 +280,9 @@ pub fn optimize(args: &Args) -> ExitCode {
             best.regime,
             out.display()
         );
+        if let Some(c) = &best.periodic {
+            eprintln!("       {}", c.describe());
+        }
         if let Some(c) = &r.check {
             let say = |e: &design::EnsembleOf| {
                 e.ensemble_v_s

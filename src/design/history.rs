@@ -7,8 +7,62 @@ use super::*;
 pub const HISTORY_FILE: &str = "history.csv";
 
 /// Header of `history.csv` (the column order is fixed; units and meanings in
-/// [`crate::output::schema::HISTORY_CSV`], which `tests/docs.rs` keeps equal to it).
-pub const HISTORY_HEADER: &str = "eval,stress,sigma,speed,duration,G,W,v_s,v_s_over_v_m,writhe_max,writhe_mean,displacement_angle_deg,regime,status,wall_time_s,objective,base_hash,reason";
+/// [`crate::output::schema::HISTORY_CSV`], which `tests/docs.rs` keeps equal to it). The
+/// periodic columns are empty for a gait without a launch period.
+pub const HISTORY_HEADER: &str = "eval,stress,sigma,speed,period,spacing,lift,duration,G,W,v_s,v_s_over_v_m,writhe_max,writhe_mean,displacement_angle_deg,regime,periodic_cycles,displacement_over_length_min,broadside_deg_min,turn_deg_max_abs,stationary_contact_share_min,sidewinding,status,wall_time_s,objective,base_hash,reason";
+
+/// Header of the `history.csv` files written before the study could vary the period, the
+/// spacing and the lift (and before the periodic columns): still read, their rows taking the
+/// base file's period, spacing and lift, and rewritten with [`HISTORY_HEADER`] when a study
+/// resumes from them.
+pub const LEGACY_HISTORY_HEADER: &str = "eval,stress,sigma,speed,duration,G,W,v_s,v_s_over_v_m,writhe_max,writhe_mean,displacement_angle_deg,regime,status,wall_time_s,objective,base_hash,reason";
+
+/// The periodic observables of an evaluation ([`crate::observe::periodic`]), for a gait with
+/// a launch period.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PeriodicColumns {
+    /// Measured cycles (after the settling one).
+    #[serde(rename = "periodic_cycles")]
+    pub cycles: usize,
+    /// Smallest centroid displacement per cycle (over L).
+    pub displacement_over_length_min: f64,
+    /// Smallest broadside angle over the cycles (degrees).
+    pub broadside_deg_min: f64,
+    /// Largest |turn| per cycle (degrees).
+    pub turn_deg_max_abs: f64,
+    /// Smallest stationary share of the contact time over the cycles.
+    pub stationary_contact_share_min: f64,
+    /// Whether every sidewinding criterion holds.
+    pub sidewinding: bool,
+}
+
+impl PeriodicColumns {
+    /// As written in log lines ("5 cycles, sidewinding no: broadside >= 85.4 deg, |turn| <=
+    /// 3.8 deg, >= 0.113 L, stationary share >= 0.682").
+    pub fn describe(&self) -> String {
+        format!(
+            "{} cycles, sidewinding {}: broadside >= {:.1} deg, |turn| <= {:.1} deg, >= {:.3} L, stationary share >= {:.3}",
+            self.cycles,
+            if self.sidewinding { "yes" } else { "no" },
+            self.broadside_deg_min,
+            self.turn_deg_max_abs,
+            self.displacement_over_length_min,
+            self.stationary_contact_share_min
+        )
+    }
+
+    /// The columns of measured periodic observables.
+    pub fn of(p: &crate::observe::periodic::Periodic) -> PeriodicColumns {
+        PeriodicColumns {
+            cycles: p.cycles.len(),
+            displacement_over_length_min: p.displacement_over_length_min,
+            broadside_deg_min: p.broadside_deg_min,
+            turn_deg_max_abs: p.turn_deg_max_abs,
+            stationary_contact_share_min: p.stationary_contact_share_min,
+            sidewinding: p.sidewinding,
+        }
+    }
+}
 
 /// Outcome of one simulation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -68,6 +122,9 @@ pub struct Evaluation {
     pub displacement_angle_deg: f64,
     /// Regime "S", "F", "N" or "U" ([`crate::observe`]).
     pub regime: String,
+    /// The periodic observables of a finished run of a gait with a launch period.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub periodic: Option<PeriodicColumns>,
     /// Finished or failed.
     pub status: Status,
     /// Wall time of the simulation (s).
@@ -76,7 +133,8 @@ pub struct Evaluation {
     pub reason: String,
     /// The objective of a finished run without penalties (m/s): `-v_s`, or for
     /// `objective = "broadside"` minus the mean lateral speed per cycle plus `turn_penalty`
-    /// times the mean |turn| per cycle (the `objective` column).
+    /// times the mean |turn| per cycle and `stationary_penalty` times the smallest stationary
+    /// share's shortfall below 0.8 (the `objective` column).
     #[serde(skip)]
     pub objective_value: f64,
 }
@@ -94,14 +152,31 @@ impl Evaluation {
     pub(super) fn csv_row(&self, base_hash: &str) -> String {
         let reason = super::csv_field(&self.reason);
         // Numbers in their shortest round-trip form, with an exponent outside [1e-4, 1e7)
-        // (the failed-run objective is not written as 300 digits).
+        // (the failed-run objective is not written as 300 digits); an unrecorded value
+        // (NaN period, spacing or lift of a legacy row) is an empty field.
         let num = crate::problem::num;
-        format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            self.eval,
-            num(self.point.stress),
-            num(self.point.sigma),
-            num(self.point.speed),
+        let known = |x: f64| if x.is_nan() { String::new() } else { num(x) };
+        let periodic = match &self.periodic {
+            Some(c) => format!(
+                "{},{},{},{},{},{}",
+                c.cycles,
+                num(c.displacement_over_length_min),
+                num(c.broadside_deg_min),
+                num(c.turn_deg_max_abs),
+                num(c.stationary_contact_share_min),
+                if c.sidewinding { "yes" } else { "no" }
+            ),
+            None => ",,,,,".into(),
+        };
+        let p = &self.point;
+        [
+            self.eval.to_string(),
+            num(p.stress),
+            num(p.sigma),
+            num(p.speed),
+            known(p.period),
+            known(p.spacing),
+            known(p.lift),
             num(self.duration),
             num(self.g),
             num(self.w),
@@ -110,24 +185,29 @@ impl Evaluation {
             num(self.writhe_max),
             num(self.writhe_mean),
             num(self.displacement_angle_deg),
-            self.regime,
-            self.status.as_str(),
+            self.regime.clone(),
+            periodic,
+            self.status.as_str().into(),
             num(self.wall_time_s),
             num(self.objective()),
-            base_hash,
-            reason
-        )
+            base_hash.into(),
+            reason,
+        ]
+        .join(",")
     }
 }
 
-/// Cache key: exact bits of stress, sigma, speed and duration.
-pub(super) type Key = [u64; 4];
+/// Cache key: exact bits of every gait parameter and the duration.
+pub(super) type Key = [u64; 7];
 
 pub(super) fn key(p: &GaitParams, duration: f64) -> Key {
     [
         p.stress.to_bits(),
         p.sigma.to_bits(),
         p.speed.to_bits(),
+        p.period.to_bits(),
+        p.spacing.to_bits(),
+        p.lift.to_bits(),
         duration.to_bits(),
     ]
 }
@@ -139,6 +219,19 @@ pub struct History {
     pub rows: Vec<(Evaluation, String)>,
     /// An incomplete last line (an interrupted write) was dropped from the file.
     pub dropped_partial: bool,
+    /// The file has the [`LEGACY_HISTORY_HEADER`]: its rows' period, spacing and lift are NaN
+    /// (the base file's, unrecorded) and it holds no periodic columns.
+    pub legacy: bool,
+}
+
+/// Write `rows` as a whole `history.csv` in the current format (through a temporary file).
+pub(super) fn rewrite_history(path: &Path, rows: &[(Evaluation, String)]) -> std::io::Result<()> {
+    let mut text = format!("{HISTORY_HEADER}\n");
+    for (e, hash) in rows {
+        text += &e.csv_row(hash);
+        text.push('\n');
+    }
+    crate::output::write_atomic(path, text.as_bytes())
 }
 
 /// Read `path` if it exists (a missing file is an empty history). A last line without its
@@ -175,13 +268,18 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
         line,
         message,
     };
+    let mut columns: Vec<&str> = HISTORY_HEADER.split(',').collect();
     for (n, line) in complete.lines().enumerate() {
         let line_no = n + 1;
         if n == 0 {
-            if line.trim_end() != HISTORY_HEADER {
+            let header = line.trim_end();
+            if header == LEGACY_HISTORY_HEADER {
+                h.legacy = true;
+                columns = header.split(',').collect();
+            } else if header != HISTORY_HEADER {
                 return Err(bad(
                     1,
-                    format!("the header must be `{HISTORY_HEADER}` (written by this version of slither); move the file away to start afresh"),
+                    format!("the header must be `{HISTORY_HEADER}` (written by this version of slither) or the older `{LEGACY_HISTORY_HEADER}`; move the file away to start afresh"),
                 ));
             }
             continue;
@@ -189,79 +287,109 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
         if line.trim().is_empty() {
             continue;
         }
-        let f: Vec<&str> = line.splitn(18, ',').collect();
-        if f.len() != 18 {
-            return Err(bad(
-                line_no,
-                format!("expected 18 comma-separated fields, found {}", f.len()),
-            ));
-        }
-        let num = |i: usize| -> Result<f64, DesignError> {
-            f[i].trim().parse::<f64>().map_err(|_| {
-                bad(
-                    line_no,
-                    format!(
-                        "column `{}` = {:?} is not a number",
-                        HISTORY_HEADER.split(',').nth(i).unwrap_or("?"),
-                        f[i]
-                    ),
-                )
-            })
-        };
-        // The gait parameters and the duration are inputs of a re-run: finite and positive.
-        let input = |i: usize| -> Result<f64, DesignError> {
-            let x = num(i)?;
-            if x.is_finite() && x > 0.0 {
-                Ok(x)
-            } else {
-                Err(bad(
-                    line_no,
-                    format!(
-                        "column `{}` = {:?} is out of range: allowed finite and > 0",
-                        HISTORY_HEADER.split(',').nth(i).unwrap_or("?"),
-                        f[i]
-                    ),
-                ))
-            }
-        };
-        let eval = f[0].trim().parse::<usize>().map_err(|_| {
-            bad(
-                line_no,
-                format!("column `eval` = {:?} is not an integer", f[0]),
-            )
-        })?;
-        let status = match f[13].trim() {
-            "ok" => Status::Ok,
-            "failed" => Status::Failed,
-            other => {
-                return Err(bad(
-                    line_no,
-                    format!("column `status` = {other:?} must be \"ok\" or \"failed\""),
-                ))
-            }
-        };
-        let e = Evaluation {
-            eval,
-            point: GaitParams {
-                stress: input(1)?,
-                sigma: input(2)?,
-                speed: input(3)?,
-            },
-            duration: input(4)?,
-            g: num(5)?,
-            w: num(6)?,
-            v_s: num(7)?,
-            v_s_over_v_m: num(8)?,
-            writhe_max: num(9)?,
-            writhe_mean: num(10)?,
-            displacement_angle_deg: num(11)?,
-            regime: f[12].trim().to_string(),
-            status,
-            wall_time_s: num(14)?,
-            reason: f[17].to_string(),
-            objective_value: num(15)?,
-        };
-        h.rows.push((e, f[16].trim().to_string()));
+        h.rows
+            .push(parse_row(line, &columns, &|m| bad(line_no, m))?);
     }
     Ok(h)
+}
+
+/// One row of `history.csv` under `columns` (the file's header), with its base hash.
+fn parse_row(
+    line: &str,
+    columns: &[&str],
+    bad: &dyn Fn(String) -> DesignError,
+) -> Result<(Evaluation, String), DesignError> {
+    let width = columns.len();
+    let f: Vec<&str> = line.splitn(width, ',').collect();
+    if f.len() != width {
+        return Err(bad(format!(
+            "expected {width} comma-separated fields, found {}",
+            f.len()
+        )));
+    }
+    // The field of a column (absent from a legacy file: None).
+    let field = |name: &str| columns.iter().position(|c| *c == name).map(|i| f[i].trim());
+    let text = |name: &str| field(name).unwrap_or("");
+    let num = |name: &str| -> Result<f64, DesignError> {
+        let v = text(name);
+        v.parse::<f64>()
+            .map_err(|_| bad(format!("column `{name}` = {v:?} is not a number")))
+    };
+    // The gait parameters and the duration are inputs of a re-run: finite and positive (the
+    // spacing and the lift finite); an empty or absent period, spacing or lift is the base
+    // file's (NaN here).
+    let input = |name: &str, positive: bool| -> Result<f64, DesignError> {
+        if matches!(name, "period" | "spacing" | "lift") && text(name).is_empty() {
+            return Ok(f64::NAN);
+        }
+        let x = num(name)?;
+        if x.is_finite() && (!positive || x > 0.0) {
+            Ok(x)
+        } else {
+            let allowed = if positive { "finite and > 0" } else { "finite" };
+            Err(bad(format!(
+                "column `{name}` = {:?} is out of range: allowed {allowed}",
+                text(name)
+            )))
+        }
+    };
+    let eval = text("eval").parse::<usize>().map_err(|_| {
+        bad(format!(
+            "column `eval` = {:?} is not an integer",
+            text("eval")
+        ))
+    })?;
+    let status = Status::parse(text("status")).ok_or_else(|| {
+        bad(format!(
+            "column `status` = {:?} must be \"ok\" or \"failed\"",
+            text("status")
+        ))
+    })?;
+    let periodic = match field("periodic_cycles") {
+        None | Some("") => None,
+        Some(c) => Some(PeriodicColumns {
+            cycles: c.parse::<usize>().map_err(|_| {
+                bad(format!("column `periodic_cycles` = {c:?} is not an integer"))
+            })?,
+            displacement_over_length_min: num("displacement_over_length_min")?,
+            broadside_deg_min: num("broadside_deg_min")?,
+            turn_deg_max_abs: num("turn_deg_max_abs")?,
+            stationary_contact_share_min: num("stationary_contact_share_min")?,
+            sidewinding: match text("sidewinding") {
+                "yes" => true,
+                "no" => false,
+                other => {
+                    return Err(bad(format!(
+                        "column `sidewinding` = {other:?} must be \"yes\" or \"no\" (or empty with periodic_cycles)"
+                    )))
+                }
+            },
+        }),
+    };
+    let e = Evaluation {
+        eval,
+        point: GaitParams {
+            stress: input("stress", true)?,
+            sigma: input("sigma", true)?,
+            speed: input("speed", true)?,
+            period: input("period", true)?,
+            spacing: input("spacing", false)?,
+            lift: input("lift", false)?,
+        },
+        duration: input("duration", true)?,
+        g: num("G")?,
+        w: num("W")?,
+        v_s: num("v_s")?,
+        v_s_over_v_m: num("v_s_over_v_m")?,
+        writhe_max: num("writhe_max")?,
+        writhe_mean: num("writhe_mean")?,
+        displacement_angle_deg: num("displacement_angle_deg")?,
+        regime: text("regime").to_string(),
+        periodic,
+        status,
+        wall_time_s: num("wall_time_s")?,
+        reason: field("reason").map_or(String::new(), |r| r.to_string()),
+        objective_value: num("objective")?,
+    };
+    Ok((e, text("base_hash").to_string()))
 }

@@ -77,6 +77,7 @@ mod report;
 mod search;
 pub mod selection;
 mod simulate;
+mod space;
 mod study;
 
 pub use history::*;
@@ -84,6 +85,7 @@ use report::*;
 pub use report::{check_optimum, on_bound, EnsembleOf, OptimumCheck};
 pub use search::*;
 pub use simulate::*;
+pub use space::*;
 pub use study::*;
 
 use crate::model::Model;

@@ -39,6 +39,9 @@ pub(super) struct Optimum<'a> {
     /// For each entry of `on_bound`, which bound: "lower" or "upper".
     on_bound_side: Vec<&'static str>,
     duration_pulses: f64,
+    /// `[study] duration_periods`, when it sets the duration (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    duration_periods: Option<f64>,
     wall_time_s: f64,
     /// The model chosen for the study's `[accuracy]` (absent without one).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -146,6 +149,12 @@ pub(super) struct Summary<'a> {
     sigma: f64,
     /// Travelling speed (m/s).
     speed: f64,
+    /// Launch period (s).
+    period: f64,
+    /// Triplet spacing (fraction of L).
+    spacing: f64,
+    /// Out-of-plane couple's scale.
+    lift: f64,
     duration_s: f64,
     dimensionless: Groups,
     v_s: f64,
@@ -155,6 +164,9 @@ pub(super) struct Summary<'a> {
     /// Net displacement's angle from the initial head direction (degrees).
     displacement_angle_deg: f64,
     regime: &'a str,
+    /// The periodic observables (a gait with a launch period).
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    periodic: Option<PeriodicColumns>,
     status: Status,
 }
 
@@ -177,6 +189,9 @@ pub(super) fn summary(e: &Evaluation) -> Summary<'_> {
         stress: e.point.stress,
         sigma: e.point.sigma,
         speed: e.point.speed,
+        period: e.point.period,
+        spacing: e.point.spacing,
+        lift: e.point.lift,
         duration_s: e.duration,
         dimensionless: Groups {
             g: e.g,
@@ -189,6 +204,7 @@ pub(super) fn summary(e: &Evaluation) -> Summary<'_> {
         writhe_mean: e.writhe_mean,
         displacement_angle_deg: e.displacement_angle_deg,
         regime: &e.regime,
+        periodic: e.periodic,
         status: e.status,
     }
 }
@@ -239,6 +255,7 @@ pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(),
         on_bound_side: on_bound(study, r).iter().map(|b| b.1).collect(),
         termination: &r.termination,
         duration_pulses: study.duration_pulses,
+        duration_periods: study.duration_periods,
         wall_time_s: r.wall_time_s,
         accuracy: study.chosen.as_ref(),
         ensemble: r.check.as_ref(),

@@ -77,7 +77,7 @@ enum Slot {
     /// Beyond the budget (or after a fatal error): `+inf`, not simulated.
     Skip,
     /// From the cache, with the evaluation number `count`.
-    Known(usize, Evaluation, Source, f64),
+    Known(usize, Box<Evaluation>, Source, f64),
     /// The `i`-th new simulation of the batch (a second request of the same point in one batch
     /// is a repeat).
     Run(usize, usize, Source, f64),
@@ -98,7 +98,7 @@ impl Evaluator<'_> {
             self.calls.set(self.calls.get() + 1);
             let count = self.calls.get();
             let (p, dist) = study.space.point(u);
-            let k = key(&p, study.duration(p.speed));
+            let k = key(&p, study.duration(&p));
             if let Some((e, from_file)) = sh.cache.get(&k) {
                 let e = e.clone();
                 let source = if *from_file {
@@ -107,7 +107,7 @@ impl Evaluator<'_> {
                     Source::Repeat
                 };
                 sh.observer.started(count, &p, true);
-                slots.push(Slot::Known(count, e, source, dist));
+                slots.push(Slot::Known(count, Box::new(e), source, dist));
             } else if let Some(i) = runs.iter().position(|r| r.1 == k) {
                 sh.observer.started(count, &p, true);
                 slots.push(Slot::Run(count, i, Source::Repeat, dist));
@@ -152,7 +152,7 @@ impl Evaluator<'_> {
             .map(|slot| {
                 let (count, e, source, dist) = match slot {
                     Slot::Skip => return f64::INFINITY,
-                    Slot::Known(c, e, s, d) => (c, e, s, d),
+                    Slot::Known(c, e, s, d) => (c, *e, s, d),
                     Slot::Run(c, i, s, d) => (c, new[i].clone(), s, d),
                 };
                 sh.observer.finished(count, &e, source == Source::Reused);
@@ -397,13 +397,34 @@ pub fn optimize(
     let mut cache = HashMap::new();
     let mut rows_other_base = 0;
     let mut next_eval = 1;
-    for (e, hash) in old.rows {
+    let mut rows = old.rows;
+    for (e, hash) in &mut rows {
         next_eval = next_eval.max(e.eval + 1);
-        if hash == study.base_hash {
-            cache.insert(key(&e.point, e.duration), (e, true));
+        if *hash == study.base_hash {
+            // A legacy row (no period, spacing or lift recorded) ran the base file's.
+            let p = &mut e.point;
+            let f = &study.space.fixed;
+            for (x, base) in [
+                (&mut p.period, f.period),
+                (&mut p.spacing, f.spacing),
+                (&mut p.lift, f.lift),
+            ] {
+                if x.is_nan() {
+                    *x = base;
+                }
+            }
+            cache.insert(key(&e.point, e.duration), (e.clone(), true));
         } else {
             rows_other_base += 1;
         }
+    }
+    // A history of the older format is rewritten in the current one before rows are appended
+    // (its rows of this base with the base's period, spacing and lift; of other bases empty).
+    if old.legacy {
+        rewrite_history(&history_path, &rows).map_err(|source| DesignError::Io {
+            path: history_path.clone(),
+            source,
+        })?;
     }
     let mut history = std::fs::OpenOptions::new()
         .create(true)

@@ -25,6 +25,7 @@ pub fn simulate(study: &Study, p: &GaitParams, progress: &mut dyn FnMut(f64)) ->
         writhe_mean: f64::NAN,
         displacement_angle_deg: f64::NAN,
         regime: "-".into(),
+        periodic: None,
         status: Status::Failed,
         wall_time_s: 0.0,
         reason: String::new(),
@@ -52,11 +53,16 @@ pub fn simulate(study: &Study, p: &GaitParams, progress: &mut dyn FnMut(f64)) ->
             e.writhe_mean = ob.writhe_mean;
             e.displacement_angle_deg = ob.displacement_angle_deg;
             e.regime = ob.regime.to_string();
+            e.periodic = periodic.as_ref().map(PeriodicColumns::of);
             let value = match study.objective {
                 Objective::Vs => -ob.v_s,
                 Objective::Broadside => periodic.as_ref().map_or(f64::NAN, |p| {
                     -p.lateral_speed_over_v_m * model.gait.speed
                         + study.turn_penalty * p.turn_deg_mean_abs
+                        + study.stationary_penalty
+                            * (observe::periodic::STATIONARY_SHARE_MIN
+                                - p.stationary_contact_share_min)
+                                .max(0.0)
                 }),
             };
             e.objective_value = value;

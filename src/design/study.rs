@@ -28,8 +28,12 @@ pub struct StudyTable {
     pub max_evaluations: usize,
     /// Simulated duration in pulse times `L / v_m`: every evaluation runs
     /// `duration_pulses * L / v_m` seconds. Default: the base file's `time.duration * v_m / L`.
-    /// In (0, 1000].
+    /// In (0, 1000]. Not with `duration_periods`.
     pub duration_pulses: Option<f64>,
+    /// Simulated duration in launch periods: every evaluation runs `duration_periods * period`
+    /// seconds, so a study that varies the period measures the same number of cycles at every
+    /// point. A sidewinding base only, not with `duration_pulses`; in (0, 1000].
+    pub duration_periods: Option<f64>,
     /// Edge of the initial simplex in normalised coordinates (fraction of each bound's width).
     /// Default 0.25, in (0, 1].
     #[serde(default = "d_initial_step")]
@@ -53,6 +57,11 @@ pub struct StudyTable {
     /// With `objective = "broadside"`: cost per degree of mean |turn| per cycle (m/s per
     /// degree). Default [`DEFAULT_TURN_PENALTY`], a finite number >= 0.
     pub turn_penalty: Option<f64>,
+    /// With `objective = "broadside"`: cost per unit by which the smallest stationary share of
+    /// the contact time over the cycles falls short of the sidewinding criterion's
+    /// [`crate::observe::periodic::STATIONARY_SHARE_MIN`] (m/s per unit share). Default 0, a
+    /// finite number >= 0.
+    pub stationary_penalty: Option<f64>,
 }
 
 /// Default `turn_penalty` (m/s per degree per cycle): a turn of 5 degrees per cycle costs
@@ -94,6 +103,14 @@ pub struct OptimizeTable {
     pub sigma: Option<[f64; 2]>,
     /// Bounds of the travelling speed `v_m` (m/s), `0 < lo < hi`.
     pub speed: Option<[f64; 2]>,
+    /// Bounds of the launch period (s), `0 < lo < hi`; a sidewinding base only.
+    pub period: Option<[f64; 2]>,
+    /// Bounds of the triplet's spacing `b - a = c - b` (fraction of L), `0 < lo < hi` with
+    /// `centers[0] + 2 hi <= 1`; an s-start or sidewinding base whose centres are evenly spaced.
+    pub spacing: Option<[f64; 2]>,
+    /// Bounds of the out-of-plane couple's scale `scales[1]`, `lo < hi`; an s-start or
+    /// sidewinding base.
+    pub lift: Option<[f64; 2]>,
     /// Starting point; each value must lie in its bounds. Default: the base problem's values.
     #[serde(default)]
     pub initial: InitialTable,
@@ -154,159 +171,16 @@ pub struct InitialTable {
     pub sigma: Option<f64>,
     /// Travelling speed (m/s).
     pub speed: Option<f64>,
+    /// Launch period (s).
+    pub period: Option<f64>,
+    /// Triplet spacing (fraction of L).
+    pub spacing: Option<f64>,
+    /// Out-of-plane couple's scale.
+    pub lift: Option<f64>,
 }
 
-/// One of the three gait parameters the optimiser may vary.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Param {
-    /// `gait.stress`, the muscle stress `Gamma` (Pa).
-    Stress,
-    /// `gait.sigma`, the couple width (fraction of L).
-    Sigma,
-    /// `gait.speed`, the travelling speed `v_m` (m/s).
-    Speed,
-}
-
-impl Param {
-    /// All three, in column order.
-    pub const ALL: [Param; 3] = [Param::Stress, Param::Sigma, Param::Speed];
-
-    /// Key in `[optimize]` and `[gait]`.
-    pub fn key(self) -> &'static str {
-        match self {
-            Param::Stress => "stress",
-            Param::Sigma => "sigma",
-            Param::Speed => "speed",
-        }
-    }
-
-    /// Unit, as written in messages.
-    pub fn unit(self) -> &'static str {
-        match self {
-            Param::Stress => "Pa",
-            Param::Sigma => "fraction of rod.length",
-            Param::Speed => "m/s",
-        }
-    }
-
-    pub(super) fn get(self, p: &GaitParams) -> f64 {
-        match self {
-            Param::Stress => p.stress,
-            Param::Sigma => p.sigma,
-            Param::Speed => p.speed,
-        }
-    }
-
-    pub(super) fn set(self, p: &mut GaitParams, v: f64) {
-        match self {
-            Param::Stress => p.stress = v,
-            Param::Sigma => p.sigma = v,
-            Param::Speed => p.speed = v,
-        }
-    }
-}
-
-/// Gait parameters of one evaluation (physical units).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct GaitParams {
-    /// Muscle stress `Gamma` (Pa).
-    pub stress: f64,
-    /// Couple width `sigma` (fraction of L).
-    pub sigma: f64,
-    /// Travelling speed `v_m` (m/s).
-    pub speed: f64,
-}
-
-/// One optimised dimension: bounds and starting value (physical units).
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Dim {
-    /// Which parameter.
-    pub param: Param,
-    /// Lower bound.
-    pub lo: f64,
-    /// Upper bound (> `lo`).
-    pub hi: f64,
-    /// Starting value, in `[lo, hi]`.
-    pub initial: f64,
-}
-
-/// The search space: the optimised dimensions and the fixed values of the others.
-#[derive(Clone, Debug)]
-pub struct Space {
-    /// Optimised dimensions, in the order stress, sigma, speed (those present).
-    pub dims: Vec<Dim>,
-    /// Values of every parameter when not optimised (the base problem's).
-    pub fixed: GaitParams,
-}
-
-impl Space {
-    /// Normalised coordinates `u_i = (x_i - lo_i) / (hi_i - lo_i)` of a physical point.
-    pub fn to_unit(&self, p: &GaitParams) -> Vec<f64> {
-        self.dims
-            .iter()
-            .map(|d| (d.param.get(p) - d.lo) / (d.hi - d.lo))
-            .collect()
-    }
-
-    /// The physical point of normalised coordinates `u`, clamped to the bounds, and the
-    /// Euclidean distance of `u` from the unit cube (0 inside). Non-finite coordinates clamp
-    /// to the lower bound at infinite distance.
-    pub fn point(&self, u: &[f64]) -> (GaitParams, f64) {
-        let mut p = self.fixed;
-        let mut d2 = 0.0;
-        for (d, &ui) in self.dims.iter().zip(u) {
-            let (c, out) = if ui.is_nan() {
-                (0.0, f64::INFINITY)
-            } else {
-                let c = ui.clamp(0.0, 1.0);
-                (c, ui - c)
-            };
-            d2 += out * out;
-            // Exact bounds at the cube's faces (no round-off past lo or hi).
-            let x = if c <= 0.0 {
-                d.lo
-            } else if c >= 1.0 {
-                d.hi
-            } else {
-                (d.lo + c * (d.hi - d.lo)).clamp(d.lo, d.hi)
-            };
-            d.param.set(&mut p, x);
-        }
-        (p, d2.sqrt())
-    }
-
-    /// The starting point (physical).
-    pub fn initial(&self) -> GaitParams {
-        let mut p = self.fixed;
-        for d in &self.dims {
-            d.param.set(&mut p, d.initial);
-        }
-        p
-    }
-
-    /// The initial simplex in normalised coordinates: the starting point and, for each
-    /// dimension, the starting point moved by `step` along it (backward where forward would
-    /// leave the unit cube).
-    pub fn initial_simplex(&self, step: f64) -> Vec<Vec<f64>> {
-        self.simplex_at(self.to_unit(&self.initial()), step)
-    }
-
-    /// The simplex of [`Space::initial_simplex`] around the normalised point `u0`.
-    pub fn simplex_at(&self, u0: Vec<f64>, step: f64) -> Vec<Vec<f64>> {
-        let mut simplex = vec![u0.clone()];
-        for i in 0..u0.len() {
-            let mut v = u0.clone();
-            v[i] = if u0[i] + step <= 1.0 {
-                u0[i] + step
-            } else {
-                u0[i] - step
-            };
-            simplex.push(v);
-        }
-        simplex
-    }
-}
+/// What `[optimize]` must hold, for messages.
+const OPTIMIZE_ONE_OF: &str = "at least one of optimize.stress (Pa), optimize.sigma (fraction of L), optimize.speed (m/s), optimize.period (s), optimize.spacing (fraction of L), optimize.lift (scale of gait.scales[1])";
 
 /// A validated study.
 #[derive(Clone, Debug)]
@@ -322,8 +196,12 @@ pub struct Study {
     pub base_hash: String,
     /// Evaluation budget.
     pub max_evaluations: usize,
-    /// Duration of every evaluation in pulse times `L / v_m`.
+    /// Duration of every evaluation in pulse times `L / v_m` (the base file's duration in
+    /// them when the study gives `duration_periods`).
     pub duration_pulses: f64,
+    /// Duration of every evaluation in launch periods, when the study gives it (then it, not
+    /// `duration_pulses`, sets the duration).
+    pub duration_periods: Option<f64>,
     /// Initial simplex edge (normalised).
     pub initial_step: f64,
     /// Nelder-Mead cost standard-deviation tolerance (m/s).
@@ -336,6 +214,8 @@ pub struct Study {
     pub objective: Objective,
     /// Cost per degree of mean |turn| per cycle (m/s per degree), for [`Objective::Broadside`].
     pub turn_penalty: f64,
+    /// Cost per unit of stationary-share shortfall (m/s), for [`Objective::Broadside`].
+    pub stationary_penalty: f64,
     /// The search space.
     pub space: Space,
     /// The search method.
@@ -373,18 +253,30 @@ impl Study {
         }
     }
 
-    /// Duration of a run at travelling speed `speed` (s).
-    pub fn duration(&self, speed: f64) -> f64 {
-        self.duration_pulses * self.base.rod.length / speed
+    /// Duration of a run at `p` (s): `duration_periods * period`, or `duration_pulses * L /
+    /// v_m`.
+    pub fn duration(&self, p: &GaitParams) -> f64 {
+        match self.duration_periods {
+            Some(n) => n * p.period,
+            None => self.duration_pulses * self.base.rod.length / p.speed,
+        }
     }
 
-    /// The base problem with the point's gait values and the matching duration.
+    /// The base problem with the point's gait values and the matching duration. The centres
+    /// change only when the spacing is optimised (the base's own centres are kept bit for bit
+    /// otherwise).
     pub fn problem_at(&self, p: &GaitParams) -> Problem {
         let mut pr = self.base.clone();
         pr.gait.stress = p.stress;
         pr.gait.sigma = p.sigma;
         pr.gait.speed = p.speed;
-        pr.time.duration = Some(self.duration(p.speed));
+        pr.gait.period = p.period;
+        pr.gait.scales[1] = p.lift;
+        if self.space.varies(Param::Spacing) {
+            let a = pr.gait.centers[0];
+            pr.gait.centers = [a, a + p.spacing, a + 2.0 * p.spacing];
+        }
+        pr.time.duration = Some(self.duration(p));
         pr
     }
 }
@@ -457,18 +349,14 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
     if base.time.mode != problem::Mode::Dynamic {
         return Err(base_fail("a problem in dynamic mode (a gait needs time)"));
     }
-    let fixed = GaitParams {
-        stress: base.gait.stress,
-        sigma: base.gait.sigma,
-        speed: base.gait.speed,
-    };
+    let fixed = GaitParams::of(&base);
     let Some(opt) = &spec.optimize else {
         return Err(ProblemError::Invalid {
             file: path.into(),
             line: text.lines().count().max(1),
             key: "optimize".into(),
             value: "(missing)".into(),
-            allowed: "a table with at least one of optimize.stress (Pa), optimize.sigma (fraction of L), optimize.speed (m/s)".into(),
+            allowed: OPTIMIZE_ONE_OF.into(),
         }
         .into());
     };
@@ -478,6 +366,9 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
             Param::Stress => (opt.stress, opt.initial.stress),
             Param::Sigma => (opt.sigma, opt.initial.sigma),
             Param::Speed => (opt.speed, opt.initial.speed),
+            Param::Period => (opt.period, opt.initial.period),
+            Param::Spacing => (opt.spacing, opt.initial.spacing),
+            Param::Lift => (opt.lift, opt.initial.lift),
         };
         let key = param.key();
         let unit = param.unit();
@@ -492,44 +383,8 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
             }
             continue;
         };
-        let (ok, allowed) = match param {
-            Param::Stress => (
-                lo.is_finite() && hi.is_finite() && lo >= 0.0 && lo < hi,
-                format!("[lo, hi] with 0 <= lo < hi, finite ({unit})"),
-            ),
-            Param::Sigma => {
-                // The Gaussian gaits need at least one element of the base mesh (a narrower
-                // Gaussian falls between the nodes and the muscles do nothing).
-                let gaussian =
-                    matches!(base.gait.kind, gait::Kind::SStart | gait::Kind::Sidewinding);
-                let min = 1.0 / base.rod.elements as f64;
-                (
-                    lo > 0.0 && lo < hi && hi <= 1.0 && (!gaussian || lo >= min),
-                    if gaussian {
-                        format!(
-                            "[lo, hi] with 0 < lo < hi <= 1 and lo at least one element, 1/rod.elements = {min} ({unit})"
-                        )
-                    } else {
-                        format!("[lo, hi] with 0 < lo < hi <= 1 ({unit})")
-                    },
-                )
-            }
-            Param::Speed => (
-                lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi,
-                format!("[lo, hi] with 0 < lo < hi, finite ({unit})"),
-            ),
-        };
-        if !ok {
+        if let Err(allowed) = param.check_bounds(&base, lo, hi) {
             return Err(fail("optimize", key, format!("[{lo}, {hi}]"), allowed));
-        }
-        // A variable the base's gait does not use would "converge" at once, measuring nothing.
-        if param == Param::Sigma && base.gait.kind == gait::Kind::Serpenoid {
-            return Err(fail(
-                "optimize",
-                key,
-                format!("[{lo}, {hi}]"),
-                "absent for a base whose gait is \"serpenoid\": its travelling curvature wave has no width sigma (it has gait.wavelength), so sigma changes nothing".into(),
-            ));
         }
         let x0 = initial.unwrap_or(param.get(&fixed));
         if !(x0 >= lo && x0 <= hi) {
@@ -563,7 +418,7 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
             line: key_line(text, "optimize", "stress"),
             key: "optimize".into(),
             value: "(no bounds)".into(),
-            allowed: "at least one of optimize.stress (Pa), optimize.sigma (fraction of L), optimize.speed (m/s)".into(),
+            allowed: OPTIMIZE_ONE_OF.into(),
         }
         .into());
     }
@@ -594,6 +449,37 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
             v
         }
         None => base_duration * base.gait.speed / base.rod.length,
+    };
+    let duration_periods = match s.duration_periods {
+        None => None,
+        Some(v) => {
+            if s.duration_pulses.is_some() {
+                return Err(fail(
+                    "study",
+                    "duration_periods",
+                    format!("{v}"),
+                    "absent when study.duration_pulses is given (one of the two sets the duration)"
+                        .into(),
+                ));
+            }
+            if base.gait.kind != gait::Kind::Sidewinding {
+                return Err(fail(
+                    "study",
+                    "duration_periods",
+                    format!("{v}"),
+                    "absent unless the base's gait is \"sidewinding\" (the only gait with a launch period)".into(),
+                ));
+            }
+            if !(v.is_finite() && v > 0.0 && v <= 1000.0) {
+                return Err(fail(
+                    "study",
+                    "duration_periods",
+                    format!("{v}"),
+                    "in (0, 1000] (launch periods gait.period)".into(),
+                ));
+            }
+            Some(v)
+        }
     };
     if !(s.initial_step.is_finite() && s.initial_step > 0.0 && s.initial_step <= 1.0) {
         return Err(fail(
@@ -660,6 +546,17 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
             ));
         }
     }
+    let stationary_penalty = s.stationary_penalty.unwrap_or(0.0);
+    if let Some(t) = s.stationary_penalty {
+        if objective != Objective::Broadside || !(t.is_finite() && t >= 0.0) {
+            return Err(fail(
+                "study",
+                "stationary_penalty",
+                format!("{t}"),
+                "a finite number >= 0 (m/s per unit of stationary share short of 0.8), only with objective = \"broadside\"".into(),
+            ));
+        }
+    }
     let method = opt.method;
     let starts = opt.starts.unwrap_or(1);
     if let Some(k) = opt.starts {
@@ -719,12 +616,14 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         base,
         max_evaluations: s.max_evaluations,
         duration_pulses,
+        duration_periods,
         initial_step: s.initial_step,
         tolerance: s.tolerance,
         penalty: s.penalty,
         max_heading_deg: s.max_heading_deg,
         objective,
         turn_penalty,
+        stationary_penalty,
         space,
         method,
         starts,
@@ -739,31 +638,46 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
             return Err(fail("accuracy", key, value, allowed));
         }
     }
-    // The shortest run (at the fastest speed) must hold at least one time step.
-    let v_max = study
-        .space
-        .dims
-        .iter()
-        .find(|d| d.param == Param::Speed)
-        .map_or(fixed.speed, |d| d.hi);
+    // The shortest run (at the fastest speed, or the shortest period) must hold at least one
+    // time step.
+    let bound = |param: Param, upper: bool| {
+        let d = study.space.dims.iter().find(|d| d.param == param);
+        d.map_or(param.get(&fixed), |d| if upper { d.hi } else { d.lo })
+    };
+    let mut shortest_point = fixed;
+    shortest_point.speed = bound(Param::Speed, true);
+    shortest_point.period = bound(Param::Period, false);
     let dt = study.base.time.dt.unwrap_or(0.0);
-    let shortest = study.duration(v_max);
+    let shortest = study.duration(&shortest_point);
     if shortest < dt {
-        let (table, key) = if s.duration_pulses.is_some() {
-            ("study", "duration_pulses")
-        } else {
-            ("optimize", "speed")
+        let (v_max, p_min) = (shortest_point.speed, shortest_point.period);
+        let (table, key, value, rule) = match duration_periods {
+            Some(n) => (
+                "study",
+                "duration_periods",
+                format!("{n}"),
+                format!("duration_periods * period = {shortest} s at period = {p_min} s"),
+            ),
+            None => {
+                let rule = format!("duration_pulses * L / v_m = {shortest} s at v_m = {v_max} m/s");
+                if s.duration_pulses.is_some() {
+                    (
+                        "study",
+                        "duration_pulses",
+                        format!("{duration_pulses}"),
+                        rule,
+                    )
+                } else {
+                    ("optimize", "speed", format!("{v_max}"), rule)
+                }
+            }
         };
         return Err(fail(
             table,
             key,
-            if key == "speed" {
-                format!("{v_max}")
-            } else {
-                format!("{duration_pulses}")
-            },
+            value,
             format!(
-                "such that the shortest run, duration_pulses * L / v_m = {shortest} s at v_m = {v_max} m/s, is at least the base file's time.dt = {dt} s"
+                "such that the shortest run, {rule}, is at least the base file's time.dt = {dt} s"
             ),
         ));
     }

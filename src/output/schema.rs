@@ -299,6 +299,21 @@ pub const HISTORY_CSV: &[Field] = &[
     f("stress", "Pa", "muscle stress Gamma"),
     f("sigma", "fraction of L", "couple width"),
     f("speed", "m/s", "travelling speed v_m"),
+    f(
+        "period",
+        "s",
+        "launch period of a sidewinding gait (gait.period; empty in a row rewritten from an older file for another base)",
+    ),
+    f(
+        "spacing",
+        "fraction of L",
+        "the triplet's spacing centers[1] - centers[0] (empty as period)",
+    ),
+    f(
+        "lift",
+        "",
+        "the out-of-plane couple's scale, scales[1] (empty as period)",
+    ),
     f("duration", "s", "simulated duration"),
     f("G", "", "scaled torque Gamma a^3 L / B"),
     f("W", "", "scaled weight rho g a^2 L^3 / B"),
@@ -312,12 +327,42 @@ pub const HISTORY_CSV: &[Field] = &[
         "heading off the initial head direction",
     ),
     f("regime", "", "S, M, F, N or U; \"-\" when failed"),
+    f(
+        "periodic_cycles",
+        "",
+        "measured cycles after the settling one (a gait with a launch period; the periodic columns are empty otherwise)",
+    ),
+    f(
+        "displacement_over_length_min",
+        "",
+        "smallest centroid displacement per cycle, over L",
+    ),
+    f(
+        "broadside_deg_min",
+        "degrees",
+        "smallest broadside angle per cycle (90 is broadside)",
+    ),
+    f(
+        "turn_deg_max_abs",
+        "degrees",
+        "largest |turn| of the tail-to-head direction per cycle",
+    ),
+    f(
+        "stationary_contact_share_min",
+        "",
+        "smallest share per cycle of the contact time with slip at most 0.1 v_m",
+    ),
+    f(
+        "sidewinding",
+        "",
+        "\"yes\" when every sidewinding criterion holds, else \"no\"",
+    ),
     f("status", "", "\"ok\" or \"failed\""),
     f("wall_time_s", "s", "wall time of the simulation"),
     f(
         "objective",
         "m/s",
-        "the objective without penalties: -v_s, or with objective = \"broadside\" minus the mean lateral speed per cycle plus turn_penalty times the mean |turn| per cycle; 1000 for a failed run",
+        "the objective without penalties: -v_s, or with objective = \"broadside\" minus the mean lateral speed per cycle plus turn_penalty times the mean |turn| per cycle and stationary_penalty times the stationary share short of 0.8; 1000 for a failed run",
     ),
     f(
         "base_hash",

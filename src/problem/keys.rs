@@ -411,6 +411,10 @@ pub const STUDY_KEYS: &[(&str, &str)] = &[
         "a number in (0, 1000] (pulse times L / v_m)",
     ),
     (
+        "study.duration_periods",
+        "a number in (0, 1000] (launch periods gait.period), a sidewinding base only, not with study.duration_pulses",
+    ),
+    (
         "study.initial_step",
         "a number in (0, 1] (fraction of each bound's width)",
     ),
@@ -425,12 +429,28 @@ pub const STUDY_KEYS: &[(&str, &str)] = &[
         "study.turn_penalty",
         "a finite number >= 0 (m/s per degree per cycle), only with objective = \"broadside\"",
     ),
+    (
+        "study.stationary_penalty",
+        "a finite number >= 0 (m/s per unit of stationary share short of 0.8), only with objective = \"broadside\"",
+    ),
     ("optimize.stress", "[lo, hi] with 0 <= lo < hi, finite (Pa)"),
     (
         "optimize.sigma",
         "[lo, hi] with 0 < lo < hi <= 1, lo >= 1/rod.elements for s-start and sidewinding (fraction of rod.length)",
     ),
     ("optimize.speed", "[lo, hi] with 0 < lo < hi, finite (m/s)"),
+    (
+        "optimize.period",
+        "[lo, hi] with 0 < lo < hi, finite (s), a sidewinding base only",
+    ),
+    (
+        "optimize.spacing",
+        "[lo, hi] with 0 < lo < hi and gait.centers[0] + 2 hi <= 1 (fraction of rod.length), an s-start or sidewinding base with evenly spaced centres",
+    ),
+    (
+        "optimize.lift",
+        "[lo, hi] with lo < hi, finite (scale of gait.scales[1]), an s-start or sidewinding base",
+    ),
     (
         "optimize.initial.stress",
         "a number within optimize.stress (Pa)",
@@ -442,6 +462,18 @@ pub const STUDY_KEYS: &[(&str, &str)] = &[
     (
         "optimize.initial.speed",
         "a number within optimize.speed (m/s)",
+    ),
+    (
+        "optimize.initial.period",
+        "a number within optimize.period (s)",
+    ),
+    (
+        "optimize.initial.spacing",
+        "a number within optimize.spacing (fraction of rod.length)",
+    ),
+    (
+        "optimize.initial.lift",
+        "a number within optimize.lift",
     ),
     (
         "phase.weight_via",
