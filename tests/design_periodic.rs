@@ -176,6 +176,16 @@ fn periodic_bounds_are_checked_naming_file_key_value_and_range() {
             ],
         ),
         (
+            "stationary_without_broadside",
+            BASE,
+            "objective = \"broadside\"",
+            "stationary_penalty = 1.0",
+            &[
+                "`study.stationary_penalty` = 1",
+                "only with objective = \"broadside\"",
+            ],
+        ),
+        (
             "periods_nonpositive",
             BASE,
             "duration_periods = 3.0",
