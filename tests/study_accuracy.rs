@@ -160,10 +160,16 @@ fn optimize_evaluations_run_at_the_selected_model() {
     // The first evaluation (the start) is the simulation at the chosen model.
     let history = std::fs::read_to_string(out.join(design::HISTORY_FILE)).unwrap();
     let first: Vec<&str> = history.lines().nth(1).unwrap().split(',').collect();
-    assert_eq!(first[16], row_hash, "{history}");
+    let col = |name: &str| {
+        design::HISTORY_HEADER
+            .split(',')
+            .position(|c| c == name)
+            .unwrap()
+    };
+    assert_eq!(first[col("base_hash")], row_hash, "{history}");
     let e = design::simulate(&study, &study.space.initial(), &mut |_| {});
     assert_eq!(
-        first[8].parse::<f64>().unwrap(),
+        first[col("v_s_over_v_m")].parse::<f64>().unwrap(),
         e.v_s_over_v_m,
         "{history}"
     );
