@@ -25,9 +25,11 @@ fi
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 base=problems/sidewinding.toml
-sed -e 's/^elements = 50$/elements = 100/' "$base" > "$out/elements.toml"
+n="$(sed -n 's/^elements = \([0-9]*\)$/\1/p' "$base")"
+twice="s/^elements = $n\$/elements = $((2 * n))/"
+sed -e "$twice" "$base" > "$out/elements.toml"
 sed -e 's/^dt = 2e-3$/dt = 1e-3/' "$base" > "$out/step.toml"
-sed -e 's/^elements = 50$/elements = 100/' -e 's/^dt = 2e-3$/dt = 1e-3/' "$base" > "$out/both.toml"
+sed -e "$twice" -e 's/^dt = 2e-3$/dt = 1e-3/' "$base" > "$out/both.toml"
 for f in elements step both; do
     if cmp -s "$base" "$out/$f.toml"; then
         echo "sidewinding_report.sh: could not refine $base ($f)" >&2

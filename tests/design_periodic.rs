@@ -424,3 +424,57 @@ fn a_history_of_the_older_format_is_read_reused_and_rewritten() {
     let third = design::optimize(&study, &out, &mut design::Silent).unwrap();
     assert_eq!(third.simulations, 0);
 }
+
+#[test]
+fn the_sidewinding_objective_is_minus_the_margin_and_needs_four_cycles() {
+    // Six launch periods: five measured cycles, the margin measured.
+    let study = STUDY
+        .replace("duration_periods = 3.0", "duration_periods = 6.0")
+        .replace("objective = \"broadside\"", "objective = \"sidewinding\"")
+        .replace("max_evaluations = 8", "max_evaluations = 4");
+    let path = setup("margin", BASE, &study);
+    let s = design::load_study(&path).unwrap();
+    assert_eq!(s.objective, design::Objective::Sidewinding);
+    let e = design::simulate(&s, &s.space.initial(), &mut |_| {});
+    assert_eq!(e.status, Status::Ok, "{}", e.reason);
+    let (m, o) = {
+        let pr = s.problem_at(&s.space.initial());
+        let m = slither::model::Model::new(&pr);
+        let o = slither::sim::run(
+            &m,
+            Box::new(slither::gait::Muscles {
+                gait: m.gait.clone(),
+            }),
+            &mut |_| {},
+            &mut |_| {},
+        );
+        (m, o)
+    };
+    let p = slither::observe::periodic::of_outcome(&m, &o).unwrap();
+    assert_eq!(e.objective(), -p.sidewinding_margin());
+    assert_eq!(e.periodic.unwrap().sidewinding, p.sidewinding);
+    // Three periods hold two measured cycles: the margin is not measured, the run fails.
+    let short = study.replace("duration_periods = 6.0", "duration_periods = 3.0");
+    let path = setup("margin_short", BASE, &short);
+    let s = design::load_study(&path).unwrap();
+    let e = design::simulate(&s, &s.space.initial(), &mut |_| {});
+    assert_eq!(e.status, Status::Failed);
+    assert!(
+        e.reason.contains("fewer than 4 full cycles"),
+        "{}",
+        e.reason
+    );
+    // Only for a sidewinding base.
+    let serpenoid = BASE
+        .replace("kind = \"sidewinding\"", "kind = \"serpenoid\"")
+        .replace("sigma = 0.07\n", "wavelength = 0.6\n");
+    let (err, _) = refused(
+        "margin_serpenoid",
+        &serpenoid,
+        "[study]\nbase = \"base.toml\"\nobjective = \"sidewinding\"\n\n[optimize]\nstress = [6000.0, 30000.0]\n",
+    );
+    assert!(
+        err.contains("`study.objective` = \"sidewinding\"") && err.contains("\"v_s\" for a base"),
+        "{err}"
+    );
+}

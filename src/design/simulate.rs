@@ -64,14 +64,19 @@ pub fn simulate(study: &Study, p: &GaitParams, progress: &mut dyn FnMut(f64)) ->
                                 - p.stationary_contact_share_min)
                                 .max(0.0)
                 }),
+                Objective::Sidewinding => periodic
+                    .as_ref()
+                    .map_or(f64::NAN, |p| -p.sidewinding_margin()),
             };
             e.objective_value = value;
             if !ob.v_s.is_finite() {
                 e.reason = "v_s is not finite".into();
             } else if !value.is_finite() {
-                e.reason =
-                    "no full cycle after the settling one: the broadside objective is not measured"
-                        .into();
+                e.reason = match study.objective {
+                    Objective::Sidewinding => "fewer than 4 full cycles after the settling one: the sidewinding margin is not measured",
+                    _ => "no full cycle after the settling one: the broadside objective is not measured",
+                }
+                .into();
             } else {
                 e.status = Status::Ok;
             }

@@ -76,6 +76,9 @@ pub enum Objective {
     Vs,
     /// The mean lateral speed per cycle less `turn_penalty` times the mean |turn| per cycle.
     Broadside,
+    /// The sidewinding margin ([`crate::observe::periodic::Periodic::sidewinding_margin`]): how
+    /// far the worst cycle lies inside the four sidewinding criteria (dimensionless).
+    Sidewinding,
 }
 pub(super) fn d_max_evaluations() -> usize {
     30
@@ -518,21 +521,23 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
     let objective = match s.objective.as_deref() {
         None | Some("v_s") => Objective::Vs,
         Some("broadside") => Objective::Broadside,
+        Some("sidewinding") => Objective::Sidewinding,
         Some(other) => {
             return Err(fail(
                 "study",
                 "objective",
                 format!("{other:?}"),
-                "\"v_s\" (default) or \"broadside\"".into(),
+                "\"v_s\" (default), \"broadside\" or \"sidewinding\"".into(),
             ))
         }
     };
-    if objective == Objective::Broadside && base.gait.kind != gait::Kind::Sidewinding {
+    if objective != Objective::Vs && base.gait.kind != gait::Kind::Sidewinding {
+        let name = s.objective.as_deref().unwrap_or_default();
         return Err(fail(
             "study",
             "objective",
-            "\"broadside\"".into(),
-            "\"v_s\" for a base whose gait is not \"sidewinding\" (the broadside objective is measured per launch period)".into(),
+            format!("{name:?}"),
+            format!("\"v_s\" for a base whose gait is not \"sidewinding\" (the {name} objective is measured per launch period)"),
         ));
     }
     let turn_penalty = s.turn_penalty.unwrap_or(DEFAULT_TURN_PENALTY);

@@ -340,6 +340,24 @@ pub fn summarise(period: f64, cycles: Vec<Cycle>) -> Periodic {
 }
 
 impl Periodic {
+    /// How far the worst cycle is inside the sidewinding criteria: the smallest relative excess
+    /// over the four thresholds, `min((share - 0.8) / 0.8, (displacement - 0.1) / 0.1,
+    /// (5 - |turn|) / 5, (broadside - 60) / 60)` over the per-cycle extremes; negative when a
+    /// criterion fails, NaN with fewer than [`MIN_CYCLES`] measured cycles.
+    pub fn sidewinding_margin(&self) -> f64 {
+        if self.cycles.len() < MIN_CYCLES {
+            return f64::NAN;
+        }
+        [
+            (self.stationary_contact_share_min - STATIONARY_SHARE_MIN) / STATIONARY_SHARE_MIN,
+            (self.displacement_over_length_min - DISPLACEMENT_MIN_OVER_L) / DISPLACEMENT_MIN_OVER_L,
+            (TURN_MAX_DEG - self.turn_deg_max_abs) / TURN_MAX_DEG,
+            (self.broadside_deg_min - BROADSIDE_MIN_DEG) / BROADSIDE_MIN_DEG,
+        ]
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
+    }
+
     /// The sidewinding criteria that fail, as one line (empty when it sidewinds).
     pub fn missed(&self) -> String {
         self.sidewinding_checks

@@ -167,3 +167,29 @@ fn no_full_cycle_after_settling_gives_no_cycles() {
     assert!(p.broadside_deg_min.is_nan() && p.lateral_speed_over_v_m.is_nan());
     assert!(!p.sidewinding);
 }
+
+#[test]
+fn the_sidewinding_margin_is_the_worst_relative_excess_over_the_criteria() {
+    let cycle = |share: f64, disp: f64, turn: f64, broadside: f64| Cycle {
+        displacement_over_length: disp,
+        broadside_deg: broadside,
+        turn_deg: turn,
+        stationary_contact_share: share,
+        ..Cycle::default()
+    };
+    let good = vec![cycle(0.9, 0.12, -2.0, 80.0); 4];
+    // Share (0.9 - 0.8) / 0.8 = 0.125, displacement 0.2, turn 0.6, broadside 1/3.
+    let p = summarise(1.0, good.clone());
+    assert!(p.sidewinding);
+    assert!((p.sidewinding_margin() - 0.125).abs() < 1e-12);
+    // One cycle turning 6 degrees: (5 - 6) / 5 = -0.2, and the label is lost.
+    let mut bad = good.clone();
+    bad[2].turn_deg = 6.0;
+    let p = summarise(1.0, bad);
+    assert!(!p.sidewinding);
+    assert!((p.sidewinding_margin() + 0.2).abs() < 1e-12);
+    // Too few cycles: not measured.
+    assert!(summarise(1.0, good[..3].to_vec())
+        .sidewinding_margin()
+        .is_nan());
+}

@@ -362,7 +362,7 @@ pub const HISTORY_CSV: &[Field] = &[
     f(
         "objective",
         "m/s",
-        "the objective without penalties: -v_s, or with objective = \"broadside\" minus the mean lateral speed per cycle plus turn_penalty times the mean |turn| per cycle and stationary_penalty times the stationary share short of 0.8; 1000 for a failed run",
+        "the objective without penalties: -v_s, or with objective = \"broadside\" minus the mean lateral speed per cycle plus turn_penalty times the mean |turn| per cycle and stationary_penalty times the stationary share short of 0.8, or with objective = \"sidewinding\" minus the sidewinding margin (dimensionless); 1000 for a failed run",
     ),
     f(
         "base_hash",

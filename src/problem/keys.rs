@@ -423,7 +423,7 @@ pub const STUDY_KEYS: &[(&str, &str)] = &[
     ("study.max_heading_deg", "a number in (0, 180] (degrees)"),
     (
         "study.objective",
-        "\"v_s\" (default) or \"broadside\" (a sidewinding base only)",
+        "\"v_s\" (default), \"broadside\" or \"sidewinding\" (the last two: a sidewinding base only)",
     ),
     (
         "study.turn_penalty",
