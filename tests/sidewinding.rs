@@ -1,7 +1,8 @@
 //! Sidewinding measured per cycle from the trajectory (the guide's chapter "Regimes",
-//! sidewinding criteria): the bundled `problems/sidewinding.toml` against the oblique crawl it
-//! replaced (`tests/fixtures/sidewinding_oblique.toml`), and the ground tracks of the bundled
-//! scene from its contact data. Two full runs, a few seconds each in release.
+//! sidewinding criteria): the bundled `problems/sidewinding.toml` meets every criterion in every
+//! cycle, the oblique crawl it replaced (`tests/fixtures/sidewinding_oblique.toml`) fails them,
+//! and the ground tracks of the bundled scene from its contact data. Two full runs, about 10 s
+//! in release.
 mod common;
 
 use slither::model::Model;
@@ -57,12 +58,15 @@ fn the_oblique_scene_is_not_sidewinding() {
         p.broadside_deg_min
     );
     assert!(p.turn_deg_max_abs > 15.0, "turn {}", p.turn_deg_max_abs);
+    // Three measured cycles, fewer than the criteria need: no margin is measured.
+    assert!(p.sidewinding_margin().is_nan());
 }
 
-/// The bundled scene: every cycle after the first travels broadside with a steady heading
-/// and the displacement the criteria ask for.
+/// The bundled scene sidewinds: every cycle after the first travels broadside with a steady
+/// heading, the displacement the criteria ask for, and contacts that hold still over at least
+/// 80 % of the contact time (measured: 0.807 to 0.897, the first measured cycle lowest).
 #[test]
-fn the_bundled_scene_travels_broadside_with_a_steady_heading() {
+fn the_bundled_scene_sidewinds() {
     let (p, _) = bundled();
     assert!(
         p.cycles.len() >= periodic::MIN_CYCLES,
@@ -76,21 +80,28 @@ fn the_bundled_scene_travels_broadside_with_a_steady_heading() {
             c.displacement_over_length >= periodic::DISPLACEMENT_MIN_OVER_L,
             "{c:?}"
         );
+        assert!(
+            c.stationary_contact_share >= periodic::STATIONARY_SHARE_MIN,
+            "{c:?}"
+        );
     }
+    assert!(p.sidewinding, "{}", p.missed());
+    assert!(p.sidewinding_margin() > 0.0);
 }
 
-/// The tracks: stationary contacts lay straight footprints, two main ones per cycle (more than
-/// 60 stuck samples; the other tracks have at most 50), 0.18 to 0.30 L long, at an angle to the
-/// body axis. Measured: the main tracks run 25.6 to 40.2 degrees to the axis over the five
-/// cycles, 32.2 to 37.0 over the last three. Stated: 25 to 45 degrees to the axis, and parallel
-/// within 10 degrees over the last three cycles.
+/// The tracks: stationary contacts lay straight footprints, one main one per cycle (more than
+/// 500 stuck samples; the other tracks have at most 310), 0.3 to 0.45 L long, at an angle to
+/// the body axis. Measured: the five main tracks have 1127 to 1357 samples, are 0.328 to 0.422 m
+/// long and run 22.3 to 32.8 degrees to the axis, 26.9 to 32.8 over the last three cycles.
+/// Stated: 20 to 35 degrees to the axis, and parallel within 10 degrees over the last three
+/// cycles.
 #[test]
 fn the_bundled_scene_lays_parallel_tracks_at_an_angle_to_its_axis() {
     let (p, tr) = bundled();
     let after = |c: usize| p.cycles[c].t_start;
     let heavy: Vec<&Track> = tr
         .iter()
-        .filter(|t| t.samples > 60 && t.t[0] >= after(0))
+        .filter(|t| t.samples > 500 && t.t[0] >= after(0))
         .collect();
     for t in &heavy {
         println!(
@@ -99,8 +110,8 @@ fn the_bundled_scene_lays_parallel_tracks_at_an_angle_to_its_axis() {
         );
     }
     assert!(
-        heavy.len() >= p.cycles.len() && heavy.iter().all(|t| t.length >= 0.1),
-        "{} tracks of more than 60 samples in {} cycles",
+        heavy.len() >= p.cycles.len() && heavy.iter().all(|t| (0.3..=0.45).contains(&t.length)),
+        "{} tracks of more than 500 samples in {} cycles",
         heavy.len(),
         p.cycles.len()
     );
@@ -113,7 +124,7 @@ fn the_bundled_scene_lays_parallel_tracks_at_an_angle_to_its_axis() {
     };
     let (lo, hi) = range(&heavy);
     assert!(
-        lo >= 25.0 && hi <= 45.0,
+        lo >= 20.0 && hi <= 35.0,
         "tracks at {lo:.1} to {hi:.1} degrees to the axis"
     );
     let late: Vec<&Track> = heavy
