@@ -5,7 +5,7 @@
 # bend scales from the best points it found. Each run is one thread, 5 to 15 s on 2 shared
 # cores.
 #
-#   scripts/sidewinding_search.sh [RANDOM_RUNS [LOCAL_STEPS]]    # default 120 60
+#   scripts/sidewinding_search.sh [RANDOM_RUNS [LOCAL_STEPS]]    # default 120 20
 #
 # SLITHER names a built binary to use instead of building one (`cargo build --release`).
 set -euo pipefail
@@ -24,7 +24,7 @@ day="$(date -u +%Y-%m-%d)"
 for mode in random local; do
     csv="docs/results/sidewinding/search-$mode-$day.csv"
     rm -f "$csv"
-    if [ "$mode" = random ]; then n="${1:-120}"; seed=1; else n="${2:-60}"; seed=11; fi
+    if [ "$mode" = random ]; then n="${1:-120}"; seed=1; else n="${2:-20}"; seed=11; fi
     python3 scripts/sidewinding_search.py "$slither" "$mode" "$n" "$seed" "$csv"
     echo "rows: $csv"
     echo
