@@ -2,7 +2,9 @@
 # Back-to-back timing of PyElastica 1.0 on its own S-start scene against slither on the same
 # scene (problems/pyelastica_s_start.toml), in one window on one machine. Not part of CI.
 #
-#   compare/run.sh            # from anywhere; results in compare/out/
+#   compare/run.sh                  # from anywhere; results in compare/out/
+#   compare/run.sh --elements 200   # both codes at 200 elements; results in compare/out_200/
+#   compare/run.sh --elements 100 --pe-steps "2e-5 4e-5 1e-5"   # other meshes: PyElastica's steps
 #
 # 1. compare/.venv: a virtual environment with pyelastica==1.0.0 and numpy from PyPI
 #    (created once; delete the folder to reinstall; falls back to the newest 1.x if 1.0.0 is gone).
@@ -16,6 +18,9 @@
 #    (PyElastica dt 1e-5, slither dt 1.25e-4), whose own error is bounded by its change from
 #    the next coarser run (printed). Time-step error only: neither code is mesh-converged at
 #    50 elements.
+# With --elements N both codes run at N elements: PyElastica at its own measured steps for
+# that mesh (below), slither at the file's steps (an implicit step is set by accuracy, not
+# stability).
 #
 # Every run is kept as a dated record, docs/results/pyelastica-compare/<date>.md (machine,
 # build, load, the whole output), by scripts/record.sh; SLITHER_NO_RECORD=1 skips it.
@@ -27,9 +32,34 @@ if [ -z "${SLITHER_RECORDING:-}" ] && [ -z "${SLITHER_NO_RECORD:-}" ]; then
     exec "$repo/scripts/record.sh" pyelastica-compare "$here/run.sh" "$@"
 fi
 cd "$repo"
+elements=50
+pe_steps=""
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --elements) elements="$2"; shift 2 ;;
+        --pe-steps) pe_steps="$2"; shift 2 ;;
+        *) echo "compare/run.sh: unknown argument $1 (usage: compare/run.sh [--elements N] [--pe-steps "MID MAX FINE"])" >&2; exit 2 ;;
+    esac
+done
+case "$elements" in
+    ''|*[!0-9]*) echo "compare/run.sh: --elements must be a positive integer, got '$elements'" >&2; exit 2 ;;
+esac
+[ "$elements" -ge 4 ] || { echo "compare/run.sh: --elements must be at least 4" >&2; exit 2; }
 venv="$here/.venv"
-out="$here/out"
+if [ "$elements" = 50 ]; then out="$here/out"; else out="$here/out_$elements"; fi
 mkdir -p "$out"
+# PyElastica's steps: an intermediate one, its largest stable step and a fine one (its
+# converged value), measured on this scene: at 50 elements 2e-5, 5e-5 and 1e-5; at 200 elements
+# 2e-5, 3.5e-5 (4e-5 flings the rod 39,000 diameters up) and 1e-5 (within 0.01 % of 2.5e-6).
+# Other meshes: pass --pe-steps "MID MAX FINE".
+case "$elements" in
+    50) pe_steps="${pe_steps:-2e-5 5e-5 1e-5}" ;;
+    200) pe_steps="${pe_steps:-2e-5 3.5e-5 1e-5}" ;;
+    *) [ -n "${pe_steps:-}" ] || { echo "compare/run.sh: at $elements elements pass --pe-steps \"MID MAX FINE\" (PyElastica's steps; its stability limit is measured for 50 and 200 only)" >&2; exit 2; } ;;
+esac
+read -r pe_dt_mid pe_dt_max pe_dt_fine <<< "$pe_steps"
+export PE_DTS="$pe_dt_mid $pe_dt_max $pe_dt_fine" ELEMENTS="$elements"
+echo "elements $elements; PyElastica steps $PE_DTS"
 
 if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
@@ -44,15 +74,23 @@ cargo build --release
 slither="${CARGO_TARGET_DIR:-$repo/target}/release/slither"
 
 echo "load before: $(cat /proc/loadavg)"
-for dt in 2e-5 5e-5 1e-5; do
-    echo "== PyElastica, dt $dt"
-    "$venv/bin/python" "$here/pyelastica_s_start.py" --dt "$dt" --out "$out/pyelastica_dt$dt.json" >/dev/null
+i=0
+for dt in $PE_DTS; do
+    echo "== PyElastica, $elements elements, dt $dt"
+    "$venv/bin/python" "$here/pyelastica_s_start.py" --dt "$dt" --elements "$elements" \
+        --out "$out/pyelastica_$i.json" >/dev/null
+    i=$((i + 1))
 done
-echo "== slither, problems/pyelastica_s_start.toml"
-"$slither" run problems/pyelastica_s_start.toml --out "$out/slither" --no-plots --quiet
+# The scene files at N elements (the files' own mesh is 50).
+for name in pyelastica_s_start s_start; do
+    sed -e "s/^elements = 50 *\(#.*\)\?$/elements = $elements/" "problems/$name.toml" > "$out/$name.toml"
+    grep -q "^elements = $elements" "$out/$name.toml"
+done
+echo "== slither, problems/pyelastica_s_start.toml at $elements elements"
+"$slither" run "$out/pyelastica_s_start.toml" --out "$out/slither" --no-plots --quiet
 for dt in 1e-3 5e-4 1.25e-4; do
     echo "== slither, dt $dt"
-    sed -e "s/^dt = 2e-3/dt = $dt/" problems/pyelastica_s_start.toml > "$out/slither_dt$dt.toml"
+    sed -e "s/^dt = 2e-3/dt = $dt/" "$out/pyelastica_s_start.toml" > "$out/slither_dt$dt.toml"
     grep -q "^dt = $dt" "$out/slither_dt$dt.toml"
     "$slither" run "$out/slither_dt$dt.toml" --out "$out/slither_dt$dt" --no-plots --quiet
 done
@@ -62,7 +100,7 @@ for name in pyelastica_s_start s_start; do
     echo "== slither, BDF2 adaptive, problems/$name.toml"
     sed -e 's/^\[ground\]/[solver]\nintegrator = "bdf2"\n\n[ground]/' \
         -e 's/^dt = 2e-3/dt = 2e-3\nadaptive = true/' \
-        "problems/$name.toml" > "$out/${name}_bdf2_adaptive.toml"
+        "$out/$name.toml" > "$out/${name}_bdf2_adaptive.toml"
     grep -q '^adaptive = true' "$out/${name}_bdf2_adaptive.toml"
     grep -q '^integrator = "bdf2"' "$out/${name}_bdf2_adaptive.toml"
     "$slither" run "$out/${name}_bdf2_adaptive.toml" --out "$out/${name}_bdf2_adaptive" \
@@ -76,23 +114,27 @@ out, problem = sys.argv[1], sys.argv[2]
 with open(problem, "rb") as f:
     p = tomllib.load(f)
 sl = json.load(open(os.path.join(out, "slither", "summary.json")))
-pe = {}
-for dt in ("2e-5", "5e-5", "1e-5"):
-    pe[dt] = json.load(open(os.path.join(out, f"pyelastica_dt{dt}.json")))
+pe_dts = os.environ["PE_DTS"].split()
+elements = int(os.environ["ELEMENTS"])
+# Keys: "mid" (2e-5 at 50 elements), "max" (the largest stable step), "fine" (converged).
+pe = {key: json.load(open(os.path.join(out, f"pyelastica_{i}.json")))
+      for i, key in enumerate(("mid", "max", "fine"))}
 sl_fine = {dt: json.load(open(os.path.join(out, f"slither_dt{dt}", "summary.json")))
            for dt in ("1e-3", "5e-4", "1.25e-4")}
 net = "com_disp_over_T_along_initial_head_over_v_m"
 # Each code's converged value: its finest run; the change from the next coarser run bounds
 # that run's own error (both codes change monotonically and by less with each refinement on
 # this scene; see compare/README.md).
-pe_conv = {"net": pe["1e-5"][net], "heading": pe["1e-5"]["v_s_over_v_m"]}
-pe_last = abs(pe["1e-5"][net] - pe["2e-5"][net]) / abs(pe_conv["net"])
+pe_conv = {"net": pe["fine"][net], "heading": pe["fine"]["v_s_over_v_m"]}
+pe_last = abs(pe["fine"][net] - pe["mid"][net]) / abs(pe_conv["net"])
 sl_conv = sl_fine["1.25e-4"]["v_s_over_v_m"]
 sl_last = abs(sl_conv - sl_fine["5e-4"]["v_s_over_v_m"]) / abs(sl_conv)
 
 rows = []
-for name in ("2e-5", "5e-5", "1e-5"):
+for name in ("mid", "max", "fine"):
     j = pe[name]
+    if not j["stable"]:
+        print(f"PyElastica at dt {j['dt']:.3g} blew up (non-finite positions)")
     rows.append((j["code"], j["dt"], j["steps"], j["wall_time_s"], j["simulated_s"],
                  j["v_s_over_v_m"], j[net], pe_conv["net"]))
 rows.append(("slither (implicit Euler)", p["time"]["dt"], sl["steps"], sl["wall_time_s"],
@@ -126,16 +168,17 @@ for code, dt, steps, wall, sim, vh, vn, conv in rows:
     print(f"| {code} | {dt_str(dt)} | {steps} | {wall:.2f} | {sim:.3f} | {rate:.3f} "
           f"| {vh_s} | {vn:.4f} | {100 * (vn - conv) / abs(conv):+.2f} % | {ratio} |")
 print()
-print(f"Converged v_s/v_m (net): PyElastica {pe_conv['net']:.4f} (dt 1e-5; "
-      f"{100 * pe_last:.2f} % from dt 2e-5; heading definition {pe_conv['heading']:.4f}), "
-      f"slither {sl_conv:.4f} (dt 1.25e-4; {100 * sl_last:.2f} % from dt 5e-4).")
-print("Time-step error only: both codes are run at 50 elements.")
+print(f"Converged v_s/v_m (net): PyElastica {pe_conv['net']:.4f} (dt {dt_str(pe['fine']['dt'])}; "
+      f"{100 * pe_last:.2f} % from dt {dt_str(pe['mid']['dt'])}; heading definition "
+      f"{pe_conv['heading']:.4f}), slither {sl_conv:.4f} (dt 1.25e-4; {100 * sl_last:.2f} % "
+      f"from dt 5e-4).")
+print(f"Time-step error only: both codes are run at {elements} elements.")
 # Equal accuracy: for each PyElastica step, the cheapest slither row at least as accurate.
 for pe_row in [r for r in rows if r[0].startswith("PyElastica")]:
     err = abs(pe_row[6] - pe_row[7]) / abs(pe_row[7])
     ok = [r for r in rows if not r[0].startswith("PyElastica")
           and abs(r[6] - r[7]) / abs(r[7]) <= max(err, 1e-12)]
-    if pe_row[1] == 1e-5 or not ok:
+    if pe_row[1] == pe["fine"]["dt"] or not ok:
         continue
     best = min(ok, key=lambda r: r[3] / r[4])
     print(f"Equal accuracy: PyElastica at dt {dt_str(pe_row[1])} ({100 * err:.2f} %) takes "
@@ -144,11 +187,12 @@ for pe_row in [r for r in rows if r[0].startswith("PyElastica")]:
           f"{best[3] / best[4]:.3f}: {pe_row[3] / pe_row[4] / (best[3] / best[4]):.2f}x.")
 b = ad["s_start"]
 b_rate = b["wall_time_s"] / b["t_final"]
-pe_rate = pe["2e-5"]["wall_time_s"] / pe["2e-5"]["simulated_s"]
-print(f"Bundled S-start (problems/s_start.toml) by adaptive BDF2 at the default tolerance: "
-      f"{b['steps']} steps, {b['wall_time_s']:.2f} s for {b['t_final']:.3f} s = {b_rate:.3f} s "
-      f"per simulated s, v_s/v_m {b['v_s_over_v_m']:.4f}; PyElastica at dt 2e-5 on its scene "
-      f"{pe_rate:.3f}: {pe_rate / b_rate:.1f}x.")
+pe_rate = pe["max"]["wall_time_s"] / pe["max"]["simulated_s"]
+print(f"Bundled S-start (problems/s_start.toml at {elements} elements) by adaptive BDF2 at the "
+      f"default tolerance: {b['steps']} steps, {b['wall_time_s']:.2f} s for {b['t_final']:.3f} s "
+      f"= {b_rate:.3f} s per simulated s, v_s/v_m {b['v_s_over_v_m']:.4f}; PyElastica at its "
+      f"largest stable step {dt_str(pe['max']['dt'])} on its scene {pe_rate:.3f}: "
+      f"{pe_rate / b_rate:.1f}x.")
 print()
 print("v_s/v_m (heading): centre-of-mass velocity along the instantaneous ground-projected")
 print("tail-to-head direction, time-averaged (the PyElastica reference README's v_s).")
