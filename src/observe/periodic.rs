@@ -120,6 +120,9 @@ pub struct Periodic {
     pub spread: Spread,
     /// Whether every sidewinding criterion holds (module doc).
     pub sidewinding: bool,
+    /// How far the worst cycle lies inside the sidewinding criteria
+    /// ([`Periodic::sidewinding_margin`]; NaN with fewer than [`MIN_CYCLES`] cycles).
+    pub sidewinding_margin: f64,
     /// The sidewinding comparisons, worst cycle against threshold.
     pub sidewinding_checks: Vec<Check>,
 }
@@ -323,7 +326,7 @@ pub fn summarise(period: f64, cycles: Vec<Cycle>) -> Periodic {
         lateral_speed_over_v_m: range(&cycles, |c| c.lateral_speed_over_v_m),
         stationary_contact_share: range(&cycles, |c| c.stationary_contact_share),
     };
-    Periodic {
+    let mut p = Periodic {
         period,
         settling_cycles: SETTLING_CYCLES,
         lateral_speed_over_v_m: lateral,
@@ -335,8 +338,11 @@ pub fn summarise(period: f64, cycles: Vec<Cycle>) -> Periodic {
         spread,
         sidewinding: checks.iter().all(|c| c.holds),
         sidewinding_checks: checks,
+        sidewinding_margin: f64::NAN,
         cycles,
-    }
+    };
+    p.sidewinding_margin = p.sidewinding_margin();
+    p
 }
 
 impl Periodic {

@@ -182,6 +182,7 @@ fn the_sidewinding_margin_is_the_worst_relative_excess_over_the_criteria() {
     let p = summarise(1.0, good.clone());
     assert!(p.sidewinding);
     assert!((p.sidewinding_margin() - 0.125).abs() < 1e-12);
+    assert_eq!(p.sidewinding_margin, p.sidewinding_margin());
     // One cycle turning 6 degrees: (5 - 6) / 5 = -0.2, and the label is lost.
     let mut bad = good.clone();
     bad[2].turn_deg = 6.0;

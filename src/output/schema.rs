@@ -160,6 +160,7 @@ pub const SUMMARY: &[Field] = &[
     only("periodic.spread.lateral_speed_over_v_m", "", SIDEWINDING, "range over the cycles of lateral_speed_over_v_m"),
     only("periodic.spread.stationary_contact_share", "", SIDEWINDING, "range over the cycles of stationary_contact_share"),
     only("periodic.sidewinding", "", SIDEWINDING, "whether every sidewinding criterion holds (guide: Regimes)"),
+    only("periodic.sidewinding_margin", "", SIDEWINDING, "how far the worst cycle lies inside the four criteria: the smallest of (share - 0.8)/0.8, (displacement - 0.1 L)/0.1 L, (5 - |turn|)/5, (broadside - 60)/60; negative when one fails, null with fewer than 4 cycles"),
     only("periodic.sidewinding_checks[].quantity", "", SIDEWINDING, "a sidewinding criterion: cycles, broadside_deg_min, turn_deg_max_abs, displacement_over_length_min or stationary_contact_share_min"),
     only("periodic.sidewinding_checks[].value", "", SIDEWINDING, "its value"),
     only("periodic.sidewinding_checks[].op", "", SIDEWINDING, "the comparison: <= or >="),
