@@ -24,7 +24,13 @@ def placement(b):
     hw = max((p["half_width"] for p in pts), default=float("nan"))
     return (f"method {b.get('method', '-')}, {len(pts)} points ({bis} bisected, {bad} failed, "
             f"half-width up to {hw:.3f} decades)")
-for b in json.load(open(f"{out}/boundaries.json")):
+bj = json.load(open(f"{out}/boundaries.json"))
+if isinstance(bj, dict):
+    # A verified study: the lines (fitted through unanimous cells only) and what was left out.
+    print(f"verified: {len(bj['uncertain'])} uncertain cells; excluded from the fits: "
+          f"{bj['excluded_cells']} cells, {bj['excluded_pairs']} neighbour pairs")
+    bj = bj["boundaries"]
+for b in bj:
     if b["slope"] is None:
         print(f"  {b['pair']}: no fit; {placement(b)}")
         continue
