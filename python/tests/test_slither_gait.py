@@ -205,6 +205,17 @@ def test_arrays_have_the_documented_shapes_and_units():
 
 
 def test_keyboard_interrupt_stops_a_long_run_within_steps():
+    # Python's own Ctrl-C handler, also when this process was started with SIGINT ignored
+    # (a background job of a non-interactive shell inherits SIG_IGN, and Python then
+    # installs no handler, so SIGINT would do nothing at all).
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        _interrupt_a_long_run()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _interrupt_a_long_run():
     p = sg.load_problem(S_START).with_(**{"time.duration": 200.0})
     steps = []
     timer = threading.Timer(0.5, lambda: (steps.append(time.perf_counter()),
