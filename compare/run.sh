@@ -29,17 +29,7 @@ set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(dirname "$here")"
-if [ -z "${SLITHER_RECORDING:-}" ] && [ -z "${SLITHER_NO_RECORD:-}" ]; then
-    # Records per mesh: pyelastica-compare (50 elements), pyelastica-compare-N otherwise.
-    record=pyelastica-compare
-    prev=""
-    for a in "$@"; do
-        if [ "$prev" = --elements ] && [ "$a" != 50 ]; then record="pyelastica-compare-$a"; fi
-        prev="$a"
-    done
-    exec "$repo/scripts/record.sh" "$record" "$here/run.sh" "$@"
-fi
-cd "$repo"
+args=("$@")
 elements=50
 pe_steps=""
 while [ $# -gt 0 ]; do
@@ -55,7 +45,6 @@ esac
 [ "$elements" -ge 4 ] || { echo "compare/run.sh: --elements must be at least 4" >&2; exit 2; }
 venv="$here/.venv"
 if [ "$elements" = 50 ]; then out="$here/out"; else out="$here/out_$elements"; fi
-mkdir -p "$out"
 # PyElastica's steps: an intermediate one, its largest stable step and a fine one (its
 # converged value), measured on this scene over the whole 4 s: at 50 elements 2e-5, 1e-4
 # (1.2e-4 flings the rod 4,000 diameters up) and 1e-5; at 200 elements 2e-5, 3.5e-5 (4e-5
@@ -66,6 +55,14 @@ case "$elements" in
     200) pe_steps="${pe_steps:-2e-5 3.5e-5 1e-5}" ;;
     *) [ -n "${pe_steps:-}" ] || { echo "compare/run.sh: at $elements elements pass --pe-steps \"MID MAX FINE\" (PyElastica's steps; its stability limit is measured for 50 and 200 only)" >&2; exit 2; } ;;
 esac
+if [ -z "${SLITHER_RECORDING:-}" ] && [ -z "${SLITHER_NO_RECORD:-}" ]; then
+    # Records per mesh: pyelastica-compare (50 elements), pyelastica-compare-N otherwise.
+    record=pyelastica-compare
+    [ "$elements" = 50 ] || record="pyelastica-compare-$elements"
+    exec "$repo/scripts/record.sh" "$record" "$here/run.sh" "${args[@]}"
+fi
+cd "$repo"
+mkdir -p "$out"
 read -r pe_dt_mid pe_dt_max pe_dt_fine <<< "$pe_steps"
 export PE_DTS="$pe_dt_mid $pe_dt_max $pe_dt_fine" ELEMENTS="$elements"
 echo "elements $elements; PyElastica steps $PE_DTS"
