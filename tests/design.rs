@@ -7,6 +7,9 @@
 
 use slither::design::{self, Dim, GaitParams, Param, Space, Status};
 use std::path::{Path, PathBuf};
+
+mod common;
+use common::{col, history_rows};
 use std::process::Command;
 
 const BIN: &str = env!("CARGO_BIN_EXE_slither");
@@ -68,23 +71,6 @@ fn setup(name: &str, base: &str, study: &str) -> PathBuf {
     std::fs::write(dir.join("base.toml"), base).unwrap();
     std::fs::write(dir.join("study.toml"), study).unwrap();
     dir.join("study.toml")
-}
-
-/// Data rows of a history file (header checked).
-fn history_rows(out: &Path) -> Vec<Vec<String>> {
-    let text = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next(), Some(design::HISTORY_HEADER));
-    lines
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect()
-}
-
-fn col(name: &str) -> usize {
-    design::HISTORY_HEADER
-        .split(',')
-        .position(|c| c == name)
-        .unwrap()
 }
 
 /// `v_s` (m/s) of the study's evaluation at (24 kPa, 0.4 m/s): the start of a 3-evaluation

@@ -6,7 +6,10 @@
 //! the study that wrote them varied; a history file of the older format is read and rewritten.
 
 use slither::design::{self, Param, Status};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+mod common;
+use common::{col, history_rows};
 
 /// A tiny sidewinding base: milliseconds per run.
 const BASE: &str = "\
@@ -79,22 +82,6 @@ fn refused(name: &str, base: &str, study: &str) -> (String, PathBuf) {
         Ok(_) => panic!("{name}: accepted:\n{study}"),
         Err(e) => (e.to_string(), path),
     }
-}
-
-fn history_rows(out: &Path) -> Vec<Vec<String>> {
-    let text = std::fs::read_to_string(out.join(design::HISTORY_FILE)).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next(), Some(design::HISTORY_HEADER));
-    lines
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect()
-}
-
-fn col(name: &str) -> usize {
-    design::HISTORY_HEADER
-        .split(',')
-        .position(|c| c == name)
-        .unwrap()
 }
 
 #[test]
@@ -437,19 +424,7 @@ fn the_sidewinding_objective_is_minus_the_margin_and_needs_four_cycles() {
     assert_eq!(s.objective, design::Objective::Sidewinding);
     let e = design::simulate(&s, &s.space.initial(), &mut |_| {});
     assert_eq!(e.status, Status::Ok, "{}", e.reason);
-    let (m, o) = {
-        let pr = s.problem_at(&s.space.initial());
-        let m = slither::model::Model::new(&pr);
-        let o = slither::sim::run(
-            &m,
-            Box::new(slither::gait::Muscles {
-                gait: m.gait.clone(),
-            }),
-            &mut |_| {},
-            &mut |_| {},
-        );
-        (m, o)
-    };
+    let (m, o) = common::run_problem(&s.problem_at(&s.space.initial()));
     let p = slither::observe::periodic::of_outcome(&m, &o).unwrap();
     assert_eq!(e.objective(), -p.sidewinding_margin());
     assert_eq!(e.periodic.unwrap().sidewinding, p.sidewinding);

@@ -4,10 +4,9 @@ use slither::model::Model;
 use slither::problem;
 use std::path::Path;
 
-/// Simulate a problem file with its own gait; the run must finish.
-pub fn run_file(path: &str) -> (Model, slither::sim::Outcome) {
-    let p = problem::load(Path::new(path)).unwrap();
-    let m = Model::new(&p);
+/// Simulate a problem with its own gait (the outcome as it is, failed or not).
+pub fn run_problem(p: &problem::Problem) -> (Model, slither::sim::Outcome) {
+    let m = Model::new(p);
     let o = slither::sim::run(
         &m,
         Box::new(slither::gait::Muscles {
@@ -16,8 +15,32 @@ pub fn run_file(path: &str) -> (Model, slither::sim::Outcome) {
         &mut |_| {},
         &mut |_| {},
     );
+    (m, o)
+}
+
+/// Simulate a problem file with its own gait; the run must finish.
+pub fn run_file(path: &str) -> (Model, slither::sim::Outcome) {
+    let (m, o) = run_problem(&problem::load(Path::new(path)).unwrap());
     assert!(o.error.is_none(), "{path}: {:?}", o.error);
     (m, o)
+}
+
+/// Data rows of a study's `history.csv` in `out` (header checked).
+pub fn history_rows(out: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(out.join(slither::design::HISTORY_FILE)).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(slither::design::HISTORY_HEADER));
+    lines
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+/// Index of the `history.csv` column `name`.
+pub fn col(name: &str) -> usize {
+    slither::design::HISTORY_HEADER
+        .split(',')
+        .position(|c| c == name)
+        .unwrap()
 }
 
 /// Model from inline TOML.
