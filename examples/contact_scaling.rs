@@ -1,4 +1,4 @@
-//! How the contact Newton's cost grows with the mesh (issue 23): the bundled S-start's first
+//! How the contact Newton's cost grows with the mesh: the bundled S-start's first
 //! `DURATION` seconds (0.5 by default) with implicit Euler at `dt` (5e-4 by default) at each
 //! element count, and per run the Newton iterations, factorisations and conic fallbacks per
 //! step, the step halvings, microseconds per step per element and wall seconds per simulated
@@ -6,9 +6,14 @@
 //!
 //! ```sh
 //! cargo run --release --example contact_scaling -- [--elements 50,100,200,400] [--duration 0.5]
-//!     [--dt 5e-4] [--contact active-set|semi-smooth|conic] [--scene problems/s_start.toml]
-//!     [--certificate N]
+//!     [--dt 5e-4[,1e-3...]] [--contact active-set|semi-smooth|conic] [--scene problems/s_start.toml]
+//!     [--certificate N] [--chart OUT.png [--pyelastica STEPS.csv]]
 //! ```
+//!
+//! `--chart` draws the wall seconds per simulated second against the element count on log-log
+//! axes, one line per step, with a line of slope one (cost linear in the element count)
+//! through the first point; `--pyelastica` adds PyElastica's cost at its largest stable step
+//! from the CSV written by `compare/stable_steps.sh` (its `stable` rows).
 //!
 //! `--duration full` runs the whole scene and adds v_s/v_m. `--certificate N` certifies every
 //! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it. `scripts/contact_scaling.sh`
@@ -21,9 +26,11 @@ struct Args {
     scene: PathBuf,
     elements: Vec<usize>,
     duration: Option<f64>,
-    dt: f64,
+    dts: Vec<f64>,
     contact: Option<problem::ContactKind>,
     certificate: usize,
+    chart: Option<PathBuf>,
+    pyelastica: Option<PathBuf>,
 }
 
 fn parse() -> Args {
@@ -31,9 +38,11 @@ fn parse() -> Args {
         scene: PathBuf::from("problems/s_start.toml"),
         elements: vec![50, 100, 200, 400],
         duration: Some(0.5),
-        dt: 5e-4,
+        dts: vec![5e-4],
         contact: None,
         certificate: 0,
+        chart: None,
+        pyelastica: None,
     };
     let argv: Vec<String> = std::env::args().skip(1).collect();
     let mut i = 0;
@@ -54,7 +63,14 @@ fn parse() -> Args {
                     Some(v.parse().expect("--duration: seconds or full"))
                 }
             }
-            "--dt" => a.dt = v.parse().expect("--dt: seconds"),
+            "--dt" => {
+                a.dts = v
+                    .split(',')
+                    .map(|s| s.trim().parse().expect("--dt: seconds, comma-separated"))
+                    .collect()
+            }
+            "--chart" => a.chart = Some(PathBuf::from(v)),
+            "--pyelastica" => a.pyelastica = Some(PathBuf::from(v)),
             "--certificate" => a.certificate = v.parse().expect("--certificate: every N steps"),
             "--contact" => {
                 a.contact = Some(match v.as_str() {
@@ -71,7 +87,51 @@ fn parse() -> Args {
         }
         i += 2;
     }
+    if a.pyelastica.is_some() && a.chart.is_none() {
+        eprintln!("--pyelastica needs --chart");
+        std::process::exit(2);
+    }
     a
+}
+
+/// PyElastica's `(elements, wall seconds per simulated second, dt)` at its largest stable step:
+/// the `stable` rows of `compare/stable_steps.sh`'s CSV.
+fn pyelastica_points(path: &std::path::Path) -> Vec<(f64, f64, f64)> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| {
+        eprintln!("error: {}: cannot read: {e}", path.display());
+        std::process::exit(2)
+    });
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let col = |name: &str| {
+        header.iter().position(|h| *h == name).unwrap_or_else(|| {
+            eprintln!("error: {}: no column `{name}`", path.display());
+            std::process::exit(2)
+        })
+    };
+    let (ce, cd, cr, cs, cw) = (
+        col("elements"),
+        col("dt"),
+        col("role"),
+        col("stable"),
+        col("wall_per_sim_second"),
+    );
+    let num = |f: &[&str], c: usize, line: &str| -> f64 {
+        f.get(c).and_then(|v| v.parse().ok()).unwrap_or_else(|| {
+            eprintln!("error: {}: bad row {line:?}", path.display());
+            std::process::exit(2)
+        })
+    };
+    let mut pts: Vec<(f64, f64, f64)> = lines
+        .filter(|l| !l.trim().is_empty())
+        .filter_map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f.get(cr) == Some(&"stable") && f.get(cs) == Some(&"true"))
+                .then(|| (num(&f, ce, l), num(&f, cw, l), num(&f, cd, l)))
+        })
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    pts
 }
 
 /// Library diagnostics on stderr at debug level when `SLITHER_DEBUG` is set (every Newton
@@ -100,10 +160,67 @@ fn main() {
         eprintln!("error: {e}");
         std::process::exit(2)
     });
+    let mut lines: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for &dt in &args.dts {
+        lines.push((
+            format!("slither, implicit Euler, dt {dt:e} s"),
+            table(&args, &base, dt),
+        ));
+    }
+    if let Some(path) = &args.chart {
+        chart(path, &args, lines);
+    }
+}
+
+/// The chart of `--chart`: slither's lines, PyElastica's points, a slope-one guide.
+fn chart(path: &std::path::Path, args: &Args, mut lines: Vec<(String, Vec<(f64, f64)>)>) {
+    if let Some(csv) = &args.pyelastica {
+        let pe = pyelastica_points(csv);
+        let steps: Vec<String> = pe.iter().map(|p| format!("{:e}", p.2)).collect();
+        lines.push((
+            format!(
+                "PyElastica 1.0, largest stable step ({} s)",
+                steps.join(", ")
+            ),
+            pe.iter().map(|p| (p.0, p.1)).collect(),
+        ));
+    }
+    if let Some(&(n0, w0)) = lines.first().and_then(|l| l.1.first()) {
+        let n1 = args.elements.iter().copied().max().unwrap_or(1) as f64;
+        lines.push((
+            "cost linear in the elements".to_string(),
+            vec![(n0, w0), (n1, w0 * n1 / n0)],
+        ));
+    }
+    let series: Vec<(&str, Vec<(f64, f64)>)> =
+        lines.iter().map(|(n, p)| (n.as_str(), p.clone())).collect();
+    let title = format!(
+        "{}: {}",
+        args.scene.display(),
+        args.duration
+            .map_or("whole scene".to_string(), |d| format!("first {d} s"))
+    );
+    if let Err(e) = slither::plot::xy_log_log(
+        path,
+        &title,
+        "elements",
+        "wall seconds per simulated second",
+        &series,
+    ) {
+        eprintln!("error: {}: {e}", path.display());
+        std::process::exit(1);
+    }
+    eprintln!("chart: {}", path.display());
+}
+
+/// One table for step `dt`: a row per element count. Returns `(elements, wall seconds per
+/// simulated second)` of the runs that finished.
+fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
+    let mut points = Vec::new();
     println!(
         "scene {}, implicit Euler, dt {:e} s, {}",
         args.scene.display(),
-        args.dt,
+        dt,
         args.duration
             .map_or("whole scene".to_string(), |d| format!("first {d} s"))
     );
@@ -113,7 +230,7 @@ fn main() {
     for &n in &args.elements {
         let mut p = base.clone();
         p.rod.elements = n;
-        p.time.dt = Some(args.dt);
+        p.time.dt = Some(dt);
         p.solver.integrator = problem::IntegratorKind::Implicit;
         p.time.adaptive = false;
         if let Some(c) = args.contact {
@@ -169,7 +286,12 @@ fn main() {
             pct(st.newton.solve_s),
             pct(st.newton.line_search_s),
             pct(st.contact.conic_s),
-            o.error.map_or(String::new(), |e| format!(" failed: {e}"))
+            o.error.as_ref().map_or(String::new(), |e| format!(" failed: {e}"))
         );
+        if o.error.is_none() {
+            points.push((n as f64, wall / simulated));
+        }
     }
+    println!();
+    points
 }

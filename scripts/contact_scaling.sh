@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The contact Newton's scaling benchmark (issue 23): the bundled S-start's first 0.5 s with
+# The contact Newton's scaling benchmark: the bundled S-start's first 0.5 s with
 # implicit Euler at dt 5e-4 s at 50, 100, 200 and 400 elements (pass other arguments through to
 # examples/contact_scaling.rs, e.g. --elements 200,400,800 --duration 1.5, or --duration full
 # for the whole scene with v_s/v_m), kept as a dated record under docs/results/contact-scaling/

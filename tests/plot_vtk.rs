@@ -2,7 +2,7 @@
 //! right frames and arrays.
 
 use slither::output::vtk::write_vtk;
-use slither::plot::{kymograph, series, snapshots, xy, PlotError};
+use slither::plot::{kymograph, series, snapshots, xy, xy_log_log, PlotError};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
@@ -256,6 +256,51 @@ fn xy_png_linear_and_log() {
             true,
             false
         ),
+        Err(PlotError::Invalid(_))
+    ));
+}
+
+/// A cost against the element count over less than two powers of ten: `xy` draws it on linear
+/// axes (its ticks include 150 and 250), `xy_log_log` keeps the log axes with ticks at 1, 2 and
+/// 5 times the powers of ten (50, 100, 200, and no 150).
+#[test]
+fn xy_log_log_keeps_log_axes_on_narrow_data() {
+    let d = tmp("xy_log_log");
+    let cost: Vec<(f64, f64)> = [50.0, 100.0, 200.0, 400.0]
+        .iter()
+        .map(|&n| (n, 0.006 * n))
+        .collect();
+    let labels = |svg: &str| -> Vec<String> {
+        svg.split("<text")
+            .skip(1)
+            .filter_map(|t| Some(t[t.find('>')? + 1..t.find("</text>")?].trim().to_string()))
+            .collect()
+    };
+    let lin = d.join("linear.svg");
+    xy(
+        &lin,
+        "",
+        "elements",
+        "s",
+        &[("cost", cost.clone())],
+        true,
+        true,
+    )
+    .unwrap();
+    let lin_labels = labels(&std::fs::read_to_string(&lin).unwrap());
+    assert!(lin_labels.iter().any(|l| l == "150"), "{lin_labels:?}");
+    let log = d.join("log.svg");
+    xy_log_log(&log, "", "elements", "s", &[("cost", cost)]).unwrap();
+    let log_labels = labels(&std::fs::read_to_string(&log).unwrap());
+    for tick in ["50", "100", "200", "0.5", "1", "2"] {
+        assert!(
+            log_labels.iter().any(|l| l == tick),
+            "no tick {tick}: {log_labels:?}"
+        );
+    }
+    assert!(!log_labels.iter().any(|l| l == "150"), "{log_labels:?}");
+    assert!(matches!(
+        xy_log_log(&log, "", "x", "y", &[("neg", vec![(-1.0, 1.0)])]),
         Err(PlotError::Invalid(_))
     ));
 }

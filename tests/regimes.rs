@@ -1,4 +1,4 @@
-//! Regimes as the paper defines them (issue 14), on full simulations of the issue's scenes:
+//! Regimes as the paper defines them, on full simulations of these scenes:
 //! `problems/pyelastica_straight.toml` at W = 30, G = 10 moves forward at about 0.29 v_m with
 //! its pulse travelling at about 1.3 v_m (labelled F before: now M, not F or N), and the same
 //! base at W = 3000, G = 20 barely moves (still F or N). The juvenile S-start stays S

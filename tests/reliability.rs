@@ -1,6 +1,6 @@
-//! Issue 13: no silent wrong answers from odd input, crash-safe result files, one run per
-//! output directory. One test (or more) per numbered defect of the issue; each failed against
-//! the code before the fix.
+//! No silent wrong answers from odd input, crash-safe result files, one run per output
+//! directory. One test (or more) per defect found; each failed against the code before the
+//! fix.
 mod common;
 
 use slither::observe;

@@ -198,7 +198,7 @@ fn drop_steps() -> Vec<StepRecord> {
 /// lift-off pairs superlinear (a stalled pair 2.2e-1 -> 2.2e-1 and 5.7e-1 -> 5.5e-1 on landing
 /// steps: statuses changing between iterates, where this solve's sliding Jacobian is a
 /// symmetric approximation, not the exact generalized Jacobian). The semi-smooth solve is not
-/// the default (issue 23 kept the active set, which measured faster); run with `--ignored`.
+/// the default (the active set measured faster); run with `--ignored`.
 #[test]
 #[ignore = "semi-smooth solve: 12 of 15 landing pairs superlinear (needs 9 in 10); not the default"]
 fn landing_converges_superlinearly() {

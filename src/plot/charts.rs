@@ -89,6 +89,34 @@ pub fn xy(
     log_x: bool,
     log_y: bool,
 ) -> Result<(), PlotError> {
+    xy_axes(path, title, x_label, y_label, series, (log_x, log_y), false)
+}
+
+/// [`xy`] on log-log axes even when the data span less than two powers of ten (a cost
+/// against a size, where the slope is the message): the ticks then fall between powers of
+/// ten. Points with a non-positive coordinate are skipped.
+///
+/// Errors: [`PlotError::Invalid`] if no plottable point remains.
+pub fn xy_log_log(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[(&str, Vec<(f64, f64)>)],
+) -> Result<(), PlotError> {
+    xy_axes(path, title, x_label, y_label, series, (true, true), true)
+}
+
+/// The body of [`xy`] and [`xy_log_log`]; `force` keeps the log axes of narrow data.
+fn xy_axes(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[(&str, Vec<(f64, f64)>)],
+    (log_x, log_y): (bool, bool),
+    force: bool,
+) -> Result<(), PlotError> {
     let keep = |&(x, y): &(f64, f64)| {
         x.is_finite() && y.is_finite() && (!log_x || x > 0.0) && (!log_y || y > 0.0)
     };
@@ -117,8 +145,8 @@ pub fn xy(
         finite_range(pts().map(|p| p.0)),
         finite_range(pts().map(|p| p.1)),
     );
-    let log_x = log_x && spans_decades(x_data);
-    let log_y = log_y && spans_decades(y_data);
+    let log_x = log_x && (force || spans_decades(x_data));
+    let log_y = log_y && (force || spans_decades(y_data));
     let xr = if log_x {
         pad_log(x_data, 0.05)
     } else {
@@ -131,7 +159,38 @@ pub fn xy(
     };
     crate::on_backend!(path, SIZE, |area| {
         let (root, body) = canvas_on(area, title)?;
-        xy_body(&body, xr, yr, x_label, y_label, &data, log_x, log_y)?;
+        if force && log_x && log_y {
+            // Ticks at 1, 2 and 5 times the powers of ten (plotters' own log ticks are the
+            // powers of ten alone: one or none on narrow data).
+            let ticks = |r: (f64, f64)| -> Vec<f64> {
+                let mut t = Vec::new();
+                for k in (r.0.log10().floor() as i32 - 1)..=(r.1.log10().ceil() as i32) {
+                    for m in [1.0, 2.0, 5.0] {
+                        let v = m * 10f64.powi(k);
+                        if v >= r.0 && v <= r.1 {
+                            t.push(v);
+                        }
+                    }
+                }
+                t
+            };
+            let x = (xr.0..xr.1).log_scale().with_key_points(ticks(xr));
+            let y = (yr.0..yr.1).log_scale().with_key_points(ticks(yr));
+            line_chart(
+                &body,
+                x,
+                y,
+                xr,
+                yr,
+                x_label,
+                y_label,
+                &data,
+                true,
+                (true, true),
+            )?;
+        } else {
+            xy_body(&body, xr, yr, x_label, y_label, &data, log_x, log_y)?;
+        }
         root.present().map_err(draw_err)
     })
 }
