@@ -405,6 +405,7 @@ fn figures(
             writhe_max: c.writhe_max,
             writhe_snapshot: c.writhe_snapshot,
             uncertain: c.regime.is_some() && !c.unanimous(),
+            sidewinding: c.periodic.map(|p| p.sidewinding),
         })
         .collect();
     let lines: Vec<figs::MapLine> = bounds
