@@ -3,7 +3,9 @@
 # docs/sidewinding_map/map.toml (3 x 3 around W = 300, G = 15) is run with `slither phase
 # --cell` at the scene's mesh and at twice its elements (the check of the cell's verdict), two
 # at a time, and scripts/sidewinding_map.py tabulates each cell's sidewinding verdict and the
-# criteria it is decided by. Kept as the record docs/results/sidewinding-map/.
+# criteria it is decided by, with its sidewinding margin (not a phase.csv column: `slither
+# phase docs/sidewinding_map/map.toml` gives the rest at 100 elements directly). Kept as the
+# record docs/results/sidewinding-map/.
 #
 #   scripts/sidewinding_map.sh [OUT_DIR]      # default out/sidewinding_map
 set -euo pipefail

@@ -9,39 +9,7 @@ use slither::design::{self, Param, Status};
 use std::path::PathBuf;
 
 mod common;
-use common::{col, history_rows};
-
-/// A tiny sidewinding base: milliseconds per run.
-const BASE: &str = "\
-# tiny sidewinding for the optimiser tests
-[rod]
-length = 1.0
-diameter = 0.02
-elements = 16
-bending_stiffness = 0.01308
-
-[ground]
-mu_forward = 0.44
-mu_backward = 0.56
-mu_sideways = 0.80
-
-[gait]
-kind = \"sidewinding\"
-stress = 23500.0
-sigma = 0.07
-speed = 0.5
-centers = [0.0, 0.1, 0.2]
-scales = [0.53, 1.2, 1.0]
-period = 0.4
-ramp = 0.05
-
-[time]
-dt = 1e-2
-duration = 1.2
-
-[output]
-interval = 0.02
-";
+use common::{col, history_rows, TINY_SIDEWINDING as BASE};
 
 /// The study: period, spacing and lift optimised, three launch periods per run.
 const STUDY: &str = "\

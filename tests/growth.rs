@@ -164,6 +164,7 @@ fn cell(regime: Option<Regime>, agreement: Option<f64>) -> Cell {
             runs: 3,
             seed: 1,
         }),
+        periodic: None,
     }
 }
 

@@ -49,6 +49,12 @@ fn grid_runs_writes_every_cell_and_resumes() {
     assert!(o.status.success(), "{err}");
     assert!(err.contains("4 simulated, 0 reused"), "{err}");
     let csv = std::fs::read_to_string(out.join("phase.csv")).unwrap();
+    // A gait without a launch period: the header is HEADER alone (no periodic columns), and
+    // phase.json says nothing of them.
+    assert_eq!(csv.lines().next().unwrap(), slither::design::phase::HEADER);
+    assert!(!csv.contains("periodic_cycles"));
+    let info = std::fs::read_to_string(out.join("phase.json")).unwrap();
+    assert!(!info.contains("periodic"), "{info}");
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     for col in [
         "regime",

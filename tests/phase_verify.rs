@@ -138,6 +138,7 @@ fn synthetic_cell(w: f64, g: f64, agreement: f64) -> Cell {
             runs: 4,
             seed: 1,
         }),
+        periodic: None,
     }
 }
 
@@ -222,6 +223,7 @@ fn uncertain_cells_of_a_synthetic_study_are_left_out_of_the_fits_and_counted() {
         verify: Some(v),
         protocol: phase::Protocol::default(),
         growth: None,
+        periodic: false,
     };
     std::fs::write(
         shard.join("phase.json"),

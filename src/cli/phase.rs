@@ -182,8 +182,11 @@ pub fn phase(args: &Args) -> ExitCode {
                     v.label_agreement, v.v_s_over_v_m_min, v.v_s_over_v_m_max
                 )
             });
+            let periodic = c
+                .periodic
+                .map_or(String::new(), |p| format!(", {}", p.describe()));
             format!(
-                "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a{agreement}, {:.1} s",
+                "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a{agreement}{periodic}, {:.1} s",
                 c.weight,
                 c.torque,
                 c.regime.map_or("-", |r| r.as_str()),
@@ -235,7 +238,7 @@ pub fn phase(args: &Args) -> ExitCode {
             eprintln!("error: {e}");
             return ExitCode::from(match e {
                 design::phase::PhaseError::Csv { .. }
-                | design::phase::PhaseError::Verify { .. } => 2,
+                | design::phase::PhaseError::Header { .. } => 2,
                 _ => 1,
             });
         }

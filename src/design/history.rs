@@ -11,6 +11,11 @@ pub const HISTORY_FILE: &str = "history.csv";
 /// periodic columns are empty for a gait without a launch period.
 pub const HISTORY_HEADER: &str = "eval,stress,sigma,speed,period,spacing,lift,duration,G,W,v_s,v_s_over_v_m,writhe_max,writhe_mean,displacement_angle_deg,regime,periodic_cycles,displacement_over_length_min,broadside_deg_min,turn_deg_max_abs,stationary_contact_share_min,sidewinding,status,wall_time_s,objective,base_hash,reason";
 
+/// The periodic columns, in order: in [`HISTORY_HEADER`] after `regime`, and last in the rows
+/// of a phase study of a gait with a launch period ([`crate::design::phase::Format`]). Written
+/// and read by [`PeriodicColumns::csv_fields`] and [`PeriodicColumns::parse_fields`].
+pub const PERIODIC_COLUMNS: &str = "periodic_cycles,displacement_over_length_min,broadside_deg_min,turn_deg_max_abs,stationary_contact_share_min,sidewinding";
+
 /// Header of the `history.csv` files written before the study could vary the period, the
 /// spacing and the lift (and before the periodic columns): still read, their rows taking the
 /// base file's period, spacing and lift, and rewritten with [`HISTORY_HEADER`] when a study
@@ -49,6 +54,59 @@ impl PeriodicColumns {
             self.displacement_over_length_min,
             self.stationary_contact_share_min
         )
+    }
+
+    /// The [`PERIODIC_COLUMNS`] fields of `c` as written (comma-joined, numbers in their
+    /// shortest round-trip form); empty fields for `None` (not measured).
+    pub fn csv_fields(c: Option<&PeriodicColumns>) -> String {
+        let num = crate::problem::num;
+        match c {
+            Some(c) => format!(
+                "{},{},{},{},{},{}",
+                c.cycles,
+                num(c.displacement_over_length_min),
+                num(c.broadside_deg_min),
+                num(c.turn_deg_max_abs),
+                num(c.stationary_contact_share_min),
+                if c.sidewinding { "yes" } else { "no" }
+            ),
+            None => ",,,,,".into(),
+        }
+    }
+
+    /// Read back what [`PeriodicColumns::csv_fields`] wrote, `field(name)` giving the trimmed
+    /// field of each of the [`PERIODIC_COLUMNS`] (`""` when empty or absent): `None` when
+    /// `periodic_cycles` is empty, else the columns or a message naming the bad one.
+    pub fn parse_fields<'a>(
+        field: &dyn Fn(&str) -> &'a str,
+    ) -> Result<Option<PeriodicColumns>, String> {
+        let num = |name: &str| -> Result<f64, String> {
+            let v = field(name);
+            v.parse::<f64>()
+                .map_err(|_| format!("column `{name}` = {v:?} is not a number"))
+        };
+        let cycles = match field("periodic_cycles") {
+            "" => return Ok(None),
+            c => c
+                .parse::<usize>()
+                .map_err(|_| format!("column `periodic_cycles` = {c:?} is not an integer"))?,
+        };
+        Ok(Some(PeriodicColumns {
+            cycles,
+            displacement_over_length_min: num("displacement_over_length_min")?,
+            broadside_deg_min: num("broadside_deg_min")?,
+            turn_deg_max_abs: num("turn_deg_max_abs")?,
+            stationary_contact_share_min: num("stationary_contact_share_min")?,
+            sidewinding: match field("sidewinding") {
+                "yes" => true,
+                "no" => false,
+                other => {
+                    return Err(format!(
+                        "column `sidewinding` = {other:?} must be \"yes\" or \"no\" (or empty with periodic_cycles)"
+                    ))
+                }
+            },
+        }))
     }
 
     /// The columns of measured periodic observables.
@@ -156,18 +214,7 @@ impl Evaluation {
         // (NaN period, spacing or lift of a legacy row) is an empty field.
         let num = crate::problem::num;
         let known = |x: f64| if x.is_nan() { String::new() } else { num(x) };
-        let periodic = match &self.periodic {
-            Some(c) => format!(
-                "{},{},{},{},{},{}",
-                c.cycles,
-                num(c.displacement_over_length_min),
-                num(c.broadside_deg_min),
-                num(c.turn_deg_max_abs),
-                num(c.stationary_contact_share_min),
-                if c.sidewinding { "yes" } else { "no" }
-            ),
-            None => ",,,,,".into(),
-        };
+        let periodic = PeriodicColumns::csv_fields(self.periodic.as_ref());
         let p = &self.point;
         [
             self.eval.to_string(),
@@ -345,27 +392,7 @@ fn parse_row(
             text("status")
         ))
     })?;
-    let periodic = match field("periodic_cycles") {
-        None | Some("") => None,
-        Some(c) => Some(PeriodicColumns {
-            cycles: c.parse::<usize>().map_err(|_| {
-                bad(format!("column `periodic_cycles` = {c:?} is not an integer"))
-            })?,
-            displacement_over_length_min: num("displacement_over_length_min")?,
-            broadside_deg_min: num("broadside_deg_min")?,
-            turn_deg_max_abs: num("turn_deg_max_abs")?,
-            stationary_contact_share_min: num("stationary_contact_share_min")?,
-            sidewinding: match text("sidewinding") {
-                "yes" => true,
-                "no" => false,
-                other => {
-                    return Err(bad(format!(
-                        "column `sidewinding` = {other:?} must be \"yes\" or \"no\" (or empty with periodic_cycles)"
-                    )))
-                }
-            },
-        }),
-    };
+    let periodic = PeriodicColumns::parse_fields(&text).map_err(bad)?;
     let e = Evaluation {
         eval,
         point: GaitParams {

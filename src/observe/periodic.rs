@@ -260,10 +260,10 @@ pub fn measure(
 }
 
 /// The periodic observables of a run whose gait has a launch period (sidewinding), measured on
-/// its observation frames; `None` for other gaits.
+/// its observation frames; `None` for other gaits and without a couple (`G = 0`).
 pub fn of_outcome(m: &Model, o: &Outcome) -> Option<Periodic> {
     let g = &m.gait;
-    if g.kind != crate::gait::Kind::Sidewinding || g.couple <= 0.0 {
+    if !g.kind.has_launch_period() || g.couple <= 0.0 {
         return None;
     }
     Some(measure(&o.observed, g.period, g.speed, m.length, &|n| {

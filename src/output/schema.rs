@@ -294,6 +294,52 @@ pub const PHASE_VERIFY_CSV: &[Field] = &[
     f("verify_seed", "", "the cell's seed (hex): perturbed run k has seed ensemble::member_seed(seed, k)"),
 ];
 
+/// The periodic columns ([`crate::design::PERIODIC_COLUMNS`]): in [`HISTORY_CSV`] and, last,
+/// in [`PHASE_PERIODIC_CSV`].
+const PERIODIC_CYCLES: Field = f(
+    "periodic_cycles",
+    "",
+    "measured cycles after the settling one (a gait with a launch period; the periodic columns are empty otherwise)",
+);
+const PERIODIC_DISPLACEMENT: Field = f(
+    "displacement_over_length_min",
+    "",
+    "smallest centroid displacement per cycle, over L",
+);
+const PERIODIC_BROADSIDE: Field = f(
+    "broadside_deg_min",
+    "degrees",
+    "smallest broadside angle per cycle (90 is broadside)",
+);
+const PERIODIC_TURN: Field = f(
+    "turn_deg_max_abs",
+    "degrees",
+    "largest |turn| of the tail-to-head direction per cycle",
+);
+const PERIODIC_STATIONARY: Field = f(
+    "stationary_contact_share_min",
+    "",
+    "smallest share per cycle of the contact time with slip at most 0.1 v_m",
+);
+const PERIODIC_SIDEWINDING: Field = f(
+    "sidewinding",
+    "",
+    "\"yes\" when every sidewinding criterion holds, else \"no\"",
+);
+
+/// The columns a phase study of a gait with a launch period (sidewinding) adds last to
+/// `phase.csv`, `refine.csv` and `growth.csv` (after the verification columns of a verified
+/// study): the periodic observables of the row's run, as in [`HISTORY_CSV`]; empty for a run
+/// that failed or has no couple (`G = 0`).
+pub const PHASE_PERIODIC_CSV: &[Field] = &[
+    PERIODIC_CYCLES,
+    PERIODIC_DISPLACEMENT,
+    PERIODIC_BROADSIDE,
+    PERIODIC_TURN,
+    PERIODIC_STATIONARY,
+    PERIODIC_SIDEWINDING,
+];
+
 /// Columns of `history.csv` (`slither optimize`), in order.
 pub const HISTORY_CSV: &[Field] = &[
     f("eval", "", "evaluation number"),
@@ -328,36 +374,12 @@ pub const HISTORY_CSV: &[Field] = &[
         "heading off the initial head direction",
     ),
     f("regime", "", "S, M, F, N or U; \"-\" when failed"),
-    f(
-        "periodic_cycles",
-        "",
-        "measured cycles after the settling one (a gait with a launch period; the periodic columns are empty otherwise)",
-    ),
-    f(
-        "displacement_over_length_min",
-        "",
-        "smallest centroid displacement per cycle, over L",
-    ),
-    f(
-        "broadside_deg_min",
-        "degrees",
-        "smallest broadside angle per cycle (90 is broadside)",
-    ),
-    f(
-        "turn_deg_max_abs",
-        "degrees",
-        "largest |turn| of the tail-to-head direction per cycle",
-    ),
-    f(
-        "stationary_contact_share_min",
-        "",
-        "smallest share per cycle of the contact time with slip at most 0.1 v_m",
-    ),
-    f(
-        "sidewinding",
-        "",
-        "\"yes\" when every sidewinding criterion holds, else \"no\"",
-    ),
+    PERIODIC_CYCLES,
+    PERIODIC_DISPLACEMENT,
+    PERIODIC_BROADSIDE,
+    PERIODIC_TURN,
+    PERIODIC_STATIONARY,
+    PERIODIC_SIDEWINDING,
     f("status", "", "\"ok\" or \"failed\""),
     f("wall_time_s", "s", "wall time of the simulation"),
     f(
@@ -472,6 +494,13 @@ pub fn markdown() -> String {
          with `finer = true`).\n\n",
     );
     table(&mut out, PHASE_VERIFY_CSV, "column");
+    out.push_str(
+        "\nA study whose base gait has a launch period (sidewinding) adds the periodic columns \
+         last (after the verification columns of a verified study), in this order: the row's \
+         run measured cycle by cycle, as in `history.csv`; empty for a run that failed or has no \
+         couple (`G = 0`). Other studies' rows are as above.\n\n",
+    );
+    table(&mut out, PHASE_PERIODIC_CSV, "column");
     out.push_str("\n## `history.csv` (`slither optimize`)\n\nOne row per evaluation, in this column order.\n\n");
     table(&mut out, HISTORY_CSV, "column");
     out
@@ -483,7 +512,13 @@ mod tests {
 
     #[test]
     fn names_are_unique() {
-        for list in [SUMMARY, PHASE_CSV, PHASE_VERIFY_CSV, HISTORY_CSV] {
+        for list in [
+            SUMMARY,
+            PHASE_CSV,
+            PHASE_VERIFY_CSV,
+            PHASE_PERIODIC_CSV,
+            HISTORY_CSV,
+        ] {
             for (i, fl) in list.iter().enumerate() {
                 assert!(list[..i].iter().all(|o| o.name != fl.name), "{}", fl.name);
             }

@@ -29,6 +29,11 @@ pub struct MapCell<'a> {
     pub writhe_snapshot: f64,
     /// The cell's verification runs disagree on its label (drawn hatched and outlined).
     pub uncertain: bool,
+    /// Whether the cell sidewinds (every sidewinding criterion holds in every cycle), for a
+    /// gait with a launch period; `None` otherwise (other gaits, failed runs, `G = 0`). A
+    /// sidewinding cell is written "sidewinding" under its label (its label starred on a wide
+    /// grid).
+    pub sidewinding: Option<bool>,
 }
 
 /// A fitted boundary line, as the regime map draws it.
@@ -176,6 +181,8 @@ pub fn supported_box(
 /// missed; only the regime letter on grids wider than [`FULL_LABEL_MAX_COLUMNS`]), the fitted
 /// regime boundaries (`bounds`, in `boundaries.json` order) drawn as lines, and on the right a legend of the
 /// regimes with their cell counts and of the boundary lines with slope and `W/G` at `G = 10`.
+/// The cells of a gait with a launch period that sidewind ([`MapCell::sidewinding`]) say so
+/// under their label, and the legend counts them.
 pub fn regime_map(
     path: &Path,
     weight: &[f64],
@@ -318,15 +325,22 @@ where
                 .map_err(|e| err(&e))?;
         }
         let ok = c.ok;
+        let sidewinds = c.sidewinding == Some(true);
         let label = match c.regime {
             Some(r) if ok && full => format!("{r} {:.3}", c.v_s_over_v_m),
+            Some(r) if ok && sidewinds => format!("{r}*"),
             Some(r) if ok => r.to_string(),
             _ if full => "failed".into(),
             _ => "x".into(),
         };
         let (x, y) = ((xe[i] * xe[i + 1]).sqrt(), mid(ye[j], ye[j + 1]));
-        let detail = (full && c.regime == Some(Regime::M))
+        let missed = (full && c.regime == Some(Regime::M))
             .then(|| c.regime_detail.replace('_', " ").replace(';', ", "));
+        let detail = match (missed, full && sidewinds) {
+            (Some(m), true) => Some(format!("sidewinding; {m}")),
+            (None, true) => Some("sidewinding".into()),
+            (m, false) => m,
+        };
         // Two lines in an M cell: the label a sixth of the cell above the centre, the detail
         // a sixth below (in the axis's own scale).
         let (above, below) = if log_g {
@@ -464,6 +478,27 @@ fn map_legend<DB: DrawingBackend>(
                 (44, y),
                 left_style(18),
             ))
+            .map_err(|e| err(&e))?;
+    }
+    let periodic = cells.iter().filter(|c| c.sidewinding.is_some()).count();
+    if periodic > 0 {
+        let n = cells.iter().filter(|c| c.sidewinding == Some(true)).count();
+        let mark = if nw <= FULL_LABEL_MAX_COLUMNS {
+            "(written under the label)"
+        } else {
+            "(the label starred)"
+        };
+        y += 34;
+        right
+            .draw(&Text::new(
+                format!("sidewinding: {n} of {periodic} measured cells"),
+                (10, y),
+                left_style(18),
+            ))
+            .map_err(|e| err(&e))?;
+        y += 24;
+        right
+            .draw(&Text::new(mark, (10, y), left_style(16)))
             .map_err(|e| err(&e))?;
     }
     let fitted: Vec<(usize, &MapLine)> = bounds
@@ -722,5 +757,46 @@ mod tests {
         }
         let e = lin_edges(&[5.0, 10.0, 20.0]);
         assert_eq!(e, vec![2.5, 7.5, 15.0, 25.0]);
+    }
+
+    #[test]
+    fn the_map_marks_sidewinding_cells_of_a_periodic_study_only() {
+        let cell = |torque: f64, sidewinding: Option<bool>| MapCell {
+            weight: 300.0,
+            torque,
+            ok: true,
+            regime: Some(Regime::U),
+            regime_detail: "-",
+            v_s_over_v_m: -0.02,
+            writhe_max: 0.1,
+            writhe_snapshot: 0.0,
+            uncertain: false,
+            sidewinding,
+        };
+        let dir = std::env::temp_dir().join(format!("slither-map-sw-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let draw = |name: &str, cells: &[MapCell]| {
+            let f = dir.join(name);
+            regime_map(&f, &[300.0], &[10.0, 15.0, 22.5], cells, &[]).unwrap();
+            std::fs::read_to_string(&f).unwrap()
+        };
+        let periodic = draw(
+            "periodic.svg",
+            &[
+                cell(10.0, Some(false)),
+                cell(15.0, Some(true)),
+                cell(22.5, None),
+            ],
+        );
+        // One cell says so, and the legend counts it among the measured ones.
+        let alone = |svg: &str| svg.lines().filter(|l| l.trim() == "sidewinding").count();
+        assert_eq!(alone(&periodic), 1, "{periodic}");
+        assert!(periodic.contains("sidewinding: 1 of 2 measured cells"));
+        let plain = draw(
+            "plain.svg",
+            &[cell(10.0, None), cell(15.0, None), cell(22.5, None)],
+        );
+        assert!(!plain.contains("sidewinding"));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -19,6 +19,14 @@ pub enum Kind {
     Serpenoid,
 }
 
+impl Kind {
+    /// Whether the gait repeats with a launch period (`gait.period`): sidewinding. Its runs
+    /// are measured cycle by cycle ([`crate::observe::periodic`]).
+    pub fn has_launch_period(self) -> bool {
+        self == Kind::Sidewinding
+    }
+}
+
 /// `[gait]`: muscle activation pattern (SI units; positions as fractions of L). Defaults and
 /// ranges of every field: the `GAIT_*` keys of [`keys`].
 #[derive(Clone, Debug, Deserialize)]

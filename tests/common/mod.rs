@@ -89,3 +89,37 @@ duration = 0.1
 [output]
 interval = 0.02
 ";
+
+/// A tiny sidewinding (16 elements, 10 ms step, three launch periods of 0.4 s): the base of
+/// the periodic-gait study tests (`tests/design_periodic.rs`, `tests/phase_periodic.rs`),
+/// milliseconds per run. At `W` 300, `G` 14.4 (its own stress).
+pub const TINY_SIDEWINDING: &str = "\
+# tiny sidewinding for the periodic study tests
+[rod]
+length = 1.0
+diameter = 0.02
+elements = 16
+bending_stiffness = 0.01308
+
+[ground]
+mu_forward = 0.44
+mu_backward = 0.56
+mu_sideways = 0.80
+
+[gait]
+kind = \"sidewinding\"
+stress = 23500.0
+sigma = 0.07
+speed = 0.5
+centers = [0.0, 0.1, 0.2]
+scales = [0.53, 1.2, 1.0]
+period = 0.4
+ramp = 0.05
+
+[time]
+dt = 1e-2
+duration = 1.2
+
+[output]
+interval = 0.02
+";

@@ -1,6 +1,6 @@
 //! One cell of the diagram: its simulation and the measured values.
 use super::file::{cell_problem, cell_problem_with, finer_problem, Protocol, Verify};
-use crate::design::{ensemble, Status};
+use crate::design::{ensemble, PeriodicColumns, Status};
 use crate::model::Model;
 use crate::observe::{self, Regime, RegimeInputs};
 use crate::problem::Problem;
@@ -46,6 +46,9 @@ pub struct Cell {
     pub reason: String,
     /// The cell's verification, when the phase file asks for one (`verify = { ... }`).
     pub verify: Option<Verification>,
+    /// The periodic observables of a finished run of a gait with a launch period and a couple
+    /// (`G > 0`; [`crate::observe::periodic`]), as `history.csv` has them.
+    pub periodic: Option<PeriodicColumns>,
 }
 
 /// How a verified cell's runs agree ([`simulate_verified`]).
@@ -100,6 +103,7 @@ impl Cell {
             wall_time_s: 0.0,
             reason,
             verify: None,
+            periodic: None,
         }
     }
 
@@ -212,17 +216,28 @@ fn run_cell(p: &Problem, w: f64, g: f64, shape: Option<(&ensemble::Perturbation,
             ensemble::perturb_model(&mut m, pert, seed);
         }
         let o = observe::evaluate(&m, observe::Measure::Full, &mut |_| {}, &mut |_| {})?;
-        Ok::<_, crate::integrator::explicit::Unsupported>((o.observables, o.outcome))
+        // Measured on a finished run only (as `slither run` and the optimiser do).
+        let periodic = o
+            .outcome
+            .error
+            .is_none()
+            .then(|| observe::periodic::of_outcome(&m, &o.outcome))
+            .flatten();
+        Ok::<_, crate::integrator::explicit::Unsupported>((
+            o.observables,
+            o.outcome,
+            periodic.as_ref().map(PeriodicColumns::of),
+        ))
     });
     match run {
         Err(_) => Cell::failed(w, g, "the simulation panicked".into()),
         Ok(Err(e)) => Cell::failed(w, g, e.to_string()),
-        Ok(Ok((_, o))) if o.error.is_some() => {
+        Ok(Ok((_, o, _))) if o.error.is_some() => {
             let mut c = Cell::failed(w, g, o.error.unwrap().to_string());
             c.wall_time_s = o.wall_time_s;
             c
         }
-        Ok(Ok((ob, o))) => Cell {
+        Ok(Ok((ob, o, periodic))) => Cell {
             weight: w,
             torque: g,
             status: Status::Ok,
@@ -247,6 +262,7 @@ fn run_cell(p: &Problem, w: f64, g: f64, shape: Option<(&ensemble::Perturbation,
             wall_time_s: o.wall_time_s,
             reason: String::new(),
             verify: None,
+            periodic,
         },
     }
 }

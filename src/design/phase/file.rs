@@ -236,6 +236,11 @@ impl Phase {
         let h = self.protocol.row_hash(self.base_hash);
         self.verify.map_or(h, |v| v.row_hash(h))
     }
+
+    /// The columns of the study's rows ([`super::Format::of`]).
+    pub fn format(&self) -> super::Format {
+        super::Format::of(&self.base, self.verify.as_ref())
+    }
 }
 
 /// Read and validate a phase file and its base problem.

@@ -17,7 +17,7 @@
 //! `growth.png` / `growth.svg` ([`crate::plot::growth`]).
 pub use super::allometry::*;
 use super::cell::{simulate_verified, Cell};
-use super::csv::{append_rows, read_phase_csv, simulate_appending};
+use super::csv::{append_rows, read_phase_csv, simulate_appending, Format};
 use super::file::{Protocol, Verify, WeightVia};
 use super::PhaseError;
 use crate::design::Status;
@@ -222,7 +222,8 @@ pub fn run(
     let hash = verify.map_or(hash, |v| v.row_hash(hash));
     let csv = out.join("growth.csv");
     let old = read_phase_csv(&csv, hash)?;
-    let file = append_rows(&csv, old.fresh, old.verified, verify.is_some())?;
+    let format = Format::of(base, verify);
+    let file = append_rows(&csv, old.fresh, old.format, format)?;
     let points = growth.points(base);
     let key = |p: &GrowthPoint| (p.weight.to_bits(), p.torque.to_bits());
     let todo: Vec<(f64, f64)> = points
@@ -236,6 +237,7 @@ pub fn run(
         file,
         &csv,
         hash,
+        format.periodic,
         report,
     )?;
     let simulated = new.len();

@@ -1,6 +1,6 @@
 //! Merging the output directories of a sharded sweep into one.
 use super::cell::Cell;
-use super::csv::{comparable_row, header, read_phase_csv};
+use super::csv::{comparable_row, read_phase_csv, Format};
 use super::refine::Refinement;
 use super::sweep::{finish, write_info, RunInfo};
 use super::PhaseError;
@@ -102,6 +102,23 @@ pub fn merge(
                         ),
                     ));
                 }
+                if r.periodic != info.periodic {
+                    let say = |p: bool| {
+                        if p {
+                            "the periodic columns (a gait with a launch period)"
+                        } else {
+                            "no periodic columns"
+                        }
+                    };
+                    return Err(mismatch(
+                        dir,
+                        format!(
+                            "its rows have {}, another directory's {} (a shard written by another version of slither?): re-run the shard",
+                            say(info.periodic),
+                            say(r.periodic)
+                        ),
+                    ));
+                }
                 if r.weight != info.weight || r.torque != info.torque {
                     return Err(mismatch(
                         dir,
@@ -117,7 +134,17 @@ pub fn merge(
             .map_err(|_| mismatch(dir, "phase.json: base_hash is not hexadecimal".into()))?;
         let hash = info.protocol.row_hash(hash);
         let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
-        for (key, c) in read_phase_csv(&dir.join("phase.csv"), hash)?.cells {
+        let csv = dir.join("phase.csv");
+        let rows = read_phase_csv(&csv, hash)?;
+        let want = Format {
+            verified: info.verify.is_some(),
+            periodic: info.periodic,
+        };
+        if !rows.fresh {
+            rows.format
+                .check(want, &csv, "cannot merge it (re-run the shard)")?;
+        }
+        for (key, c) in rows.cells {
             // A row's regime is a function of its values: a label that disagrees was edited
             // (or written by another version) and would enter the map unchecked.
             if let (crate::design::Status::Ok, Some(stated)) = (c.status, c.regime) {
@@ -210,6 +237,15 @@ pub fn merge(
                 )));
             }
             let base = problem::parse(&text, &path).map_err(|e| refuse(e.to_string()))?;
+            // Rows of the shards and of the refinement or growth line written here have the
+            // same columns.
+            if base.gait.kind.has_launch_period() != info.periodic {
+                return Err(refuse(format!(
+                    "the shards' rows {} the periodic columns and its gait {} a launch period: shards written by another version of slither; re-run them",
+                    if info.periodic { "have" } else { "lack" },
+                    if info.periodic { "lacks" } else { "has" },
+                )));
+            }
             Some(match &info.accuracy {
                 Some(c) => c.apply(&base),
                 None => base,
@@ -224,9 +260,13 @@ pub fn merge(
         file: out.to_path_buf(),
         source,
     })?;
-    let mut text = format!("{}\n", header(info.verify.is_some()));
+    let format = Format {
+        verified: info.verify.is_some(),
+        periodic: info.periodic,
+    };
+    let mut text = format!("{}\n", format.header());
     for c in &cells {
-        text += &(c.row(hash) + "\n");
+        text += &(c.row(hash, format.periodic) + "\n");
     }
     let csv = out.join("phase.csv");
     std::fs::write(&csv, text).map_err(|source| PhaseError::Io { file: csv, source })?;

@@ -65,8 +65,8 @@ pub mod sweep;
 pub use boundaries::{boundaries, fit_boundaries, Boundary};
 pub use cell::{cell_seed, simulate, simulate_verified, Cell, Verification};
 pub use csv::{
-    comparable_row, header, read_phase_csv, read_rows, verify_header, PhaseCsv, Rows, HEADER,
-    VERIFY_COLUMNS,
+    comparable_row, read_phase_csv, read_rows, verify_header, Format, PhaseCsv, Rows, HEADER,
+    PERIODIC_COLUMNS, VERIFY_COLUMNS,
 };
 pub use file::{
     cell_problem, cell_problem_with, finer_problem, load, prepare_accuracy, Phase, Protocol,
@@ -113,13 +113,18 @@ pub enum PhaseError {
         /// The first ten.
         cells: String,
     },
-    /// A study CSV written with the other kind of rows (with or without verification).
-    #[error("{file}: cannot append to it: {why}; move the file away or choose another --out")]
-    Verify {
+    /// A study CSV of another [`Format`] (with or without verification, with or without the
+    /// periodic columns) than the study's: its rows cannot be mixed.
+    #[error("{file}: {why} (its header is `{found}`; this study's is `{expected}`); move the file away or choose another --out")]
+    Header {
         /// The file.
         file: PathBuf,
-        /// Why.
+        /// What was refused, and why.
         why: String,
+        /// The file's header.
+        found: String,
+        /// The study's header.
+        expected: String,
     },
     /// A figure could not be drawn.
     #[error("{file}: {source}")]

@@ -30,7 +30,7 @@
 //! after another, as each depends on the last).
 
 use super::cell::{simulate_verified, Cell};
-use super::csv::{append_rows, header, read_rows};
+use super::csv::{append_rows, read_rows, Format};
 use super::file::{Protocol, Verify};
 use super::PhaseError;
 use crate::observe::Regime;
@@ -292,7 +292,8 @@ pub fn refine(
         .filter(|(_, h)| *h == base_hash)
         .map(|(c, _)| (key(c.weight, c.torque), c.clone()))
         .collect();
-    let file = append_rows(&csv, old.fresh, old.verified, verify.is_some())?;
+    let format = Format::of(base, verify);
+    let file = append_rows(&csv, old.fresh, old.format, format)?;
     let pairs = neighbour_pairs(weight, torque, labels);
     let (reused, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
     // The file, the new rows and the first write error.
@@ -306,7 +307,7 @@ pub fn refine(
             None => {
                 let c = simulate_verified(base, w, g, verify, protocol);
                 let mut s = sink.lock().unwrap_or_else(|e| e.into_inner());
-                let line = c.row(base_hash) + "\n";
+                let line = c.row(base_hash, format.periodic) + "\n";
                 let r = s.0.write_all(line.as_bytes()).and_then(|_| s.0.flush());
                 if let Err(e) = r {
                     s.2.get_or_insert(e);
@@ -338,9 +339,9 @@ pub fn refine(
             .then(a.weight.total_cmp(&b.weight))
             .then(ha.cmp(hb))
     });
-    let mut text = format!("{}\n", header(verify.is_some()));
+    let mut text = format!("{}\n", format.header());
     for (c, h) in &rows {
-        text += &(c.row(*h) + "\n");
+        text += &(c.row(*h, format.periodic) + "\n");
     }
     let tmp = out.join("refine.csv.tmp");
     std::fs::write(&tmp, text).map_err(io(&tmp))?;

@@ -97,6 +97,9 @@ pub struct RunInfo {
     /// The growth line (`growth = { ... }`; absent without one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub growth: Option<Growth>,
+    /// The rows carry the periodic columns: the base gait has a launch period (absent: no).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub periodic: bool,
 }
 
 pub(super) fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
@@ -144,7 +147,8 @@ pub fn sweep_shard(
     let hash = ph.row_hash();
     let old = read_phase_csv(&csv, hash)?;
     let mut done = old.cells;
-    let file = append_rows(&csv, old.fresh, old.verified, ph.verify.is_some())?;
+    let format = ph.format();
+    let file = append_rows(&csv, old.fresh, old.format, format)?;
     write_info(
         out,
         &RunInfo {
@@ -159,6 +163,7 @@ pub fn sweep_shard(
             verify: ph.verify,
             protocol: ph.protocol,
             growth: ph.growth.clone(),
+            periodic: format.periodic,
         },
     )?;
     let grid: Vec<(f64, f64)> = ph
@@ -181,6 +186,7 @@ pub fn sweep_shard(
         file,
         &csv,
         hash,
+        format.periodic,
         &|done, c| report(done, todo.len(), c),
     )?;
     let simulated = new.len();
@@ -399,6 +405,7 @@ fn figures(
             writhe_max: c.writhe_max,
             writhe_snapshot: c.writhe_snapshot,
             uncertain: c.regime.is_some() && !c.unanimous(),
+            sidewinding: c.periodic.map(|p| p.sidewinding),
         })
         .collect();
     let lines: Vec<figs::MapLine> = bounds
