@@ -93,3 +93,38 @@ fn good_run_writes_summary_csv_npz_figures_and_vtk() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// `[solver] conic_certificate = N` is an audit a user can read: `summary.json` reports how many
+/// active-set steps the conic program certified (every 10th here, of a rod sliding to a stop
+/// and then sticking), that none failed, and the largest correction; without the setting, no
+/// step is certified.
+#[test]
+fn conic_certificates_are_reported_in_the_summary() {
+    let d = dir("certificate");
+    let base = std::fs::read_to_string("problems/slide.toml").unwrap();
+    let run = |name: &str, extra: &str| -> serde_json::Value {
+        let p = d.join(format!("{name}.toml"));
+        std::fs::write(&p, format!("{base}\n{extra}")).unwrap();
+        let out = d.join(name);
+        let r = Command::new(env!("CARGO_BIN_EXE_slither"))
+            .args(["run", p.to_str().unwrap(), "--out", out.to_str().unwrap()])
+            .args(["--quiet", "--no-plots"])
+            .output()
+            .unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+    };
+    let s = run("every10", "[solver]\nconic_certificate = 10\n");
+    let st = &s["stats"];
+    let steps = st["active_set_steps"].as_u64().unwrap();
+    let certified = st["certificates"].as_u64().unwrap();
+    assert!(steps >= 500, "{st}");
+    // Every 10th active-set step (counted over the run), within one of steps / 10.
+    assert!(certified.abs_diff(steps / 10) <= 1, "{certified} of {steps}");
+    assert_eq!(st["certificate_failures"], 0, "{st}");
+    let corr = st["certificate_max_correction"].as_f64().unwrap();
+    assert!((0.0..1.0).contains(&corr), "{corr}");
+    let none = run("none", "");
+    assert_eq!(none["stats"]["certificates"], 0);
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -113,21 +113,16 @@ pub struct ContactStats {
     /// Fallbacks because the active-set iterates cycled (an exact repeat of iterate and
     /// statuses), sent to the conic path before the iteration cap.
     pub contact_cycles: usize,
-    /// Active-set steps certified by the conic program (`[solver] conic_certificate`; not
-    /// yet written to `summary.json`).
-    #[serde(skip)]
+    /// Active-set steps certified by the conic program (`[solver] conic_certificate`).
     pub certificates: usize,
     /// Certified steps whose conic program moved the solution by more than the Newton
     /// tolerance or changed a normal force by more than `normal_force_tolerance * W / n_c`.
-    #[serde(skip)]
     pub certificate_failures: usize,
     /// Largest correction of a certifying conic program, in units of `[solver] tolerance`
     /// (positions over `a`, angles in rad).
-    #[serde(skip)]
     pub certificate_max_correction: f64,
     /// Largest normal-force change of a certifying conic program, in units of
     /// `normal_force_tolerance * W / n_c`.
-    #[serde(skip)]
     pub certificate_max_normal_change: f64,
     /// The last active-set solve's residual at each iterate (largest force on a free
     /// position coordinate, or torque on a free angle over `a`, relative to the mean weight
