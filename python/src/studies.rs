@@ -201,7 +201,7 @@ pub fn phase(
             }
         };
         design::phase::sweep_shard(&ph, &out, shard, &report, &refine_report, &growth_report).map_err(|e| match e {
-            PhaseError::Csv { .. } | PhaseError::Verify { .. } => {
+            PhaseError::Csv { .. } | PhaseError::Header { .. } => {
                 PyValueError::new_err(e.to_string())
             }
             _ => PyOSError::new_err(e.to_string()),
