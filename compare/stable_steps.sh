@@ -9,13 +9,13 @@
 #   compare/stable_steps.sh OUT.csv [ELEMENTS:STABLE:UNSTABLE ...]
 #
 # Default triples (measured with this script): 50:1e-4:1.2e-4 100:7e-5:8e-5 200:3.5e-5:4e-5
-# 400:1.4e-5:1.6e-5. Uses compare/.venv (created by compare/run.sh).
+# 400:1.8e-5:2e-5 800:9e-6:1e-5. Uses compare/.venv (created by compare/run.sh).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 [ $# -ge 1 ] || { echo "usage: compare/stable_steps.sh OUT.csv [ELEMENTS:STABLE:UNSTABLE ...]" >&2; exit 2; }
 out_csv="$1"; shift
 triples=("$@")
-[ ${#triples[@]} -gt 0 ] || triples=(50:1e-4:1.2e-4 100:7e-5:8e-5 200:3.5e-5:4e-5 400:1.4e-5:1.6e-5)
+[ ${#triples[@]} -gt 0 ] || triples=(50:1e-4:1.2e-4 100:7e-5:8e-5 200:3.5e-5:4e-5 400:1.8e-5:2e-5 800:9e-6:1e-5)
 for t in "${triples[@]}"; do
     [[ "$t" =~ ^[0-9]+:[0-9.eE+-]+:[0-9.eE+-]+$ ]] || { echo "compare/stable_steps.sh: '$t' is not ELEMENTS:STABLE:UNSTABLE (e.g. 200:3.5e-5:4e-5)" >&2; exit 2; }
 done
