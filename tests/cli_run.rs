@@ -120,7 +120,10 @@ fn conic_certificates_are_reported_in_the_summary() {
     let certified = st["certificates"].as_u64().unwrap();
     assert!(steps >= 500, "{st}");
     // Every 10th active-set step (counted over the run), within one of steps / 10.
-    assert!(certified.abs_diff(steps / 10) <= 1, "{certified} of {steps}");
+    assert!(
+        certified.abs_diff(steps / 10) <= 1,
+        "{certified} of {steps}"
+    );
     assert_eq!(st["certificate_failures"], 0, "{st}");
     let corr = st["certificate_max_correction"].as_f64().unwrap();
     assert!((0.0..1.0).contains(&corr), "{corr}");
