@@ -191,11 +191,13 @@ pub(super) fn densities_windows(c: &FramedCurve, delta: f64, count: Option<usize
     let mut j = 0;
     for (i, &a) in s_node.iter().enumerate().take(last_start) {
         let mut b = a + delta;
+        let mut shortened = false;
         if !c.closed && b > total + tol {
             if count.is_none() {
                 break;
             }
             b = total;
+            shortened = true;
         }
         let twist_rad = if b > total {
             integrate(a, total) + integrate(0.0, b - total)
@@ -225,7 +227,9 @@ pub(super) fn densities_windows(c: &FramedCurve, delta: f64, count: Option<usize
                 w += pair_solid_angle(&a0, &a1, start, &p);
             }
         }
-        let len = b - a;
+        // A full window is `delta` long even where `a + delta` rounds to `a` (arc lengths far
+        // beyond `delta`: a curve with one node at 1e26 m gave 0 / 0).
+        let len = if shortened { b - a } else { delta };
         let tau = twist_rad / (2.0 * PI) / len;
         let omega = w / (2.0 * PI) / len;
         out.s.push(a);

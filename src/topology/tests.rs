@@ -345,6 +345,35 @@ fn densities_straight_rod_uniform_twist() {
         .any(|&si| si > last_start && si + delta > s[s.len() - 1] + 1e-9));
 }
 
+// 4a'. a window far out along the curve, where `a + delta` rounds to `a` (a node at 1e26 m,
+// as a typo in a curve file gives): its densities are finite, not 0 / 0
+#[test]
+fn densities_stay_finite_where_the_window_is_below_the_arc_length_resolution() {
+    let mut nodes: Vec<V3> = (0..12)
+        .map(|i| {
+            let t = 0.5 * i as f64;
+            [t.cos(), t.sin(), 0.1 * t]
+        })
+        .collect();
+    nodes[11][0] = 0.708669774291e26;
+    let c = FramedCurve {
+        d1: vec![[0.0, 0.0, 1.0]; 11],
+        nodes,
+        closed: false,
+    };
+    let d = densities(&c, 1.0);
+    assert!(!d.lambda.is_empty());
+    for k in 0..d.s.len() {
+        assert!(
+            d.tau[k].is_finite() && d.omega[k].is_finite() && d.lambda[k].is_finite(),
+            "window {k} at s = {:e}: tau {} omega {}",
+            d.s[k],
+            d.tau[k],
+            d.omega[k]
+        );
+    }
+}
+
 // 4b. helix writhe density has the helix's sign
 #[test]
 fn densities_helix_sign() {
