@@ -4,6 +4,7 @@
 //! elements, a tenth of a second), so the whole file runs in seconds.
 
 mod common;
+use common::ordered_rows;
 use common::TINY_S_START as BASE;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -334,20 +335,6 @@ fn merge_refuses_shards_of_another_grid_and_bad_ranges_are_named() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("I/N"));
-}
-
-/// The rows of a `refine.csv` (or `phase.csv`) in file order, without the wall-time column.
-fn ordered_rows(csv: &Path) -> Vec<String> {
-    std::fs::read_to_string(csv)
-        .unwrap()
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let mut f: Vec<&str> = l.split(',').collect();
-            f[16] = "";
-            f.join(",")
-        })
-        .collect()
 }
 
 fn json(file: &Path) -> serde_json::Value {

@@ -7,7 +7,7 @@
 //! periods), so every run takes milliseconds.
 
 mod common;
-use common::{TINY_SIDEWINDING, TINY_S_START};
+use common::{ordered_rows, TINY_SIDEWINDING, TINY_S_START};
 use slither::design::phase::{self, Format, HEADER};
 use slither::design::{PeriodicColumns, HISTORY_HEADER, PERIODIC_COLUMNS};
 use slither::observe::Regime;
@@ -51,19 +51,6 @@ fn study(dir: &Path, base: &str) -> PathBuf {
 /// The periodic header: HEADER, then the periodic columns.
 fn periodic_header() -> String {
     format!("{HEADER},{PERIODIC_COLUMNS}")
-}
-
-/// The rows of a study CSV without the wall-time column, in file order.
-fn rows(csv: &Path) -> Vec<String> {
-    let text = std::fs::read_to_string(csv).unwrap();
-    text.lines()
-        .skip(1)
-        .map(|l| {
-            let mut f: Vec<&str> = l.split(',').collect();
-            f[16] = "";
-            f.join(",")
-        })
-        .collect()
 }
 
 /// The periodic columns of a row (the last six fields), by name.
@@ -177,7 +164,7 @@ fn periodic_rows_equal_the_cells_runs_resume_and_merge() {
     let m = std::fs::read_to_string(merged.join("phase.csv")).unwrap();
     assert_eq!(m.lines().next().unwrap(), periodic_header());
     let sorted = |csv: &Path| {
-        let mut r = rows(csv);
+        let mut r = ordered_rows(csv);
         r.sort();
         r
     };

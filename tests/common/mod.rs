@@ -4,6 +4,21 @@ use slither::model::Model;
 use slither::problem;
 use std::path::Path;
 
+/// The rows of a study's `phase.csv` or `refine.csv` in file order, without the wall-time
+/// column (field 16).
+pub fn ordered_rows(csv: &Path) -> Vec<String> {
+    std::fs::read_to_string(csv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let mut f: Vec<&str> = l.split(',').collect();
+            f[16] = "";
+            f.join(",")
+        })
+        .collect()
+}
+
 /// Simulate a problem with its own gait (the outcome as it is, failed or not).
 pub fn run_problem(p: &problem::Problem) -> (Model, slither::sim::Outcome) {
     let m = Model::new(p);
