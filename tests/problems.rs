@@ -293,3 +293,57 @@ fn pin_adaptive_bdf2_s_start_at_the_default_tolerance() {
     assert!(steps.rejected <= 700, "{} rejected", steps.rejected);
     assert!(per_step <= 3.9, "{per_step} Newton iterations per step");
 }
+
+/// A step the active set gives up on takes one conic solve, whose solution fixes every
+/// contact's status, and the active set resumes from there (the handoff). Forced here by an
+/// iteration cap of 2, so that most lift-off and slip-front steps of the S-start's first
+/// 0.5 s give up: the handoff must solve most of them (the conic path finishing the rest), and
+/// the trajectory must be the default run's, because both solve the same step problems to the
+/// same tolerance (`[solver] tolerance` 5e-6 of `a` per step: over the 250 steps the bound
+/// below is 1e-3 a, 200 times the per-step tolerance, on any node).
+#[test]
+fn a_handoff_resumes_the_active_set_from_one_conic_solve() {
+    let p = problem::load(Path::new("problems/s_start.toml")).unwrap();
+    let run = |cap: usize| {
+        let mut p = p.clone();
+        p.solver.active_set_max_iterations = cap;
+        let mut m = Model::new(&p);
+        m.duration = 0.5;
+        let o = sim::run_gait(&m, p.solver.integrator, &mut |_| {}, &mut |_| {}).unwrap();
+        assert!(o.error.is_none(), "{:?}", o.error);
+        (m, o)
+    };
+    let (m, forced) = run(2);
+    let (_, free) = run(p.solver.active_set_max_iterations);
+    let c = &forced.stats.contact;
+    println!(
+        "forced: {} steps, {} fallbacks, {} handoffs, {} handoff steps, {} conic solves, {} warm restarts",
+        forced.stats.steps,
+        c.active_set_fallbacks,
+        c.conic_handoffs,
+        c.handoff_steps,
+        c.conic_solves,
+        c.warm_conic_restarts
+    );
+    assert!(c.active_set_fallbacks >= 20, "the cap must force fallbacks");
+    assert_eq!(c.conic_handoffs, c.active_set_fallbacks);
+    assert!(
+        2 * c.handoff_steps > c.conic_handoffs,
+        "{} of {} handoffs converged",
+        c.handoff_steps,
+        c.conic_handoffs
+    );
+    assert_eq!(forced.stats.step_halvings, 0);
+    let a = m.diameter;
+    let worst = forced
+        .state
+        .q
+        .iter()
+        .zip(&free.state.q)
+        .enumerate()
+        .filter(|(k, _)| !slither::rod::dof::is_edge(*k))
+        .map(|(_, (x, y))| (x - y).abs() / a)
+        .fold(0.0, f64::max);
+    println!("largest node difference {worst:.3e} a");
+    assert!(worst < 1e-3, "{worst} a");
+}

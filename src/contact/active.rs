@@ -102,6 +102,10 @@ pub struct ActiveSet {
     /// Every contact's status.
     pub status: Statuses,
     q_init: Vec<f64>,
+    /// Where a handoff started ([`ActiveSet::handoff`]).
+    handoff_q: Vec<f64>,
+    /// Iterations of the last handoff (its conic solve and resumed active set).
+    handoff_spent: usize,
     last_conic: bool,
     /// Iterations of the last [`ActiveSet::iterate`] (counted in the step's total also when
     /// it fails and the conic path finishes the step).
@@ -203,6 +207,8 @@ impl ActiveSet {
             conic,
             status,
             q_init: vec![0.0; m.ndof],
+            handoff_q: Vec::new(),
+            handoff_spent: 0,
             last_conic: false,
             spent: 0,
             scratch: Scratch {
@@ -221,6 +227,7 @@ impl ActiveSet {
         nw: &mut Newton,
         obj: &Potential,
         q: &mut Vec<f64>,
+        cap: usize,
     ) -> Result<usize, ContactFailure> {
         let m = obj.model;
         let set = &m.solver;
@@ -236,7 +243,7 @@ impl ActiveSet {
             s: &mut self.scratch,
             stats: &mut self.conic.stats,
             nw,
-            cap: m.max_iterations.min(set.active_set_max_iterations),
+            cap,
             switch_cap: SWITCH_ROUNDS * nc + set.active_set_extra_switches,
         };
         step.begin(q);
@@ -680,6 +687,57 @@ impl ActiveSet {
     }
 }
 
+/// Active-set iterations allowed after a handoff ([`ActiveSet::handoff`]).
+const HANDOFF_ITERATIONS: usize = 12;
+
+/// Handoffs tried in a row before the conic path finishes the step.
+const HANDOFF_ROUNDS: usize = 1;
+
+impl ActiveSet {
+    /// One conic solve from where the active set stopped; its solution fixes every contact's
+    /// status, and the active set resumes from it (at most [`HANDOFF_ITERATIONS`]). `Some`:
+    /// the step's iterations (the conic one included) when the resumed active set converged;
+    /// `None`: `q` is back where the handoff started and the conic path goes on.
+    fn handoff(&mut self, nw: &mut Newton, obj: &Potential, q: &mut Vec<f64>) -> Option<usize> {
+        let m = obj.model;
+        self.handoff_q.clone_from(q);
+        self.handoff_spent = 0;
+        for _ in 0..HANDOFF_ROUNDS {
+            self.conic.stats.conic_handoffs += 1;
+            self.handoff_spent += 1;
+            match self.conic.iterate(nw, obj, q, 1) {
+                Ok(_) => {
+                    self.status.classify(&self.conic.ct, m, q);
+                    return Some(self.handoff_spent);
+                }
+                Err(ContactFailure::Newton(Failure::NotConverged { .. })) => {}
+                Err(why) => {
+                    log::debug!("  handoff conic solve failed: {why}");
+                    break;
+                }
+            }
+            self.status.classify(&self.conic.ct, m, q);
+            let r = self.iterate(nw, obj, q, HANDOFF_ITERATIONS.min(m.max_iterations));
+            self.handoff_spent += self.spent;
+            match r {
+                Ok(_) => {
+                    self.conic.stats.handoff_steps += 1;
+                    return Some(self.handoff_spent);
+                }
+                Err(why) => {
+                    log::debug!("  handoff active set rejected: {why}");
+                    if !q.iter().all(|x| x.is_finite()) {
+                        break;
+                    }
+                    self.conic.ct.lift(m, q);
+                }
+            }
+        }
+        q.clone_from(&self.handoff_q);
+        None
+    }
+}
+
 impl ContactModel for ActiveSet {
     fn begin_step(
         &mut self,
@@ -710,7 +768,8 @@ impl ContactModel for ActiveSet {
             return Ok(it);
         }
         self.q_init.copy_from_slice(q);
-        let why = match self.iterate(nw, obj, q) {
+        let cap = m.max_iterations.min(m.solver.active_set_max_iterations);
+        let why = match self.iterate(nw, obj, q, cap) {
             Ok(it) => {
                 self.conic.stats.active_set_steps += 1;
                 self.last_conic = false;
@@ -731,13 +790,19 @@ impl ContactModel for ActiveSet {
             ContactFailure::Stalled { .. } => stats.active_set_stalls += 1,
             _ => {}
         }
-        let spent = self.spent;
+        let mut spent = self.spent;
         if q.iter().all(|x| x.is_finite()) {
             // Start the conic path from where the active set stopped (lifted onto the
             // ground), with its normal forces: usually a few conic solves from the solution.
             // Should that start fail, the conic path runs again from the step's start before
             // the step is rejected.
             self.conic.ct.lift(m, q);
+            if let Some(it) = self.handoff(nw, obj, q) {
+                self.last_conic = false;
+                log::debug!("  step total {} (handoff)", spent + it);
+                return Ok(spent + it);
+            }
+            spent += self.handoff_spent;
             let cap = m.max_iterations.min(m.solver.warm_conic_iterations);
             match self.conic.iterate(nw, obj, q, cap) {
                 Ok(it) => {

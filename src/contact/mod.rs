@@ -106,6 +106,11 @@ pub struct ContactStats {
     /// Fallbacks whose conic path, started where the active set stopped, failed and was rerun
     /// from the step's start.
     pub warm_conic_restarts: usize,
+    /// Fallbacks that first tried one conic solve and resumed the active set from its
+    /// statuses.
+    pub conic_handoffs: usize,
+    /// Handoffs whose resumed active set converged (the rest went on down the conic path).
+    pub handoff_steps: usize,
     /// Contact steps solved by the semi-smooth Newton ([`semismooth`]; no conic solve).
     pub semismooth_steps: usize,
     /// Contact steps where the semi-smooth Newton failed and the conic path ran.
@@ -141,6 +146,8 @@ static NO_STATS: ContactStats = ContactStats {
     active_set_steps: 0,
     active_set_fallbacks: 0,
     warm_conic_restarts: 0,
+    conic_handoffs: 0,
+    handoff_steps: 0,
     contact_cycles: 0,
     semismooth_steps: 0,
     semismooth_fallbacks: 0,

@@ -93,6 +93,8 @@ pub const SUMMARY: &[Field] = &[
     f("stats.conic_s", "s", "time in Clarabel (set-up and solve)"),
     f("stats.active_set_steps", "", "contact steps solved by the active set alone"),
     f("stats.active_set_fallbacks", "", "contact steps where the active set failed its checks and the conic path ran"),
+    f("stats.conic_handoffs", "", "fallbacks that took one conic solve and resumed the active set from its contact statuses"),
+    f("stats.handoff_steps", "", "handoffs whose resumed active set converged (the others went on down the conic path)"),
     f("stats.warm_conic_restarts", "", "fallbacks whose warm-started conic path failed and was rerun from the step's start"),
     f("stats.contact_cycles", "", "fallbacks because the active-set iterates repeated exactly (a cycle)"),
     f("stats.semismooth_steps", "", "contact steps solved by the semi-smooth Newton alone (solver.contact = \"semi-smooth\")"),
