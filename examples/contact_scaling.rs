@@ -7,7 +7,7 @@
 //! ```sh
 //! cargo run --release --example contact_scaling -- [--elements 50,100,200,400] [--duration 0.5]
 //!     [--dt 5e-4[,1e-3...]] [--contact active-set|semi-smooth|conic] [--scene problems/s_start.toml]
-//!     [--certificate N] [--chart OUT.png [--pyelastica STEPS.csv]]
+//!     [--certificate N] [--adaptive TOL] [--chart OUT.png [--pyelastica STEPS.csv]]
 //! ```
 //!
 //! `--chart` draws the wall seconds per simulated second against the element count on log-log
@@ -16,7 +16,9 @@
 //! from the CSV written by `compare/stable_steps.sh` (its `stable` rows).
 //!
 //! `--duration full` runs the whole scene and adds v_s/v_m. `--certificate N` certifies every
-//! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it. `scripts/contact_scaling.sh`
+//! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it.
+//! `--adaptive TOL` runs adaptive BDF2 instead (error tolerance `TOL`, a fraction of L per step;
+//! `dt` is its first step). `scripts/contact_scaling.sh`
 //! keeps the output as a dated record under `docs/results/contact-scaling/`.
 use slither::model::Model;
 use slither::{observe, problem, sim};
@@ -29,6 +31,8 @@ struct Args {
     dts: Vec<f64>,
     contact: Option<problem::ContactKind>,
     certificate: usize,
+    /// Adaptive BDF2 with this error tolerance (fraction of L), `dt` its first step.
+    adaptive: Option<f64>,
     chart: Option<PathBuf>,
     pyelastica: Option<PathBuf>,
 }
@@ -41,6 +45,7 @@ fn parse() -> Args {
         dts: vec![5e-4],
         contact: None,
         certificate: 0,
+        adaptive: None,
         chart: None,
         pyelastica: None,
     };
@@ -72,6 +77,12 @@ fn parse() -> Args {
             "--chart" => a.chart = Some(PathBuf::from(v)),
             "--pyelastica" => a.pyelastica = Some(PathBuf::from(v)),
             "--certificate" => a.certificate = v.parse().expect("--certificate: every N steps"),
+            "--adaptive" => {
+                a.adaptive = Some(
+                    v.parse()
+                        .expect("--adaptive: error tolerance, fraction of L"),
+                )
+            }
             "--contact" => {
                 a.contact = Some(match v.as_str() {
                     "active-set" => problem::ContactKind::ActiveSet,
@@ -163,7 +174,7 @@ fn main() {
     let mut lines: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for &dt in &args.dts {
         lines.push((
-            format!("slither, implicit Euler, dt {dt:e} s"),
+            format!("slither, {}", method(&args, dt)),
             table(&args, &base, dt),
         ));
     }
@@ -213,14 +224,22 @@ fn chart(path: &std::path::Path, args: &Args, mut lines: Vec<(String, Vec<(f64, 
     eprintln!("chart: {}", path.display());
 }
 
+/// The time stepping of a table: implicit Euler at `dt`, or adaptive BDF2 starting with it.
+fn method(args: &Args, dt: f64) -> String {
+    args.adaptive
+        .map_or(format!("implicit Euler, dt {dt:e} s"), |tol| {
+            format!("adaptive BDF2, error tolerance {tol:e}, first step {dt:e} s")
+        })
+}
+
 /// One table for step `dt`: a row per element count. Returns `(elements, wall seconds per
 /// simulated second)` of the runs that finished.
 fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
     let mut points = Vec::new();
     println!(
-        "scene {}, implicit Euler, dt {:e} s, {}",
+        "scene {}, {}, {}",
         args.scene.display(),
-        dt,
+        method(args, dt),
         args.duration
             .map_or("whole scene".to_string(), |d| format!("first {d} s"))
     );
@@ -233,6 +252,11 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
         p.time.dt = Some(dt);
         p.solver.integrator = problem::IntegratorKind::Implicit;
         p.time.adaptive = false;
+        if let Some(tol) = args.adaptive {
+            p.solver.integrator = problem::IntegratorKind::Bdf2;
+            p.time.adaptive = true;
+            p.time.error_tolerance = Some(tol);
+        }
         if let Some(c) = args.contact {
             p.solver.contact = c;
         }
