@@ -3,7 +3,7 @@
 # values for --accuracy and the work-precision chart), kept as a dated record
 # docs/results/s-start-reference/<date>.md.
 #
-#   scripts/s_start_reference.sh ELEMENTS DT [DT ...]      # e.g. 400 1.25e-4 6.25e-5
+#   scripts/s_start_reference.sh ELEMENTS:DT [ELEMENTS:DT ...]    # e.g. 400:1.25e-4 200:6.25e-5
 #
 # SLITHER names a built binary to use instead of building one (`cargo build --release`).
 set -euo pipefail
@@ -11,12 +11,10 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec scripts/record.sh s-start-reference "$0" "$@"
 fi
-if [ $# -lt 2 ]; then
-    echo "usage: scripts/s_start_reference.sh ELEMENTS DT [DT ...]" >&2
+if [ $# -lt 1 ]; then
+    echo "usage: scripts/s_start_reference.sh ELEMENTS:DT [ELEMENTS:DT ...]" >&2
     exit 2
 fi
-elements="$1"
-shift
 if [ -n "${SLITHER:-}" ]; then
     slither="$SLITHER"
 else
@@ -25,7 +23,9 @@ else
 fi
 dir="out/s_start_reference"
 mkdir -p "$dir"
-for dt in "$@"; do
+for model in "$@"; do
+    elements="${model%%:*}"
+    dt="${model#*:}"
     file="$dir/s_start_${elements}_${dt}.toml"
     sed -e "s/^elements = 50$/elements = $elements/" -e "s/^dt = 2e-3$/dt = $dt/" \
         problems/s_start.toml > "$file"

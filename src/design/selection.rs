@@ -389,7 +389,8 @@ fn time_estimate(done: &[Done], elements: usize, res: Resolution) -> Option<Pair
     let previous = made(done, elements, res.coarsened().coarsened())
         .map(|c| rel(c, a))
         .filter(|x| x.is_finite());
-    let beside = (elements % 2 == 0)
+    let beside = elements
+        .is_multiple_of(2)
         .then(|| {
             let fine = made(done, elements / 2, res)?;
             Some(rel(made(done, elements / 2, res.coarsened())?, fine))
@@ -403,13 +404,13 @@ fn time_estimate(done: &[Done], elements: usize, res: Resolution) -> Option<Pair
 /// it (half the elements, same time resolution), with the pair before when it was run.
 /// `None` when the coarser run was not made.
 fn mesh_estimate(done: &[Done], elements: usize, res: Resolution) -> Option<PairEstimate> {
-    if elements % 2 != 0 {
+    if !elements.is_multiple_of(2) {
         return None;
     }
     let (slow, fast) = MESH_RATES;
     let b = made(done, elements, res)?;
     let a = made(done, elements / 2, res)?;
-    let previous = if elements % 4 == 0 {
+    let previous = if elements.is_multiple_of(4) {
         made(done, elements / 4, res)
             .map(|c| rel(c, a))
             .filter(|x| x.is_finite())
@@ -510,7 +511,7 @@ pub fn select(
         // For the envelopes: the time pair on half the elements (usually made already) and
         // the mesh pair before (a quarter of the elements, cheap).
         run(n / 2, h.coarsened(), &mut done);
-        if n % 4 == 0 && n / 4 >= 2 {
+        if n.is_multiple_of(4) && n / 4 >= 2 {
             run(n / 4, h, &mut done);
         }
         let time = time_estimate(&done, n, h).expect("the time pair was run");
