@@ -25,6 +25,9 @@
 //! elements are +0.00257, +0.00181, -0.00109, -0.00039, -0.00010 (ratios 0.36 and 0.26 on
 //! the last three: second order from 80 elements on), so the limit is 0.183553 - 0.000035 =
 //! 0.18352 within 0.0001 (0.05 %, a twentieth of the smallest estimate tested).
+//!
+//! **It can fail.** Assuming second order in the mesh (`MESH_RATES = (0.25, 0.25)`: the bound
+//! `d/3`) fails it at the 0.5 % target: the mesh error 0.31 % lies above its estimate 0.22 %.
 use slither::design::selection::select;
 use slither::model::Model;
 use slither::{observe, problem, sim};
@@ -282,8 +285,8 @@ fn accuracy_selection_reports_consistent_estimates() {
 }
 
 /// The estimate's envelope on measured data where convergence is irregular: the bundled
-/// S-start's `v_s/v_m` by implicit Euler (records `work-precision` and `accuracy-s-start` in
-/// `docs/results/`), whose converged value lies between 0.31965 (400 elements, 6.25e-5 s) and
+/// S-start's `v_s/v_m` by implicit Euler (records `work-precision`, `accuracy-s-start` and
+/// `s-start-reference` in `docs/results/`), whose converged value lies between 0.31965 (400 elements, 6.25e-5 s) and
 /// 0.32053 (400 elements, 2.5e-4 s). At every model whose time pair, time pair on half the
 /// elements and mesh pair were measured, the estimate bounds the error against either end of
 /// that interval. The last pairs alone do not: at 100 elements and 5e-4 s the last time pair
@@ -301,7 +304,7 @@ fn envelope_bounds_the_s_start_errors_where_the_last_pairs_alone_do_not() {
         [0.30310, 0.30717, 0.31315, 0.31361, 0.31055],
         [0.31197, 0.31581, 0.31595, 0.31739, NAN],
         [0.31339, 0.31886, 0.32038, 0.32008, NAN],
-        [0.31343, 0.31940, 0.32024, 0.32053, 0.31972],
+        [NAN, 0.31940, 0.32024, 0.32053, 0.31972],
     ];
     const CONVERGED: (f64, f64) = (0.31965, 0.32053);
     let rel = |a: f64, b: f64| (b - a) / b.abs();
