@@ -344,7 +344,7 @@ fn envelope_bounds_the_s_start_errors_where_the_last_pairs_alone_do_not() {
     }
     // The data do exercise the envelope.
     assert!(
-        checked >= 9 && last_pairs_missed >= 2,
+        checked >= 8 && last_pairs_missed >= 2,
         "{checked} {last_pairs_missed}"
     );
 }
