@@ -10,13 +10,14 @@
 //!
 //! **Estimates** ([`PairEstimate`]). The error of a model (`N` elements, resolution `h`) is
 //! estimated from its own two pairs: the time pair (`N`, one refinement coarser than `h`) and
-//! the mesh pair (`N/2`, `h`), each with the pair before it (`N` at two refinements coarser;
-//! `N/4`) for an envelope. Each part bounds its error if the error shrinks at least at first
-//! order from here on (by 1/2 per halving of the step or the element length; by `10^(-2/3)`
-//! per decade of BDF2's tolerance, whose global error goes as `tol^(2/3)`): it is the larger of
-//! the last difference and half the one before (at first order). Observed rates are reported,
-//! never used for the bound: on the S-start they range from order 0.5 to 4. Differences that
-//! grow from one pair to the next are not converging: such a model never meets a target.
+//! the mesh pair (`N/2`, `h`). Each part bounds its error if the error shrinks at least at
+//! first order from here on (by 1/2 per halving of the step or the element length; by
+//! `10^(-2/3)` per decade of BDF2's tolerance, whose global error goes as `tol^(2/3)`): it is
+//! the geometric tail of an envelope, the larger of the last difference, the difference before
+//! it carried one refinement further (when run: `N` two refinements coarser; `N/4`) and, for
+//! time, the same time pair on `N/2` elements. Observed rates are reported, never used for the
+//! bound: on the S-start they range from order 0.5 to 2.6. Differences that grow from one pair
+//! to the next are not converging: such a model never meets a target.
 //!
 //! 1. **The step to start from**, on the file's mesh `N0`: the coarsest resolution (from the
 //!    file's) whose next refinement moves `v_s/v_m` by at most half the target, the two
@@ -24,14 +25,14 @@
 //!    steers the search: the coarse mesh's own time error is not the fine meshes' (the
 //!    50-element S-start moves by up to 1 % between any two steps below 5e-4 s, while 200
 //!    elements move by 0.09 % from 5e-4 to 2.5e-4 s).
-//! 2. **The model** (`N`, `h`) from `2 N0` and that step, with its five runs: itself,
-//!    (`N`, 2h), (`N`, 4h) (when not coarser than the file's), (`N/2`, h), (`N/4`, h). When its
-//!    time and mesh estimates add up to at most the target, it is the answer. Otherwise the
-//!    part with the larger estimate is refined: the step is halved while the time estimate is
-//!    above half the target and at least the mesh's, else the mesh doubled (up to `[accuracy]
-//!    max_elements`; the step down to `max_refinements`); with both at their limits the last
-//!    model is the answer, with `met = false`. Every run is made once: a refined model reuses
-//!    the runs its pairs share with the previous one.
+//! 2. **The model** (`N`, `h`) from `2 N0` and that step, with the runs its estimates need:
+//!    itself, (`N`, 2h), (`N/2`, h), (`N/2`, 2h) and (`N/4`, h). When its time and mesh
+//!    estimates add up to at most the target, it is the answer. Otherwise the part with the
+//!    larger estimate is refined: the step is halved while the time estimate is above half the
+//!    target and at least the mesh's, else the mesh doubled (up to `[accuracy] max_elements`;
+//!    the step down to `max_refinements`). With both at their limits the last model is the
+//!    answer, with `met = false`; when a refined model's run fails, the previous model is. Every
+//!    run is made once: a refined model reuses the runs it shares with the previous ones.
 //! 3. `summary.json` carries the estimates, the observed orders, the chosen model, every run,
 //!    the probes' wall time (every run but the chosen one) and all runs' wall time
 //!    ([`crate::output::AccuracyReport`]), and the Richardson extrapolation of `v_s/v_m` to the
@@ -40,10 +41,10 @@
 //!
 //! **Which value is the answer.** The chosen run's `v_s/v_m`, the finest model run: it is a
 //! simulated motion that every other output (frames, kymographs, topology) describes, and its
-//! error is bounded by the estimate under the stated assumption. The extrapolation is often closer to the
-//! converged number, but its error cannot be bounded from the same runs as tightly (its
-//! uncertainty is the spread of the orders, and on contact scenes the order itself is
-//! irregular), so it is reported beside the answer, not in its place.
+//! error is bounded by the estimate under the stated assumption. The extrapolation is often
+//! closer to the converged number, but it is not a simulated state and its interval rests on
+//! monotone convergence, which contact scenes do not always show, so it is reported beside the
+//! answer, not in its place.
 //!
 //! **Why implicit Euler is the default.** On gait scenes with stick-slip, BDF2 at fine steps
 //! is sensitive: any perturbation (the step, the tolerance, the 7th digit of a friction
@@ -177,8 +178,8 @@ impl std::fmt::Display for Resolution {
 /// difference beside (same steps, half the elements) at full size, since the time error does
 /// not shrink with the mesh. An observed rate faster than first order is never used (the
 /// S-start's 25/50/100-element differences shrink at order 2.3 and then 0.5), nor a slower
-/// one (the order 0.5 of 50/100/200 elements is followed by 0.06 % from 200 to 400
-/// elements); both are reported ([`PairEstimate::order`]).
+/// one (the order 0.5 of 50/100/200 elements at 2.5e-4 s is followed by order 2.6 from 200
+/// to 400 elements); both are reported ([`PairEstimate::order`]).
 ///
 /// A pair whose difference is not smaller than the previous pair's (`ratio >= 1`) is not
 /// converging yet: it is marked untrusted, and the selection never accepts it as meeting a
