@@ -36,8 +36,8 @@
 //! 3. `summary.json` carries the estimates, the observed orders, the chosen model, every run,
 //!    the probes' wall time (every run but the chosen one) and all runs' wall time
 //!    ([`crate::output::AccuracyReport`]), and the Richardson extrapolation of `v_s/v_m` to the
-//!    limits of time and mesh refinement with its uncertainty (the middle and half-width of
-//!    the interval of limits that rates between first and second order allow).
+//!    limits of time and mesh refinement with its uncertainty (the bound plus the correction:
+//!    its interval contains the answer's).
 //!
 //! **Which value is the answer.** The chosen run's `v_s/v_m`, the finest model run: it is a
 //! simulated motion that every other output (frames, kymographs, topology) describes, and its
@@ -189,12 +189,15 @@ impl std::fmt::Display for Resolution {
 /// same way (the convergence looks monotone), the last difference is the envelope (no larger
 /// difference before or beside it) and the error shrinks at a rate between
 /// `min(ratio, fastest)` and the bound's, the limit lies between `b + s t_fast` and
-/// `b + s t_bound` (`s` the sign of `b - a`, `t` the tails): [`PairEstimate::correction`] is
-/// the middle of that interval and [`PairEstimate::spread`] its half-width. Otherwise (no
-/// previous pair, differences that change sign, do not shrink, or are irregular) the direction
-/// of the remaining error is unknown: the interval is `b -+ t_bound`, correction 0. (On the
-/// S-start at 400 elements the mesh differences 1.19, 0.85, 0.14 % keep their sign, yet the
-/// limit lies below the 400-element value: a one-sided interval there missed it.)
+/// `b + s t_bound` (`s` the sign of `b - a`, `t` the tails): [`PairEstimate::correction`] moves
+/// `b` to the middle of that interval. Otherwise (no previous pair, differences that change
+/// sign, do not shrink, or are irregular) the direction of the remaining error is unknown and
+/// the correction is 0. [`PairEstimate::spread`] is `|b|` times the bound plus the correction's
+/// size: the extrapolation's interval contains the answer's, because monotone-looking
+/// differences can still turn (the 1 s serpenoid's mesh differences at 2e-3 s are +, + from 10
+/// to 40 elements and then change sign, and the limit lies outside the one-sided interval from
+/// 40 elements; at 400 elements the S-start's at 2.5e-4 s keep their sign, +1.19, +0.85,
+/// +0.14 %, and the limit lies below the 400-element value).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairEstimate {
     /// Estimated relative error of the coarser run.
@@ -203,7 +206,8 @@ pub struct PairEstimate {
     pub fine: f64,
     /// Signed correction from the finer run's value to the extrapolated limit (absolute).
     pub correction: f64,
-    /// Half-width of the interval of limits (absolute).
+    /// Half-width of the extrapolation's interval of limits (absolute): the bound plus the
+    /// correction's size.
     pub spread: f64,
     /// Observed ratio of this pair's difference to the previous pair's (`None` without one).
     pub ratio: Option<f64>,
@@ -245,13 +249,15 @@ impl PairEstimate {
         // One-sided only where the last difference is the envelope: a larger earlier or
         // neighbouring difference means the convergence is irregular, its direction unknown.
         let monotone = trusted && previous.is_some_and(|dp| dp * signed > 0.0) && envelope <= d;
-        let (correction, spread) = if monotone {
+        let correction = if monotone {
             let fast = tail(fastest.min(ratio.unwrap_or(fastest)), d);
-            let s = (b - a).signum() * b.abs();
-            (s * 0.5 * (bound + fast), b.abs() * 0.5 * (bound - fast))
+            (b - a).signum() * b.abs() * 0.5 * (bound + fast)
         } else {
-            (0.0, b.abs() * bound)
+            0.0
         };
+        // The extrapolation's interval contains the answer's (b -+ the bound): it is the
+        // better guess where convergence is monotone, never a tighter claim.
+        let spread = b.abs() * bound + correction.abs();
         PairEstimate {
             coarse: d + bound,
             fine: bound,
@@ -523,13 +529,39 @@ pub fn select(
         last_ran = Some((n, h));
         let can_time = h.refined().level(res0) <= res0.max_refinements();
         let can_mesh = 2 * n <= max_elements;
-        let time_first = time.fine > 0.5 * target && time.fine >= mesh.fine;
-        if can_time && (time_first || !can_mesh) {
-            h = h.refined();
-        } else if can_mesh {
-            n *= 2;
-        } else {
+        // The cheapest move whose estimates, each shrinking at the bound's rate, would meet
+        // the target: halve the step, double the mesh, or both; else the part with the
+        // larger estimate.
+        let (rt, rm) = (h.rates().0, MESH_RATES.0);
+        let (et, em) = (time.fine, mesh.fine);
+        // (refine the step, refine the mesh, predicted estimate), cheapest first.
+        let moves = [
+            (true, false, rt * et + em),
+            (false, true, et + rm * em),
+            (true, true, rt * et + rm * em),
+        ];
+        let predicted = moves
+            .iter()
+            .find(|&&(t, m, e)| (can_time || !t) && (can_mesh || !m) && e <= target);
+        let (refine_time, refine_mesh) = match predicted {
+            Some(&(t, m, _)) => (t, m),
+            None => {
+                let time_first = et > 0.5 * target && et >= em;
+                if can_time && (time_first || !can_mesh) {
+                    (true, false)
+                } else {
+                    (false, can_mesh)
+                }
+            }
+        };
+        if !(refine_time || refine_mesh) {
             break;
+        }
+        if refine_time {
+            h = h.refined();
+        }
+        if refine_mesh {
+            n *= 2;
         }
     }
     let (n_c, res_c) = (n, h);

@@ -142,8 +142,8 @@ pub struct AccuracyReport {
     /// chosen value plus the middle of each interval of limits the estimates allow
     /// ([`crate::design::selection::PairEstimate`]).
     pub v_s_over_v_m_extrapolated: f64,
-    /// Uncertainty of the extrapolation (absolute): the half-widths of those intervals (error
-    /// rates between first and second order, or the observed rate when slower). The answer of
+    /// Uncertainty of the extrapolation (absolute): the estimated error of the answer plus
+    /// the extrapolation's correction, so its interval contains the answer's. The answer of
     /// the run is the chosen model's `v_s/v_m` (a simulated motion, which every other output
     /// describes, with the error estimate `estimated_error`); the extrapolation is reported
     /// beside it.

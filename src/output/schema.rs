@@ -185,7 +185,7 @@ pub const SUMMARY: &[Field] = &[
     only("accuracy.time_order_observed", "", ACCURACY, "observed order of the time estimate's three runs (absent with two, or when they do not converge)"),
     only("accuracy.mesh_order_observed", "", ACCURACY, "observed order in the element length of the mesh estimate's three runs (absent with two, or when they do not converge)"),
     only("accuracy.v_s_over_v_m_extrapolated", "", ACCURACY, "Richardson extrapolation of v_s/v_m to the limits of time and mesh refinement"),
-    only("accuracy.v_s_over_v_m_extrapolated_uncertainty", "", ACCURACY, "its uncertainty: half-widths of the intervals of limits for error rates between the bound's (first order) and second order (or the observed rate when faster); the answer is the chosen run's v_s/v_m"),
+    only("accuracy.v_s_over_v_m_extrapolated_uncertainty", "", ACCURACY, "its uncertainty (absolute): the answer's estimated error plus the extrapolation's correction, so its interval contains the answer's; the answer is the chosen run's v_s/v_m"),
     only("accuracy.runs[].elements", "", ACCURACY, "a selection run's mesh"),
     only("accuracy.runs[].dt", "s", ACCURACY, "its fixed step (implicit Euler)"),
     only("accuracy.runs[].error_tolerance", "", ACCURACY, "its error tolerance (adaptive BDF2)"),
