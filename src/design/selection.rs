@@ -27,10 +27,12 @@
 //!    elements move by 0.09 % from 5e-4 to 2.5e-4 s).
 //! 2. **The model** (`N`, `h`) from `2 N0` and that step, with the runs its estimates need:
 //!    itself, (`N`, 2h), (`N/2`, h), (`N/2`, 2h) and (`N/4`, h). When its time and mesh
-//!    estimates add up to at most the target, it is the answer. Otherwise the part with the
-//!    larger estimate is refined: the step is halved while the time estimate is above half the
-//!    target and at least the mesh's, else the mesh doubled (up to `[accuracy] max_elements`;
-//!    the step down to `max_refinements`). With both at their limits the last model is the
+//!    estimates add up to at most the target, it is the answer. Otherwise the next model is
+//!    the cheapest move whose estimates, each shrunk at the bound's rate, would meet the
+//!    target: halve the step, double the mesh, or both. When none would, the part with the
+//!    larger estimate is refined: the step while the time estimate is above half the target
+//!    and at least the mesh's, else the mesh (up to `[accuracy] max_elements`; the step down
+//!    to `max_refinements`). With both at their limits the last model is the
 //!    answer, with `met = false`; when a refined model's run fails, the previous model is. Every
 //!    run is made once: a refined model reuses the runs it shares with the previous ones.
 //! 3. `summary.json` carries the estimates, the observed orders, the chosen model, every run,
