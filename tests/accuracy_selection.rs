@@ -25,6 +25,9 @@
 //! elements are +0.00257, +0.00181, -0.00109, -0.00039, -0.00010 (ratios 0.36 and 0.26 on
 //! the last three: second order from 80 elements on), so the limit is 0.183553 - 0.000035 =
 //! 0.18352 within 0.0001 (0.05 %, a twentieth of the smallest estimate tested).
+//!
+//! **It can fail.** Assuming second order in the mesh (`MESH_RATES = (0.25, 0.25)`: the bound
+//! `d/3`) fails it at the 0.5 % target: the mesh error 0.31 % lies above its estimate 0.22 %.
 use slither::design::selection::select;
 use slither::model::Model;
 use slither::{observe, problem, sim};
@@ -202,7 +205,6 @@ fn accuracy_selection_reports_consistent_estimates() {
         assert!(r.runs.len() >= 3);
         assert!(r.runs.iter().any(|x| x.elements == 40));
         assert!((r.estimated_error - (r.time_error + r.mesh_error)).abs() < 1e-15);
-        assert_eq!(r.met, r.estimated_error <= r.target);
         assert_eq!(sel.model.elements(), r.elements);
         let same = |x: &slither::output::AccuracyRun| {
             x.dt == r.dt && x.error_tolerance == r.error_tolerance
@@ -213,49 +215,16 @@ fn accuracy_selection_reports_consistent_estimates() {
             .runs
             .iter()
             .any(|x| x.elements == r.elements && same(x) && x.v_s_over_v_m == v));
-        // The mesh estimate follows from the two mesh runs at the chosen resolution.
-        let at = |n: usize| {
-            r.runs
-                .iter()
-                .find(|x| x.elements == n && same(x))
-                .map(|x| x.v_s_over_v_m)
-        };
-        let (n, other) = if let Some(b) = at(2 * r.elements) {
-            (r.elements, b)
-        } else {
-            (r.elements / 2, at(r.elements / 2).unwrap())
-        };
-        let (vn, v2n) = if n == r.elements {
-            (at(n).unwrap(), other)
-        } else {
-            (other, at(r.elements).unwrap())
-        };
-        // With the pair one mesh coarser, when it was run, for the observed rate.
-        let previous = if n % 2 == 0 {
-            at(n / 2).map(|c| (vn - c) / vn.abs())
-        } else {
-            None
-        };
-        let est = PairEstimate::new(vn, v2n, previous, MESH_RATES.0, MESH_RATES.1);
-        let expected = if n == r.elements {
-            est.coarse
-        } else {
-            est.fine
-        };
-        assert!(
-            (r.mesh_error - expected).abs() <= 1e-12 * expected.max(1e-300),
-            "{} vs {expected}",
-            r.mesh_error
-        );
-        assert_eq!(r.mesh_order_observed, est.order(2.0));
-        // The time estimate follows from the chosen resolution and its neighbour (the finer
-        // one when that was run, else the coarser) on the mesh it was measured on.
-        let at_res = |n: usize, res: Resolution| {
+        // The estimates follow from the chosen model's own pairs: time from the run one
+        // refinement coarser on the chosen mesh, mesh from half the elements at the chosen
+        // resolution, each with the pair before it (when run) and time with the same pair on
+        // half the elements for the envelope.
+        let at = |n: usize, res: Resolution| {
             r.runs
                 .iter()
                 .find(|x| {
                     let close = |a: Option<f64>, b: Option<f64>| match (a, b) {
-                        (Some(a), Some(b)) => (a - b).abs() <= 1e-12 * b.abs(),
+                        (Some(a), Some(b)) => (a - b).abs() <= 1e-9 * b.abs(),
                         (None, None) => true,
                         _ => false,
                     };
@@ -265,27 +234,117 @@ fn accuracy_selection_reports_consistent_estimates() {
                 })
                 .map(|x| x.v_s_over_v_m)
         };
-        let (slow, fast) = res.rates();
-        let estimate = |n: usize| {
-            let (pair, chosen_coarse) = match at_res(n, res.refined()) {
-                Some(fine) => ((at_res(n, res)?, fine), true),
-                None => ((at_res(n, res.coarsened())?, at_res(n, res)?), false),
-            };
-            let lower = if chosen_coarse { res } else { res.coarsened() };
-            let previous = at_res(n, lower.coarsened()).map(|c| {
-                let a = at_res(n, lower).unwrap();
-                (a - c) / a.abs()
-            });
-            let est = PairEstimate::new(pair.0, pair.1, previous, slow, fast);
-            Some(if chosen_coarse { est.coarse } else { est.fine })
-        };
-        let expected = estimate(r.time_error_elements).expect("the time pair was run");
-        // It was measured on the chosen mesh unless the rounds ran out.
-        assert_eq!(r.time_error_elements, r.elements, "{r:?}");
-        assert!(
-            (r.time_error - expected).abs() <= 1e-9 * expected.max(1e-300),
-            "{} vs {expected}",
-            r.time_error
+        let n = r.elements;
+        let (v, v_t, v_m) = (
+            at(n, res).unwrap(),
+            at(n, res.coarsened()).expect("the time pair was run"),
+            at(n / 2, res).expect("the mesh pair was run"),
         );
+        let prev_t = at(n, res.coarsened().coarsened()).map(|c| (v_t - c) / v_t.abs());
+        let beside_t = at(n / 2, res.coarsened()).map(|c| (v_m - c) / v_m.abs());
+        let prev_m = at(n / 4, res).map(|c| (v_m - c) / v_m.abs());
+        let (slow, fast) = res.rates();
+        let time = PairEstimate::new(v_t, v, prev_t, beside_t, slow, fast);
+        let mesh = PairEstimate::new(v_m, v, prev_m, None, MESH_RATES.0, MESH_RATES.1);
+        for (what, got, expected) in [
+            ("time", r.time_error, time.fine),
+            ("mesh", r.mesh_error, mesh.fine),
+        ] {
+            assert!(
+                (got - expected).abs() <= 1e-12 * expected.max(1e-300),
+                "{what}: {got} vs {expected}"
+            );
+        }
+        assert_eq!(r.time_error_elements, n);
+        assert_eq!(r.mesh_order_observed, mesh.order(2.0));
+        assert_eq!(r.time_order_observed, time.order(res.factor()));
+        assert_eq!(
+            r.met,
+            time.trusted && mesh.trusted && r.estimated_error <= r.target
+        );
+        // The probes' wall time is every run's but the chosen one's.
+        let total: f64 = r.runs.iter().map(|x| x.wall_time_s).sum();
+        let own = r
+            .runs
+            .iter()
+            .find(|x| x.elements == n && same(x))
+            .unwrap()
+            .wall_time_s;
+        assert!((r.wall_time_total_s - total).abs() <= 1e-9 * total);
+        assert!((r.probes_wall_time_s - (total - own)).abs() <= 1e-9 * total);
+        // No run is made twice.
+        for (i, x) in r.runs.iter().enumerate() {
+            assert!(
+                !r.runs[..i].iter().any(|y| y.elements == x.elements
+                    && y.dt == x.dt
+                    && y.error_tolerance == x.error_tolerance),
+                "run twice: {x:?}"
+            );
+        }
     }
+}
+
+/// The estimate's envelope on measured data where convergence is irregular: the bundled
+/// S-start's `v_s/v_m` by implicit Euler (records `work-precision`, `accuracy-s-start` and
+/// `s-start-reference` in `docs/results/`), whose converged value lies between 0.31965 (400 elements, 6.25e-5 s) and
+/// 0.32053 (400 elements, 2.5e-4 s). At every model whose time pair, time pair on half the
+/// elements and mesh pair were measured, the estimate bounds the error against either end of
+/// that interval. The last pairs alone do not: at 100 elements and 5e-4 s the last time pair
+/// differs by 0.04 % (a cancellation) and they give 0.93 % for an error of 1.43 %; at 400
+/// elements and 2.5e-4 s, 0.23 % for 0.28 %. Dropping the envelope (`envelope = d` in
+/// `PairEstimate::new`) fails this test.
+#[test]
+fn envelope_bounds_the_s_start_errors_where_the_last_pairs_alone_do_not() {
+    use slither::design::selection::{PairEstimate, Resolution, MESH_RATES};
+    const STEPS: [f64; 5] = [2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4];
+    // Rows: 25, 50, 100, 200, 400 elements; columns: STEPS; NaN where not measured.
+    const NAN: f64 = f64::NAN;
+    const V: [[f64; 5]; 5] = [
+        [NAN, NAN, 0.29801, NAN, NAN],
+        [0.30310, 0.30717, 0.31315, 0.31361, 0.31055],
+        [0.31197, 0.31581, 0.31595, 0.31739, NAN],
+        [0.31339, 0.31886, 0.32038, 0.32008, NAN],
+        [NAN, 0.31940, 0.32024, 0.32053, 0.31972],
+    ];
+    const CONVERGED: (f64, f64) = (0.31965, 0.32053);
+    let rel = |a: f64, b: f64| (b - a) / b.abs();
+    let some = |x: f64| x.is_finite().then_some(x);
+    let (t_slow, t_fast) = Resolution::Step(1e-3).rates();
+    let (mut checked, mut last_pairs_missed) = (0, 0);
+    for i in 2..5 {
+        for j in 1..5 {
+            let v = V[i][j];
+            let (vt, vm, vmt) = (V[i][j - 1], V[i - 1][j], V[i - 1][j - 1]);
+            if !(v.is_finite() && vt.is_finite() && vm.is_finite() && vmt.is_finite()) {
+                continue;
+            }
+            let previous_time = (j >= 2).then(|| rel(V[i][j - 2], vt)).and_then(some);
+            let time = PairEstimate::new(vt, v, previous_time, some(rel(vmt, vm)), t_slow, t_fast);
+            let previous_mesh = some(rel(V[i - 2][j], vm));
+            let mesh = PairEstimate::new(vm, v, previous_mesh, None, MESH_RATES.0, MESH_RATES.1);
+            let estimate = time.fine + mesh.fine;
+            let actual = (v / CONVERGED.0 - 1.0)
+                .abs()
+                .max((v / CONVERGED.1 - 1.0).abs());
+            let last = rel(vt, v).abs() + rel(vm, v).abs();
+            println!(
+                "{} el., {:e} s: error {actual:.4}, estimate {estimate:.4}, last pairs {last:.4}",
+                25 << i,
+                STEPS[j]
+            );
+            assert!(
+                estimate >= actual,
+                "{} elements, {} s: estimate {estimate} below the error {actual}",
+                25 << i,
+                STEPS[j]
+            );
+            checked += 1;
+            last_pairs_missed += usize::from(last < actual);
+        }
+    }
+    // The data do exercise the envelope.
+    assert!(
+        checked >= 8 && last_pairs_missed >= 2,
+        "{checked} {last_pairs_missed}"
+    );
 }

@@ -30,9 +30,9 @@ pub struct Args {
     /// README's "Limits").
     #[arg(long)]
     pub force: bool,
-    /// Run the cheapest model (adaptive BDF2 tolerance and mesh) whose estimated relative
-    /// error of v_s/v_m is below this, e.g. 0.01 (overrides `[accuracy] target`; scenes
-    /// with ground and gait; in [1e-4, 0.5]).
+    /// Refine the mesh and the step (or adaptive BDF2's tolerance) until the estimated
+    /// relative error of v_s/v_m is below this, e.g. 0.01, and run that model (overrides
+    /// `[accuracy] target`; scenes with ground and gait; in [1e-4, 0.5]).
     #[arg(long)]
     pub accuracy: Option<f64>,
     /// Also run the scene K times with small independent perturbations (friction, initial
@@ -142,7 +142,7 @@ pub fn run(args: &Args) -> ExitCode {
         let r = sel.report;
         if !quiet {
             eprintln!(
-                "accuracy {}: chose {} elements, {}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs in {:.1} s",
+                "accuracy {}: chose {} elements, {}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs in {:.1} s, {:.1} s of them probes",
                 r.target,
                 r.elements,
                 model_label(r.dt, r.error_tolerance),
@@ -151,7 +151,8 @@ pub fn run(args: &Args) -> ExitCode {
                 r.mesh_error,
                 if r.met { "" } else { ", ABOVE the target (refinement limits reached)" },
                 r.runs.len(),
-                r.wall_time_total_s
+                r.wall_time_total_s,
+                r.probes_wall_time_s
             );
         }
         report = Some(r);

@@ -2,52 +2,51 @@
 //! command line and the studies' `[accuracy]` call it). Runs that ask for an accuracy
 //! (`slither run PROBLEM.toml --accuracy 0.01`, or `[accuracy] target`): refine the time
 //! resolution and the mesh, Richardson-style, until the estimated relative error of `v_s/v_m`
-//! from time and from mesh is below the target, and keep the cheapest model that meets it.
+//! from time and from mesh is below the target, and stop there.
 //!
 //! **Time resolution** ([`Resolution`]) follows the file's `[solver] integrator`: implicit
 //! Euler (the default, and for an explicit file) at fixed steps, refined by halving `dt`;
 //! `"bdf2"` as adaptive BDF2, refined by dividing the error tolerance by ten.
 //!
-//! **Estimates** ([`PairEstimate`]). Every estimate comes from a pair of runs one refinement
-//! apart, difference `d` (relative). It assumes the error shrinks per refinement at least as
-//! fast as first order does (by 1/2 per halving of the step or the element length; by
-//! `10^(-2/3)` per decade of BDF2's tolerance, whose global error goes as `tol^(2/3)`), or at
-//! the slower rate the runs show when a third run is there: the finer run errs by at most the
-//! geometric tail (`d` at first order), the coarser by `d` more. At second order the finer
-//! run's actual error is `d/3`: where a scene's rates lie between first and second order the
-//! estimate bounds the error and is at most three times it. The mesh estimate used to assume
-//! second order (`d/3`), and on the S-start, whose mesh differences shrink at observed orders
-//! from 0.5 to 2.3 (contacts at nodes), it fell below the actual error. Differences that do not
-//! shrink from one pair to the next are not converging: such a pair is never accepted.
+//! **Estimates** ([`PairEstimate`]). The error of a model (`N` elements, resolution `h`) is
+//! estimated from its own two pairs: the time pair (`N`, one refinement coarser than `h`) and
+//! the mesh pair (`N/2`, `h`). Each part bounds its error if the error shrinks at least at
+//! first order from here on (by 1/2 per halving of the step or the element length; by
+//! `10^(-2/3)` per decade of BDF2's tolerance, whose global error goes as `tol^(2/3)`): it is
+//! the geometric tail of an envelope, the larger of the last difference, the difference before
+//! it carried one refinement further (when run: `N` two refinements coarser; `N/4`) and, for
+//! time, the same time pair on `N/2` elements. Observed rates are reported, never used for the
+//! bound: on the S-start they range from order 0.5 to 2.6. Differences that grow from one pair
+//! to the next are not converging: such a model never meets a target.
 //!
-//! 1. **Time.** At the mesh `N` (first the file's), runs at the current resolution and the
-//!    next finer one. The coarser is kept when its estimate is at most `target/2`, else the
-//!    finer when its estimate is; otherwise the pair moves one refinement down (at most
-//!    [`Resolution::max_refinements`] times).
-//! 2. **Mesh.** At that resolution, runs at `N` and `2N` (from `N/2` and `N` when `N` is
-//!    already refined). `N` is kept when `e_time + e(N) <= target`, else `2N` when `e_time +
-//!    e(2N) <= target`, else the pair moves to `2N, 4N` (up to `[accuracy] max_elements`).
-//! 3. **Again on the chosen mesh.** The time error of step 1 was measured on the mesh of that
-//!    round; when step 2 chose another mesh, steps 1 and 2 run again from there, step 2 now
-//!    choosing that mesh or a finer one (at most [`MAX_ROUNDS`] rounds), so the time estimate
-//!    is the chosen mesh's own (`time_error_elements` reports where it was measured). On the
-//!    S-start this matters: 50 elements at 5e-4 s look converged in time (0.14 % to 2.5e-4 s)
-//!    while 100 elements at 5e-4 s still move 0.45 %. Every run is made once: later rounds
-//!    reuse earlier runs, and a run one refinement coarser than a pair, when it was made,
-//!    supplies that pair's observed rate.
-//! 4. The chosen model's run (already made) is the result; `summary.json` carries the
-//!    estimates, the observed orders, the chosen model and every run
-//!    ([`crate::output::AccuracyReport`]), their total wall time, and the Richardson
-//!    extrapolation of `v_s/v_m` to the limits of time and mesh refinement with its
-//!    uncertainty (the middle and half-width of the interval of limits that rates between
-//!    first and second order, or the observed slower rate, allow).
+//! 1. **The step to start from**, on the file's mesh `N0`: the coarsest resolution (from the
+//!    file's) whose next refinement moves `v_s/v_m` by at most half the target, the two
+//!    differences shrinking (at most [`Resolution::max_refinements`] refinements). This only
+//!    steers the search: the coarse mesh's own time error is not the fine meshes' (the
+//!    50-element S-start moves by up to 1 % between any two steps below 5e-4 s, while 200
+//!    elements move by 0.09 % from 5e-4 to 2.5e-4 s).
+//! 2. **The model** (`N`, `h`) from `2 N0` and that step, with the runs its estimates need:
+//!    itself, (`N`, 2h), (`N/2`, h), (`N/2`, 2h) and (`N/4`, h). When its time and mesh
+//!    estimates add up to at most the target, it is the answer. Otherwise the next model is
+//!    the cheapest move whose estimates, each shrunk at the bound's rate, would meet the
+//!    target: halve the step, double the mesh, or both. When none would, the part with the
+//!    larger estimate is refined: the step while the time estimate is above half the target
+//!    and at least the mesh's, else the mesh (up to `[accuracy] max_elements`; the step down
+//!    to `max_refinements`). With both at their limits the last model is the
+//!    answer, with `met = false`; when a refined model's run fails, the previous model is. Every
+//!    run is made once: a refined model reuses the runs it shares with the previous ones.
+//! 3. `summary.json` carries the estimates, the observed orders, the chosen model, every run,
+//!    the probes' wall time (every run but the chosen one) and all runs' wall time
+//!    ([`crate::output::AccuracyReport`]), and the Richardson extrapolation of `v_s/v_m` to the
+//!    limits of time and mesh refinement with its uncertainty (the bound plus the correction:
+//!    its interval contains the answer's).
 //!
-//! **Which value is the answer.** The chosen run's `v_s/v_m`: it is a simulated motion that
-//! every other output (frames, kymographs, topology) describes, and its error is bounded by
-//! the estimate under the stated assumption. The extrapolation is often closer to the
-//! converged number, but its error cannot be bounded from the same runs as tightly (its
-//! uncertainty is the spread of the orders, and on contact scenes the order itself is
-//! irregular), so it is reported beside the answer, not in its place.
+//! **Which value is the answer.** The chosen run's `v_s/v_m`, the finest model run: it is a
+//! simulated motion that every other output (frames, kymographs, topology) describes, and its
+//! error is bounded by the estimate under the stated assumption. The extrapolation is often
+//! closer to the converged number, but it is not a simulated state and its interval rests on
+//! monotone convergence, which contact scenes do not always show, so it is reported beside the
+//! answer, not in its place.
 //!
 //! **Why implicit Euler is the default.** On gait scenes with stick-slip, BDF2 at fine steps
 //! is sensitive: any perturbation (the step, the tolerance, the 7th digit of a friction
@@ -63,10 +62,6 @@ use crate::model::Model;
 use crate::output::{AccuracyReport, AccuracyRun};
 use crate::problem::{IntegratorKind, Problem};
 use crate::sim::Outcome;
-
-/// Most rounds of (time, mesh) refinement: a round whose mesh stage changes the mesh is
-/// followed by one that measures the time error again on the new mesh.
-pub const MAX_ROUNDS: usize = 3;
 
 /// The time resolution of a model: fixed implicit Euler steps or adaptive BDF2's tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,29 +158,48 @@ impl std::fmt::Display for Resolution {
 }
 
 /// The error estimates of one refinement pair: runs `a` (coarser) and `b` (finer, one
-/// refinement further) with relative difference `d = |b - a| / |b|`.
+/// refinement further) with relative difference `d = |b - a| / |b|`; `d_prev` the difference
+/// of the pair one refinement coarser in the same direction, and `d_beside` the difference of
+/// the same refinement on the next coarser mesh (time pairs only), when they were run.
 ///
-/// **The assumption.** The error shrinks by at least the factor `slowest` per refinement
-/// (1/2: at least first order in the step or the element length), unless the runs show a
-/// slower rate: with a previous pair (one refinement coarser, difference `d_prev`), the
-/// observed ratio `rho_obs = d / d_prev` replaces `slowest` when it is larger. The finer run's
-/// error is then at most the geometric tail `d rho / (1 - rho)` (`d` at `rho = 1/2`) and the
-/// coarser run's at most `d` more. When the error in fact shrinks at the formal rate of a
-/// second-order discretization (`rho = 1/4`) the finer run's error is `d/3`, so the estimate
-/// is at most three times the error wherever the true rate lies between 1/4 and 1/2.
+/// **The bound.** From here on the error shrinks by at least the factor `slowest` per
+/// refinement (1/2: first order in the step or the element length, the method's lowest formal
+/// order). The finer run's error is then at most the geometric tail
+/// `D slowest / (1 - slowest)` (`D` itself at 1/2) of the envelope
+/// `D = max(d, slowest d_prev, d_beside)`, and the coarser run's at most `d` more. At second
+/// order the finer run's actual error is `d/3`, so where the last difference is the envelope
+/// the bound is at most three times the error for rates between first and second order.
 ///
-/// A pair whose difference is not smaller than the previous pair's (`rho_obs >= 1`) is not
-/// converging yet: it is marked untrusted and its estimate uses `rho = 0.9` (nine times
-/// `d`), which the selection never accepts as meeting a target.
+/// Why the envelope (measured on the S-start, the guide's "Speed against accuracy"): contacts
+/// land and lift node by node and the step decides between stick-slip outcomes, so successive
+/// differences shrink irregularly, and a last difference can be small by a cancellation. At
+/// 100 elements the steps 1e-3 and 5e-4 s differ by 0.04 % while the model errs by 1.4 %; at
+/// 400 elements 5e-4 and 2.5e-4 s by 0.09 % and 200 and 400 elements by 0.14 % while it errs
+/// by up to 0.28 %: the last pairs alone fall below the error, the envelope does not. The
+/// previous difference is carried one refinement further at the bound's rate; the time
+/// difference beside (same steps, half the elements) at full size, since the time error does
+/// not shrink with the mesh. An observed rate faster than first order is never used (the
+/// S-start's 25/50/100-element differences shrink at order 2.3 and then 0.5), nor a slower
+/// one (the order 0.5 of 50/100/200 elements at 2.5e-4 s is followed by order 2.6 from 200
+/// to 400 elements); both are reported ([`PairEstimate::order`]).
+///
+/// A pair whose difference is not smaller than the previous pair's (`ratio >= 1`) is not
+/// converging yet: it is marked untrusted, and the selection never accepts it as meeting a
+/// target.
 ///
 /// **Extrapolation** (Richardson, where the runs allow it). When a previous pair moved the
-/// same way (the convergence looks monotone) and the error shrinks at a rate between
-/// `min(rho_obs, fastest)` and `rho`, the limit lies between `b + s t_fast` and `b + s t_slow`
-/// (`s` the sign of `b - a`, `t` the tails at those rates):
-/// [`PairEstimate::correction`] is the middle of that interval and [`PairEstimate::spread`]
-/// its half-width. Without a previous pair, when the differences change sign or when they do
-/// not shrink, the direction of the remaining error is unknown: the interval is
-/// `b -+ t_slow`, correction 0.
+/// same way (the convergence looks monotone), the last difference is the envelope (no larger
+/// difference before or beside it) and the error shrinks at a rate between
+/// `min(ratio, fastest)` and the bound's, the limit lies between `b + s t_fast` and
+/// `b + s t_bound` (`s` the sign of `b - a`, `t` the tails): [`PairEstimate::correction`] moves
+/// `b` to the middle of that interval. Otherwise (no previous pair, differences that change
+/// sign, do not shrink, or are irregular) the direction of the remaining error is unknown and
+/// the correction is 0. [`PairEstimate::spread`] is `|b|` times the bound plus the correction's
+/// size: the extrapolation's interval contains the answer's, because monotone-looking
+/// differences can still turn (the 1 s serpenoid's mesh differences at 2e-3 s are +, + from 10
+/// to 40 elements and then change sign, and the limit lies outside the one-sided interval from
+/// 40 elements; at 400 elements the S-start's at 2.5e-4 s keep their sign, +1.19, +0.85,
+/// +0.14 %, and the limit lies below the 400-element value).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairEstimate {
     /// Estimated relative error of the coarser run.
@@ -194,7 +208,8 @@ pub struct PairEstimate {
     pub fine: f64,
     /// Signed correction from the finer run's value to the extrapolated limit (absolute).
     pub correction: f64,
-    /// Half-width of the interval of limits (absolute).
+    /// Half-width of the extrapolation's interval of limits (absolute): the bound plus the
+    /// correction's size.
     pub spread: f64,
     /// Observed ratio of this pair's difference to the previous pair's (`None` without one).
     pub ratio: Option<f64>,
@@ -202,15 +217,20 @@ pub struct PairEstimate {
     pub trusted: bool,
 }
 
-/// Largest rate of error decrease an estimate uses: an untrusted pair's.
-const RATE_CAP: f64 = 0.9;
-
 impl PairEstimate {
     /// The estimates of the pair `a` (coarser), `b` (finer); `previous` the signed relative
     /// difference `(b' - a') / |b'|` of the pair one refinement coarser, when it was run;
-    /// `slowest` and `fastest` the slowest and fastest rates of error decrease per refinement
-    /// assumed (see the type's doc).
-    pub fn new(a: f64, b: f64, previous: Option<f64>, slowest: f64, fastest: f64) -> Self {
+    /// `beside` the relative difference of the same refinement on the next coarser mesh
+    /// (time pairs), when it was run; `slowest` and `fastest` the slowest and fastest rates of
+    /// error decrease per refinement assumed (see the type's doc).
+    pub fn new(
+        a: f64,
+        b: f64,
+        previous: Option<f64>,
+        beside: Option<f64>,
+        slowest: f64,
+        fastest: f64,
+    ) -> Self {
         let signed = (b - a) / b.abs();
         let d = signed.abs();
         let ratio = previous.map(|dp| {
@@ -223,20 +243,26 @@ impl PairEstimate {
             }
         });
         let trusted = ratio.is_none_or(|q| q < 1.0);
-        let rho = ratio.map_or(slowest, |q| q.max(slowest)).min(RATE_CAP);
-        let tail = |r: f64| d * r / (1.0 - r);
-        let slow = tail(rho);
-        let monotone = trusted && previous.is_some_and(|dp| dp * signed > 0.0);
-        let (correction, spread) = if monotone {
-            let fast = tail(fastest.min(ratio.unwrap_or(fastest)));
-            let s = (b - a).signum() * b.abs();
-            (s * 0.5 * (slow + fast), b.abs() * 0.5 * (slow - fast))
+        let tail = |r: f64, x: f64| x * r / (1.0 - r);
+        let envelope = d
+            .max(slowest * previous.map_or(0.0, f64::abs))
+            .max(beside.map_or(0.0, f64::abs));
+        let bound = tail(slowest, envelope);
+        // One-sided only where the last difference is the envelope: a larger earlier or
+        // neighbouring difference means the convergence is irregular, its direction unknown.
+        let monotone = trusted && previous.is_some_and(|dp| dp * signed > 0.0) && envelope <= d;
+        let correction = if monotone {
+            let fast = tail(fastest.min(ratio.unwrap_or(fastest)), d);
+            (b - a).signum() * b.abs() * 0.5 * (bound + fast)
         } else {
-            (0.0, b.abs() * slow)
+            0.0
         };
+        // The extrapolation's interval contains the answer's (b -+ the bound): it is the
+        // better guess where convergence is monotone, never a tighter claim.
+        let spread = b.abs() * bound + correction.abs();
         PairEstimate {
-            coarse: d + slow,
-            fine: slow,
+            coarse: d + bound,
+            fine: bound,
             correction,
             spread,
             ratio,
@@ -275,6 +301,28 @@ impl Resolution {
             Resolution::Step(h) => Resolution::Step(2.0 * h),
             Resolution::Tolerance(t) => Resolution::Tolerance(10.0 * t),
         }
+    }
+
+    /// Whether two resolutions are the same (equal within rounding: a tolerance coarsened
+    /// and refined again is not bit-identical).
+    pub fn same(self, other: Self) -> bool {
+        match (self, other) {
+            (Resolution::Step(a), Resolution::Step(b))
+            | (Resolution::Tolerance(a), Resolution::Tolerance(b)) => {
+                (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+            }
+            _ => false,
+        }
+    }
+
+    /// How many refinements below `base` this resolution lies (0 at `base` or coarser).
+    pub fn level(self, base: Self) -> usize {
+        let (x, b) = match (self, base) {
+            (Resolution::Step(x), Resolution::Step(b))
+            | (Resolution::Tolerance(x), Resolution::Tolerance(b)) => (x, b),
+            _ => return 0,
+        };
+        ((b / x).ln() / self.factor().ln()).round().max(0.0) as usize
     }
 
     /// The refinement factor of the resolution (2 for steps, 10 for tolerances).
@@ -331,7 +379,7 @@ struct Done {
 /// The value of a run already made (`None` when it was not).
 fn made(done: &[Done], elements: usize, res: Resolution) -> Option<f64> {
     done.iter()
-        .find(|d| d.elements == elements && d.res == res)
+        .find(|d| d.elements == elements && d.res.same(res))
         .map(|d| d.v)
 }
 
@@ -340,29 +388,51 @@ fn rel(a: f64, b: f64) -> f64 {
     (b - a) / b.abs()
 }
 
-/// What one stage (time or mesh) chose: whether the coarser member of its last pair is the
-/// chosen one, the pair's estimates.
-#[derive(Clone, Copy)]
-struct Stage {
-    coarse: bool,
-    est: PairEstimate,
-    /// The finer member's value minus the coarser's.
-    diff: f64,
+/// The time estimate of the model (`elements`, `res`) from the runs made: the pair ending at
+/// it (one refinement coarser in time, same mesh), with the pair before it and the same pair
+/// on half the elements, when they were run. `None` when the coarser run was not made.
+fn time_estimate(done: &[Done], elements: usize, res: Resolution) -> Option<PairEstimate> {
+    let (slow, fast) = res.rates();
+    let b = made(done, elements, res)?;
+    let a = made(done, elements, res.coarsened())?;
+    let previous = made(done, elements, res.coarsened().coarsened())
+        .map(|c| rel(c, a))
+        .filter(|x| x.is_finite());
+    let beside = elements
+        .is_multiple_of(2)
+        .then(|| {
+            let fine = made(done, elements / 2, res)?;
+            Some(rel(made(done, elements / 2, res.coarsened())?, fine))
+        })
+        .flatten()
+        .filter(|x| x.is_finite());
+    Some(PairEstimate::new(a, b, previous, beside, slow, fast))
 }
 
-impl Stage {
-    /// Estimated relative error of the chosen member.
-    fn error(&self) -> f64 {
-        if self.coarse {
-            self.est.coarse
-        } else {
-            self.est.fine
-        }
+/// The mesh estimate of the model (`elements`, `res`) from the runs made: the pair ending at
+/// it (half the elements, same time resolution), with the pair before when it was run.
+/// `None` when the coarser run was not made.
+fn mesh_estimate(done: &[Done], elements: usize, res: Resolution) -> Option<PairEstimate> {
+    if !elements.is_multiple_of(2) {
+        return None;
     }
-    /// Signed correction from the chosen member's value to the extrapolated limit.
-    fn correction(&self) -> f64 {
-        self.est.correction + if self.coarse { self.diff } else { 0.0 }
-    }
+    let (slow, fast) = MESH_RATES;
+    let b = made(done, elements, res)?;
+    let a = made(done, elements / 2, res)?;
+    let previous = if elements.is_multiple_of(4) {
+        made(done, elements / 4, res)
+            .map(|c| rel(c, a))
+            .filter(|x| x.is_finite())
+    } else {
+        None
+    };
+    Some(PairEstimate::new(a, b, previous, None, slow, fast))
+}
+
+/// Whether a model's time and mesh estimates, both from converging pairs, add up to at most
+/// `target`.
+fn meets(time: &PairEstimate, mesh: &PairEstimate, target: f64) -> bool {
+    time.trusted && mesh.trusted && time.fine + mesh.fine <= target
 }
 
 /// Choose the model for `target` (relative error of `v_s/v_m`) and run it; `log` gets one line
@@ -374,9 +444,9 @@ pub fn select(
     log: &mut dyn FnMut(&str),
 ) -> Selection {
     let mut done: Vec<Done> = Vec::new();
-    let mut run = |elements: usize, res: Resolution, done: &mut Vec<Done>| -> f64 {
-        if let Some(v) = made(done, elements, res) {
-            return v;
+    let mut run = |elements: usize, res: Resolution, done: &mut Vec<Done>| {
+        if made(done, elements, res).is_some() {
+            return;
         }
         let model = Model::new(&accuracy_problem(p, elements, res));
         let muscles = Box::new(crate::gait::Muscles {
@@ -404,76 +474,101 @@ pub fn select(
             model,
             outcome,
         });
-        v
     };
     let n0 = p.rod.elements;
     let res0 = Resolution::of(p);
-    let (t_slow, t_fast) = res0.rates();
-    let (x_slow, x_fast) = MESH_RATES;
-    let mut n = n0;
+    // 1. The step the mesh refinement starts from, on the file's mesh: the coarsest
+    // resolution whose next refinement moves v_s/v_m by at most half the target (a converging
+    // pair), within `max_refinements`. Only a search heuristic: every error reported is
+    // estimated on the chosen model's own pairs.
     let mut res = res0;
-    let mut round = 0;
-    let (n_c, res_c, n_time, time, mesh) = loop {
-        round += 1;
-        // 1. Time, at mesh `n`, from `res`; the pair one refinement coarser, when it was run
-        // (an earlier round), gives the observed rate.
-        let mut previous = made(&done, n, res.coarsened())
-            .map(|c| rel(c, made(&done, n, res).unwrap_or(f64::NAN)));
-        let mut refinements = 0;
-        let (res_t, time) = loop {
-            let fine = res.refined();
-            let (a, b) = (run(n, res, &mut done), run(n, fine, &mut done));
-            let est = PairEstimate::new(a, b, previous.filter(|x| x.is_finite()), t_slow, t_fast);
-            refinements += 1;
-            let stage = |coarse| Stage {
-                coarse,
-                est,
-                diff: b - a,
-            };
-            if est.trusted && est.coarse <= 0.5 * target {
-                break (res, stage(true));
-            }
-            if (est.trusted && est.fine <= 0.5 * target) || refinements >= res0.max_refinements() {
-                break (fine, stage(false));
-            }
-            previous = Some(rel(a, b));
-            res = fine;
-        };
-        let e_time = time.error();
-        // 2. Mesh, at `res_t`, from the pair ending at `n` (or starting at the file's mesh),
-        // choosing `n` or finer (a coarser mesh than the time error was measured on could
-        // have a larger time error).
-        let mut m = if n > n0 { n / 2 } else { n0 };
-        let mut previous = if m % 2 == 0 {
-            made(&done, m / 2, res_t).map(|c| rel(c, made(&done, m, res_t).unwrap_or(f64::NAN)))
-        } else {
-            None
-        };
-        let (n_m, mesh) = loop {
-            let (a, b) = (run(m, res_t, &mut done), run(2 * m, res_t, &mut done));
-            let est = PairEstimate::new(a, b, previous.filter(|x| x.is_finite()), x_slow, x_fast);
-            let stage = |coarse| Stage {
-                coarse,
-                est,
-                diff: b - a,
-            };
-            if est.trusted && m >= n && e_time + est.coarse <= target {
-                break (m, stage(true));
-            }
-            if (est.trusted && e_time + est.fine <= target) || 4 * m > max_elements {
-                break (2 * m, stage(false));
-            }
-            previous = Some(rel(a, b));
-            m *= 2;
-        };
-        // The time estimate holds for the mesh it was measured on: done when that is the
-        // chosen one, else measure time again on the chosen mesh.
-        if n_m == n || round >= MAX_ROUNDS {
-            break (n_m, res_t, n, time, mesh);
+    let mut h = loop {
+        let fine = res.refined();
+        run(n0, res, &mut done);
+        run(n0, fine, &mut done);
+        let time = time_estimate(&done, n0, fine).expect("the pair was run");
+        let last = (made(&done, n0, fine).unwrap_or(f64::NAN)
+            - made(&done, n0, res).unwrap_or(f64::NAN))
+        .abs()
+            / made(&done, n0, fine).unwrap_or(f64::NAN).abs();
+        if (time.trusted && last <= 0.5 * target) || last.is_nan() {
+            // (A failed finer run: stay at the last resolution that ran.)
+            break res;
         }
-        n = n_m;
-        res = res_t;
+        if fine.level(res0) >= res0.max_refinements() {
+            break fine;
+        }
+        res = fine;
     };
+    // 2. The model (`n`, `h`) with its two pairs, (n, coarser step) and (n/2, h), from twice
+    // the file's mesh: done when its time and mesh estimates meet the target; else refine the
+    // part whose estimate is larger (time while it is above half the target and at least the
+    // mesh's), within the limits of both.
+    let mut n = 2 * n0;
+    let mut last_ran: Option<(usize, Resolution)> = None;
+    loop {
+        run(n / 2, h, &mut done);
+        run(n, h, &mut done);
+        if made(&done, n, h).is_none_or(f64::is_nan) {
+            // A failed model: the answer is the last one that ran.
+            if let Some((m, r)) = last_ran {
+                (n, h) = (m, r);
+                break;
+            }
+        }
+        run(n, h.coarsened(), &mut done);
+        // For the envelopes: the time pair on half the elements (usually made already) and
+        // the mesh pair before (a quarter of the elements, cheap).
+        run(n / 2, h.coarsened(), &mut done);
+        if n.is_multiple_of(4) && n / 4 >= 2 {
+            run(n / 4, h, &mut done);
+        }
+        let time = time_estimate(&done, n, h).expect("the time pair was run");
+        let mesh = mesh_estimate(&done, n, h).expect("the mesh pair was run");
+        if meets(&time, &mesh, target) {
+            break;
+        }
+        last_ran = Some((n, h));
+        let can_time = h.refined().level(res0) <= res0.max_refinements();
+        let can_mesh = 2 * n <= max_elements;
+        // The cheapest move whose estimates, each shrinking at the bound's rate, would meet
+        // the target: halve the step, double the mesh, or both; else the part with the
+        // larger estimate.
+        let (rt, rm) = (h.rates().0, MESH_RATES.0);
+        let (et, em) = (time.fine, mesh.fine);
+        // (refine the step, refine the mesh, predicted estimate), cheapest first.
+        let moves = [
+            (true, false, rt * et + em),
+            (false, true, et + rm * em),
+            (true, true, rt * et + rm * em),
+        ];
+        let predicted = moves
+            .iter()
+            .find(|&&(t, m, e)| (can_time || !t) && (can_mesh || !m) && e <= target);
+        let (refine_time, refine_mesh) = match predicted {
+            Some(&(t, m, _)) => (t, m),
+            None => {
+                let time_first = et > 0.5 * target && et >= em;
+                if can_time && (time_first || !can_mesh) {
+                    (true, false)
+                } else {
+                    (false, can_mesh)
+                }
+            }
+        };
+        if !(refine_time || refine_mesh) {
+            break;
+        }
+        if refine_time {
+            h = h.refined();
+        }
+        if refine_mesh {
+            n *= 2;
+        }
+    }
+    let (n_c, res_c) = (n, h);
+    let time = time_estimate(&done, n_c, res_c).expect("the time pair was run");
+    let mesh = mesh_estimate(&done, n_c, res_c).expect("the mesh pair was run");
     let runs: Vec<AccuracyRun> = done
         .iter()
         .map(|d| AccuracyRun {
@@ -490,18 +585,17 @@ pub fn select(
                 .map_or("ok".into(), |e| e.to_string()),
         })
         .collect();
-    let wall_time_total_s = runs.iter().map(|r| r.wall_time_s).sum();
+    let wall_time_total_s: f64 = runs.iter().map(|r| r.wall_time_s).sum();
     let k = done
         .iter()
-        .position(|d| d.elements == n_c && d.res == res_c)
+        .position(|d| d.elements == n_c && d.res.same(res_c))
         .expect("the chosen model was run");
     let chosen = done.swap_remove(k);
     // The chosen value plus the signed corrections toward the limits of time and mesh
     // refinement; its uncertainty the half-widths of the two intervals of limits.
-    let v_extrapolated = chosen.v + time.correction() + mesh.correction();
-    let uncertainty = time.est.spread + mesh.est.spread;
-    let estimated = time.error() + mesh.error();
-    let trusted = time.est.trusted && mesh.est.trusted;
+    let v_extrapolated = chosen.v + time.correction + mesh.correction;
+    let uncertainty = time.spread + mesh.spread;
+    let estimated = time.fine + mesh.fine;
     Selection {
         report: AccuracyReport {
             target,
@@ -509,16 +603,17 @@ pub fn select(
             elements: n_c,
             dt: res_c.dt(),
             error_tolerance: res_c.tolerance(),
-            time_error: time.error(),
-            time_error_elements: n_time,
-            mesh_error: mesh.error(),
+            time_error: time.fine,
+            time_error_elements: n_c,
+            mesh_error: mesh.fine,
             estimated_error: estimated,
-            met: trusted && estimated <= target,
-            time_order_observed: time.est.order(res_c.factor()),
-            mesh_order_observed: mesh.est.order(2.0),
+            met: meets(&time, &mesh, target),
+            time_order_observed: time.order(res_c.factor()),
+            mesh_order_observed: mesh.order(2.0),
             v_s_over_v_m_extrapolated: v_extrapolated,
             v_s_over_v_m_extrapolated_uncertainty: uncertainty,
             runs,
+            probes_wall_time_s: wall_time_total_s - chosen.outcome.wall_time_s,
             wall_time_total_s,
         },
         model: chosen.model,

@@ -117,10 +117,10 @@ pub struct AccuracyReport {
     /// Euler.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error_tolerance: Option<f64>,
-    /// Estimated relative error of `v_s/v_m` from the time stepping at the chosen model.
+    /// Estimated relative error of `v_s/v_m` from the time stepping at the chosen model (a
+    /// bound under the assumptions of [`crate::design::selection::PairEstimate`]).
     pub time_error: f64,
-    /// The mesh the time error was measured on (the chosen one unless the refinement rounds
-    /// ran out).
+    /// The mesh the time error was measured on (always the chosen one: its time pair is run).
     pub time_error_elements: usize,
     /// Estimated relative error of `v_s/v_m` from the mesh at the chosen model.
     pub mesh_error: f64,
@@ -142,14 +142,17 @@ pub struct AccuracyReport {
     /// chosen value plus the middle of each interval of limits the estimates allow
     /// ([`crate::design::selection::PairEstimate`]).
     pub v_s_over_v_m_extrapolated: f64,
-    /// Uncertainty of the extrapolation (absolute): the half-widths of those intervals (error
-    /// rates between first and second order, or the observed rate when slower). The answer of
+    /// Uncertainty of the extrapolation (absolute): the estimated error of the answer plus
+    /// the extrapolation's correction, so its interval contains the answer's. The answer of
     /// the run is the chosen model's `v_s/v_m` (a simulated motion, which every other output
     /// describes, with the error estimate `estimated_error`); the extrapolation is reported
     /// beside it.
     pub v_s_over_v_m_extrapolated_uncertainty: f64,
     /// Every run of the selection, in order.
     pub runs: Vec<AccuracyRun>,
+    /// Wall time of the probes (s): every run of the selection except the chosen one, the
+    /// price of the estimate.
+    pub probes_wall_time_s: f64,
     /// Wall time of all runs of the selection, the chosen one included (s).
     pub wall_time_total_s: f64,
 }
