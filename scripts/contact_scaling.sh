@@ -7,7 +7,15 @@
 # per step, step halvings, microseconds per step per element, wall seconds per simulated second
 # and the time split.
 #
-#   scripts/contact_scaling.sh [ARGS...]
+#   scripts/contact_scaling.sh [--record NAME] [ARGS...]
+#
+# --record NAME keeps the record under docs/results/NAME/ instead (for a configuration the guide
+# cites on its own, e.g. contact-scaling-whole for --elements 200,400 --duration full).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-exec scripts/record.sh contact-scaling cargo run --release --quiet --example contact_scaling -- "$@"
+name=contact-scaling
+if [ "${1:-}" = "--record" ]; then
+    name="${2:?--record needs a NAME}"
+    shift 2
+fi
+exec scripts/record.sh "$name" cargo run --release --quiet --example contact_scaling -- "$@"
