@@ -36,6 +36,6 @@ jq -r --argjson refs '[[0.31965, "400 el., 6.25e-5 s"], [0.3202, "400 el., 5e-4 
   "answer v_s/v_m: \($v)",
   "estimated error: \($a.estimated_error) (time \($a.time_error), mesh \($a.mesh_error)), met \($a.met)",
   "extrapolated: \($a.v_s_over_v_m_extrapolated) +- \($a.v_s_over_v_m_extrapolated_uncertainty)",
-  "probes: \($a.runs | length), total wall time \($a.wall_time_total_s) s",
+  "runs: \($a.runs | length), total wall time \($a.wall_time_total_s) s, of it probes \($a.probes_wall_time_s) s",
   ($refs[] | "actual error against \(.[0]) (\(.[1])): \((($v / .[0]) - 1) | fabs), estimate / actual \($a.estimated_error / ((($v / .[0]) - 1) | fabs))")
 ' "$out/summary.json"

@@ -104,8 +104,6 @@ pub struct ActiveSet {
     q_init: Vec<f64>,
     /// Where a handoff started ([`ActiveSet::handoff`]).
     handoff_q: Vec<f64>,
-    /// Iterations of the last handoff (its conic solve and resumed active set).
-    handoff_spent: usize,
     last_conic: bool,
     /// Iterations of the last [`ActiveSet::iterate`] (counted in the step's total also when
     /// it fails and the conic path finishes the step).
@@ -208,7 +206,6 @@ impl ActiveSet {
             status,
             q_init: vec![0.0; m.ndof],
             handoff_q: Vec::new(),
-            handoff_spent: 0,
             last_conic: false,
             spent: 0,
             scratch: Scratch {
@@ -690,51 +687,47 @@ impl ActiveSet {
 /// Active-set iterations allowed after a handoff ([`ActiveSet::handoff`]).
 const HANDOFF_ITERATIONS: usize = 12;
 
-/// Handoffs tried in a row before the conic path finishes the step.
-const HANDOFF_ROUNDS: usize = 1;
-
 impl ActiveSet {
     /// One conic solve from where the active set stopped; its solution fixes every contact's
-    /// status, and the active set resumes from it (at most [`HANDOFF_ITERATIONS`]). `Some`:
-    /// the step's iterations (the conic one included) when the resumed active set converged;
-    /// `None`: `q` is back where the handoff started and the conic path goes on.
-    fn handoff(&mut self, nw: &mut Newton, obj: &Potential, q: &mut Vec<f64>) -> Option<usize> {
+    /// status, and the active set resumes from it (at most [`HANDOFF_ITERATIONS`]). `Ok`: the
+    /// handoff's iterations (the conic one included) when the conic solve or the resumed
+    /// active set converged; `Err`: the iterations it spent, with `q` back where it started
+    /// and the conic path to go on. (Three handoffs in a row before the conic path, or 24
+    /// resumed iterations, were slower on the adaptive BDF2 S-start at 200 elements.)
+    fn handoff(
+        &mut self,
+        nw: &mut Newton,
+        obj: &Potential,
+        q: &mut Vec<f64>,
+    ) -> Result<usize, usize> {
         let m = obj.model;
         self.handoff_q.clone_from(q);
-        self.handoff_spent = 0;
-        for _ in 0..HANDOFF_ROUNDS {
-            self.conic.stats.conic_handoffs += 1;
-            self.handoff_spent += 1;
-            match self.conic.iterate(nw, obj, q, 1) {
-                Ok(_) => {
-                    self.status.classify(&self.conic.ct, m, q);
-                    return Some(self.handoff_spent);
-                }
-                Err(ContactFailure::Newton(Failure::NotConverged { .. })) => {}
-                Err(why) => {
-                    log::debug!("  handoff conic solve failed: {why}");
-                    break;
-                }
+        self.conic.stats.conic_handoffs += 1;
+        let spent = match self.conic.iterate(nw, obj, q, 1) {
+            Ok(_) => {
+                self.status.classify(&self.conic.ct, m, q);
+                return Ok(1);
             }
-            self.status.classify(&self.conic.ct, m, q);
-            let r = self.iterate(nw, obj, q, HANDOFF_ITERATIONS.min(m.max_iterations));
-            self.handoff_spent += self.spent;
-            match r {
-                Ok(_) => {
-                    self.conic.stats.handoff_steps += 1;
-                    return Some(self.handoff_spent);
-                }
-                Err(why) => {
-                    log::debug!("  handoff active set rejected: {why}");
-                    if !q.iter().all(|x| x.is_finite()) {
-                        break;
+            Err(ContactFailure::Newton(Failure::NotConverged { .. })) => {
+                self.status.classify(&self.conic.ct, m, q);
+                let r = self.iterate(nw, obj, q, HANDOFF_ITERATIONS.min(m.max_iterations));
+                let spent = 1 + self.spent;
+                match r {
+                    Ok(_) => {
+                        self.conic.stats.handoff_steps += 1;
+                        return Ok(spent);
                     }
-                    self.conic.ct.lift(m, q);
+                    Err(why) => log::debug!("  handoff active set rejected: {why}"),
                 }
+                spent
             }
-        }
+            Err(why) => {
+                log::debug!("  handoff conic solve failed: {why}");
+                1
+            }
+        };
         q.clone_from(&self.handoff_q);
-        None
+        Err(spent)
     }
 }
 
@@ -797,12 +790,14 @@ impl ContactModel for ActiveSet {
             // Should that start fail, the conic path runs again from the step's start before
             // the step is rejected.
             self.conic.ct.lift(m, q);
-            if let Some(it) = self.handoff(nw, obj, q) {
-                self.last_conic = false;
-                log::debug!("  step total {} (handoff)", spent + it);
-                return Ok(spent + it);
+            match self.handoff(nw, obj, q) {
+                Ok(it) => {
+                    self.last_conic = false;
+                    log::debug!("  step total {} (handoff)", spent + it);
+                    return Ok(spent + it);
+                }
+                Err(it) => spent += it,
             }
-            spent += self.handoff_spent;
             let cap = m.max_iterations.min(m.solver.warm_conic_iterations);
             match self.conic.iterate(nw, obj, q, cap) {
                 Ok(it) => {

@@ -487,10 +487,8 @@ pub fn select(
         run(n0, res, &mut done);
         run(n0, fine, &mut done);
         let time = time_estimate(&done, n0, fine).expect("the pair was run");
-        let last = (made(&done, n0, fine).unwrap_or(f64::NAN)
-            - made(&done, n0, res).unwrap_or(f64::NAN))
-        .abs()
-            / made(&done, n0, fine).unwrap_or(f64::NAN).abs();
+        let (a, b) = (made(&done, n0, res), made(&done, n0, fine));
+        let last = rel(a.unwrap_or(f64::NAN), b.unwrap_or(f64::NAN)).abs();
         if (time.trusted && last <= 0.5 * target) || last.is_nan() {
             // (A failed finer run: stay at the last resolution that ran.)
             break res;
