@@ -1,18 +1,25 @@
 #!/usr/bin/env bash
 # The bundled S-start's v_s/v_m at given meshes and fixed implicit Euler steps (reference
 # values for --accuracy and the work-precision chart), kept as a dated record
-# docs/results/s-start-reference/<date>.md.
+# docs/results/s-start-reference/<date>.md; with --heavy the heavy S-start's
+# (problems/s_start_heavy.toml, record s-start-heavy-reference).
 #
 #   scripts/s_start_reference.sh ELEMENTS:DT [ELEMENTS:DT ...]    # e.g. 400:1.25e-4 200:6.25e-5
+#   scripts/s_start_reference.sh --heavy 50:5e-4 100:5e-4
 #
 # SLITHER names a built binary to use instead of building one (`cargo build --release`).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-if [ -z "${SLITHER_RECORDING:-}" ]; then
-    exec scripts/record.sh s-start-reference "$0" "$@"
+scene=s_start
+if [ "${1:-}" = "--heavy" ]; then
+    scene=s_start_heavy
 fi
+if [ -z "${SLITHER_RECORDING:-}" ]; then
+    exec scripts/record.sh "${scene//_/-}-reference" "$0" "$@"
+fi
+[ "${1:-}" = "--heavy" ] && shift
 if [ $# -lt 1 ]; then
-    echo "usage: scripts/s_start_reference.sh ELEMENTS:DT [ELEMENTS:DT ...]" >&2
+    echo "usage: scripts/s_start_reference.sh [--heavy] ELEMENTS:DT [ELEMENTS:DT ...]" >&2
     exit 2
 fi
 if [ -n "${SLITHER:-}" ]; then
@@ -21,14 +28,14 @@ else
     cargo build --release --quiet
     slither="${CARGO_TARGET_DIR:-target}/release/slither"
 fi
-dir="out/s_start_reference"
+dir="out/${scene}_reference"
 mkdir -p "$dir"
 for model in "$@"; do
     elements="${model%%:*}"
     dt="${model#*:}"
-    file="$dir/s_start_${elements}_${dt}.toml"
+    file="$dir/${scene}_${elements}_${dt}.toml"
     sed -e "s/^elements = 50$/elements = $elements/" -e "s/^dt = 2e-3$/dt = $dt/" \
-        problems/s_start.toml > "$file"
+        "problems/$scene.toml" > "$file"
     grep -q "^elements = $elements$" "$file" && grep -q "^dt = $dt$" "$file" || {
         echo "s_start_reference.sh: could not set elements and dt in $file" >&2
         exit 1
