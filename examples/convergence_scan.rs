@@ -1,12 +1,13 @@
-//! `v_s/v_m` of a scene over meshes and steps at fixed steps (implicit Euler, or BDF2 with
-//! `--bdf2`), one line per run with its wall time: the raw numbers behind a convergence table,
-//! and with `--chart` a chart of `v_s/v_m` against the element count.
+//! `v_s/v_m` of a scene over meshes and fixed steps, one line per run with its wall time: the
+//! raw numbers behind a convergence table, and with `--chart` a chart of `v_s/v_m` against the
+//! element count.
 //!
 //! ```sh
 //! cargo run --release --example convergence_scan -- SCENE.toml DURATION N1,N2,.. DT1,DT2,..
 //!     [--bdf2] [--csv OUT.csv] [--chart OUT.png] [--reference LO,HI]
 //! ```
-//! `DURATION` 0 keeps the file's. The runs are independent and run in parallel (rayon, one
+//! `DURATION` 0 keeps the file's. A step is implicit Euler's (BDF2's with `--bdf2`), or names
+//! its integrator: `implicit:5e-4`, `bdf2:2e-3`. The runs are independent and run in parallel (rayon, one
 //! per core); lines are printed in the order of the lists. `--reference LO,HI` draws the
 //! interval the converged value is known to lie in as two horizontal lines, and prints every
 //! run's error against its middle. Printed after the runs: for each step, the mean and
@@ -24,8 +25,7 @@ struct Args {
     scene: PathBuf,
     duration: f64,
     elements: Vec<usize>,
-    steps: Vec<f64>,
-    bdf2: bool,
+    steps: Vec<(bool, f64)>,
     csv: Option<PathBuf>,
     chart: Option<PathBuf>,
     reference: Option<(f64, f64)>,
@@ -60,17 +60,17 @@ fn parse() -> Args {
         scene: PathBuf::from(positional[0]),
         duration: list(positional[1], "DURATION")[0],
         elements: list(positional[2], "element counts"),
-        steps: list(positional[3], "steps"),
-        bdf2: false,
+        steps: Vec::new(),
         csv: None,
         chart: None,
         reference: None,
     };
+    let mut bdf2 = false;
     let mut rest = a[4..].iter();
     while let Some(flag) = rest.next() {
         let mut value = || rest.next().cloned().unwrap_or_else(|| usage());
         match flag.as_str() {
-            "--bdf2" => args.bdf2 = true,
+            "--bdf2" => bdf2 = true,
             "--csv" => args.csv = Some(PathBuf::from(value())),
             "--chart" => args.chart = Some(PathBuf::from(value())),
             "--reference" => {
@@ -84,11 +84,32 @@ fn parse() -> Args {
             _ => usage(),
         }
     }
+    args.steps = positional[3]
+        .split(',')
+        .map(|token| match token.split_once(':') {
+            Some(("implicit", h)) => (false, list(h, "steps")[0]),
+            Some(("bdf2", h)) => (true, list(h, "steps")[0]),
+            Some((other, _)) => {
+                eprintln!("convergence_scan: unknown integrator '{other}' (implicit or bdf2)");
+                std::process::exit(2)
+            }
+            None => (bdf2, list(token, "steps")[0]),
+        })
+        .collect();
     args
+}
+
+fn method(bdf2: bool) -> &'static str {
+    if bdf2 {
+        "BDF2"
+    } else {
+        "implicit Euler"
+    }
 }
 
 struct Run {
     elements: usize,
+    bdf2: bool,
     dt: f64,
     v: f64,
     wall: f64,
@@ -106,17 +127,16 @@ fn main() {
     if args.duration > 0.0 {
         p.time.duration = Some(args.duration);
     }
-    let method = if args.bdf2 { "BDF2" } else { "implicit Euler" };
-    let jobs: Vec<(usize, f64)> = args
+    let jobs: Vec<(usize, (bool, f64))> = args
         .elements
         .iter()
         .flat_map(|&n| args.steps.iter().map(move |&h| (n, h)))
         .collect();
     let runs: Vec<Run> = jobs
         .par_iter()
-        .map(|&(n, h)| {
+        .map(|&(n, (bdf2, h))| {
             let mut q = accuracy_problem(&p, n, Resolution::Step(h));
-            if args.bdf2 {
+            if bdf2 {
                 q.solver.integrator = IntegratorKind::Bdf2;
             }
             let m = Model::new(&q);
@@ -133,6 +153,7 @@ fn main() {
             };
             Run {
                 elements: n,
+                bdf2,
                 dt: h,
                 v,
                 wall: o.wall_time_s,
@@ -147,7 +168,8 @@ fn main() {
     for r in &runs {
         let err = mid.map_or(f64::NAN, |c| r.v / c - 1.0);
         println!(
-            "{method} {:5} {:.4e} {:.6} {} {:.2} s {} steps {:.2} it/step{}",
+            "{} {:5} {:.4e} {:.6} {} {:.2} s {} steps {:.2} it/step{}",
+            method(r.bdf2),
             r.elements,
             r.dt,
             r.v,
@@ -161,17 +183,20 @@ fn main() {
         );
         let _ = writeln!(
             csv,
-            "{method},{},{:e},{},{},{},{},{}",
+            "{},{},{:e},{},{},{},{},{}",
+            method(r.bdf2),
             r.elements, r.dt, r.v, err, r.wall, r.steps, r.iterations
         );
     }
     // The scatter from mesh to mesh: each half of the element list on its own.
     let half = args.elements.len() / 2;
-    for &h in &args.steps {
+    for &(bdf2, h) in &args.steps {
         for part in [&args.elements[..half], &args.elements[half..]] {
             let v: Vec<f64> = runs
                 .iter()
-                .filter(|r| r.dt == h && part.contains(&r.elements) && r.v.is_finite())
+                .filter(|r| {
+                    (r.bdf2, r.dt) == (bdf2, h) && part.contains(&r.elements) && r.v.is_finite()
+                })
                 .map(|r| r.v)
                 .collect();
             if v.len() < 2 {
@@ -181,7 +206,8 @@ fn main() {
             let mean = v.iter().sum::<f64>() / n;
             let sd = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
             println!(
-                "dt {h:.4e}, {} to {} elements ({} meshes): mean {mean:.5}{}, sd {sd:.5} ({:.2} %), range {:.5} to {:.5}",
+                "{} dt {h:.4e}, {} to {} elements ({} meshes): mean {mean:.5}{}, sd {sd:.5} ({:.2} %), range {:.5} to {:.5}",
+                method(bdf2),
                 part[0],
                 part[part.len() - 1],
                 v.len(),
@@ -199,19 +225,19 @@ fn main() {
         });
     }
     if let Some(path) = &args.chart {
-        chart(path, &args, &runs, method);
+        chart(path, &args, &runs);
     }
 }
 
 /// `v_s/v_m` against the element count, one series per step, and the reference interval.
-fn chart(path: &Path, args: &Args, runs: &[Run], method: &str) {
+fn chart(path: &Path, args: &Args, runs: &[Run]) {
     let mut labels = Vec::new();
     let mut series: Vec<Vec<(f64, f64)>> = Vec::new();
-    for &h in &args.steps {
-        labels.push(format!("{method}, dt {h:.2e} s"));
+    for &(bdf2, h) in &args.steps {
+        labels.push(format!("{}, dt {h:.2e} s", method(bdf2)));
         series.push(
             runs.iter()
-                .filter(|r| r.dt == h && r.v.is_finite())
+                .filter(|r| (r.bdf2, r.dt) == (bdf2, h) && r.v.is_finite())
                 .map(|r| (r.elements as f64, r.v))
                 .collect(),
         );
