@@ -11,14 +11,15 @@
 # 1. runs (record pyelastica-convergence, about 15 minutes): compare/pyelastica_s_start.py
 #    over the whole 4 s at 50, 100 and 200 elements at PyElastica's largest stable step and at
 #    half of it (the points), at 400 elements at its largest stable step 1.8e-5 and at 9e-6,
-#    and at 800 elements at its largest stable step 9e-6 (the converged value: the 800-element
-#    run; its own error is bounded by the change from 400 elements at the same step and by the
-#    change from 1.8e-5 to 9e-6 at 400 elements, both printed). The largest stable steps were
-#    measured by compare/stable_steps.sh. v_s/v_m is the net definition, the centre of mass's
-#    displacement along the initial head direction over T v_m, as slither's v_s_over_v_m.
+#    and at 800 elements at its largest stable step 9e-6. PyElastica converges at first order
+#    in the mesh on this scene (each doubling halves the change of v_s/v_m; printed) and 400
+#    and 800 elements still differ by more than 1 %, so its converged value is the first-order
+#    extrapolation 2 v_800 - v_400 (both at 9e-6 s; the step's share is the printed change from
+#    1.8e-5 to 9e-6 s at 400 elements). The largest stable steps were measured by
+#    compare/stable_steps.sh. v_s/v_m is the net definition, the centre of mass's displacement
+#    along the initial head direction over T v_m, as slither's v_s_over_v_m.
 #    Writes docs/images/work_precision_pyelastica_s_start_external.csv (the format of
-#    `slither chart work-precision --external`; every run but the 800-element one, whose error
-#    against itself is zero).
+#    `slither chart work-precision --external`), every run.
 # 2. chart (record work-precision-pyelastica, several minutes): `slither chart work-precision
 #    problems/pyelastica_s_start.toml --external` that CSV; figures and the chart's CSV to
 #    docs/images/work_precision_pyelastica_s_start*. The chart's wall axis is the wall time of
@@ -84,23 +85,38 @@ for (n, dt), j in res.items():
 bad = [k for k, j in res.items() if not j["stable"]]
 if bad:
     sys.exit(f"unstable runs: {bad}")
-ref = res[(800, "9e-6")][net]
-mesh = abs(res[(400, "9e-6")][net] / ref - 1)
-time = abs(res[(400, "9e-6")][net] / res[(400, "1.8e-5")][net] - 1)
-print(f"converged v_s/v_m (net): {ref:.5f} (800 elements, dt 9e-6 s); "
-      f"400 elements at 9e-6 differs by {100 * mesh:.2f} % (mesh), "
-      f"400 elements at 1.8e-5 and 9e-6 by {100 * time:.2f} % (step)")
-for n in (50, 100, 200):
-    a, b = [k for k in res if k[0] == n]
-    print(f"{n} elements: v_s/v_m {res[a][net]:.5f} at {a[1]}, {res[b][net]:.5f} at {b[1]} "
-          f"(step change {100 * abs(res[b][net] / res[a][net] - 1):.2f} %); error against the "
-          f"converged value {100 * abs(res[a][net] / ref - 1):.2f} %, {100 * abs(res[b][net] / ref - 1):.2f} %")
+# The converged value. The mesh differences at each mesh's finer step halve with every
+# doubling of the mesh (first order; printed), and 400 and 800 elements still differ by more
+# than 1 %, so the finest run is not the converged value: it is the first-order Richardson
+# extrapolation of 400 and 800 elements at the same step, 2 v_800 - v_400.
+fine = {n: res[max((k for k in res if k[0] == n), key=lambda k: -float(k[1]))][net]
+        for n in sorted({k[0] for k in res})}
+meshes = sorted(fine)
+diffs = [fine[b] - fine[a] for a, b in zip(meshes, meshes[1:])]
+print("mesh differences of v_s/v_m at each mesh's finer step: " + ", ".join(
+    f"{a}->{b} {d:+.5f}" for a, b, d in zip(meshes, meshes[1:], diffs)))
+print("ratios of successive differences (0.5: first order, 0.25: second): " + ", ".join(
+    f"{d1 / d0:.2f}" for d0, d1 in zip(diffs, diffs[1:])))
+v400, v800 = res[(400, "9e-6")][net], res[(800, "9e-6")][net]
+ref = 2 * v800 - v400
+r_last = diffs[-1] / diffs[-2]
+ref_r = v800 + diffs[-1] * r_last / (1 - r_last)
+time = abs(v400 / res[(400, "1.8e-5")][net] - 1)
+print(f"converged v_s/v_m (net): {ref:.5f}, first-order extrapolation 2 v_800 - v_400 at dt 9e-6 s "
+      f"(with the last observed ratio {r_last:.2f} instead of 0.5: {ref_r:.5f}, "
+      f"{100 * abs(ref_r / ref - 1):.2f} % apart); 800 elements differ from it by "
+      f"{100 * abs(v800 / ref - 1):.2f} %, 400 and 800 elements by {100 * abs(v400 / v800 - 1):.2f} %; "
+      f"400 elements at 1.8e-5 and 9e-6 s by {100 * time:.2f} % (step)")
+for n in meshes:
+    ks = sorted((k for k in res if k[0] == n), key=lambda k: -float(k[1]))
+    print(f"{n} elements: " + ", ".join(
+        f"dt {k[1]}: v_s/v_m {res[k][net]:.5f}, error {100 * abs(res[k][net] / ref - 1):.2f} %, "
+        f"{res[k]['wall_per_sim_second']:.3f} s per simulated s" for k in ks))
 with open(csv, "w") as f:
-    f.write("code,elements,dt_s,v_s_over_v_m,reference_v_s_over_v_m,wall_s_per_simulated_s\n")
+    f.write("scene,code,elements,dt_s,v_s_over_v_m,reference_v_s_over_v_m,wall_s_per_simulated_s\n")
     for (n, dt), j in res.items():
-        if n == 800:
-            continue
-        f.write(f"{j['code']},{n},{dt},{j[net]:.6f},{ref:.6f},{j['wall_per_sim_second']:.4f}\n")
+        f.write(f"pyelastica_s_start.toml,{j['code']},{n},{dt},{j[net]:.6f},{ref:.6f},"
+                f"{j['wall_per_sim_second']:.4f}\n")
 print(f"wrote {csv}")
 EOF
     exit 0
