@@ -170,16 +170,8 @@ pub fn parse_external(
             let c = EXTERNAL_COLUMNS[k];
             match field(k).parse::<f64>() {
                 Ok(v) if ok(v) => Ok(v),
-                Ok(_) => Err(err(
-                    ln,
-                    Some(c),
-                    format!("'{}' is not {what}", field(k)),
-                )),
-                Err(_) => Err(err(
-                    ln,
-                    Some(c),
-                    format!("'{}' is not a number", field(k)),
-                )),
+                Ok(_) => Err(err(ln, Some(c), format!("'{}' is not {what}", field(k)))),
+                Err(_) => Err(err(ln, Some(c), format!("'{}' is not a number", field(k)))),
             }
         };
         let text_field = |k: usize| -> Result<String, ExternalError> {

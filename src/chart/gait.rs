@@ -579,23 +579,19 @@ impl GaitPrecision {
                 p.run.wall_s
             )
         });
-        let theirs_s = theirs.map_or(
-            format!("external: no run within {pct:.1} %"),
-            |p| {
-                format!(
-                    "{} {} el. (dt {:.1e} s) {:.2} s",
-                    p.run.code, p.run.elements, p.run.dt, p.wall_s
-                )
-            },
-        );
+        let theirs_s = theirs.map_or(format!("external: no run within {pct:.1} %"), |p| {
+            format!(
+                "{} {} el. (dt {:.1e} s) {:.2} s",
+                p.run.code, p.run.elements, p.run.dt, p.wall_s
+            )
+        });
         let ratio = match (ours, theirs) {
-            (Some(a), Some(b)) => format!(
-                "; {:.1}x",
-                b.wall_s / a.run.wall_s
-            ),
+            (Some(a), Some(b)) => format!("; {:.1}x", b.wall_s / a.run.wall_s),
             _ => String::new(),
         };
-        format!("cheapest within {pct:.1} % of its own converged value: {ours_s}; {theirs_s}{ratio}\n")
+        format!(
+            "cheapest within {pct:.1} % of its own converged value: {ours_s}; {theirs_s}{ratio}\n"
+        )
     }
 
     /// For each method and mesh, its cheapest run within `error` of the converged `v_s/v_m`
@@ -826,7 +822,11 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
                 "Work-precision: {} (T = {} s; {}converged: {} el., dt {:.1e} s)",
                 g.scene,
                 g.duration,
-                if g.external.is_empty() { "" } else { "slither " },
+                if g.external.is_empty() {
+                    ""
+                } else {
+                    "slither "
+                },
                 g.elements,
                 g.reference.runs.last().map_or(f64::NAN, |r| r.dt)
             ),

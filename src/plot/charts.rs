@@ -89,7 +89,16 @@ pub fn xy(
     log_x: bool,
     log_y: bool,
 ) -> Result<(), PlotError> {
-    xy_axes(path, title, x_label, y_label, series, &[], (log_x, log_y), false)
+    xy_axes(
+        path,
+        title,
+        x_label,
+        y_label,
+        series,
+        &[],
+        (log_x, log_y),
+        false,
+    )
 }
 
 /// The marker of a series in [`xy_marked`].
@@ -139,7 +148,16 @@ pub fn xy_log_log(
     y_label: &str,
     series: &[(&str, Vec<(f64, f64)>)],
 ) -> Result<(), PlotError> {
-    xy_axes(path, title, x_label, y_label, series, &[], (true, true), true)
+    xy_axes(
+        path,
+        title,
+        x_label,
+        y_label,
+        series,
+        &[],
+        (true, true),
+        true,
+    )
 }
 
 /// The body of [`xy`], [`xy_marked`] and [`xy_log_log`]; `force` keeps the log axes of
