@@ -808,6 +808,20 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
         let markers: Vec<plot::Marker> = std::iter::repeat_n(plot::Marker::Circle, circles)
             .chain(std::iter::repeat_n(plot::Marker::Triangle, triangles))
             .collect();
+        let ref_dt = g.reference.runs.last().map_or(f64::NAN, |r| r.dt);
+        // With another code's points the title names whose converged value the lines use
+        // (and drops "Work-precision" to stay within the figure's width).
+        let title = if g.external.is_empty() {
+            format!(
+                "Work-precision: {} (T = {} s; converged: {} el., dt {ref_dt:.1e} s)",
+                g.scene, g.duration, g.elements
+            )
+        } else {
+            format!(
+                "{}, T = {} s (slither converged: {} el., dt {ref_dt:.1e} s)",
+                g.scene, g.duration, g.elements
+            )
+        };
         let wall_label = if g.external.is_empty() {
             "wall time (s)".to_string()
         } else {
@@ -818,18 +832,7 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
         };
         plot::xy_marked(
             &dir.join(file),
-            &format!(
-                "Work-precision: {} (T = {} s; {}converged: {} el., dt {:.1e} s)",
-                g.scene,
-                g.duration,
-                if g.external.is_empty() {
-                    ""
-                } else {
-                    "slither "
-                },
-                g.elements,
-                g.reference.runs.last().map_or(f64::NAN, |r| r.dt)
-            ),
+            &title,
             &wall_label,
             label,
             &lines,
