@@ -803,10 +803,18 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
                 vec![(wmin, g.reference.scatter), (wmax, g.reference.scatter)],
             ));
         }
-        let lines: Vec<(&str, Vec<(f64, f64)>)> =
-            lines.iter().map(|(n, v)| (n.as_str(), v.clone())).collect();
-        let markers: Vec<plot::Marker> = std::iter::repeat_n(plot::Marker::Circle, circles)
-            .chain(std::iter::repeat_n(plot::Marker::Triangle, triangles))
+        // Circles for slither's lines, triangles for another code's.
+        let lines: Vec<plot::MarkedSeries> = lines
+            .iter()
+            .enumerate()
+            .map(|(k, (n, v))| {
+                let m = if (circles..circles + triangles).contains(&k) {
+                    plot::Marker::Triangle
+                } else {
+                    plot::Marker::Circle
+                };
+                (n.as_str(), v.clone(), m)
+            })
             .collect();
         let ref_dt = g.reference.runs.last().map_or(f64::NAN, |r| r.dt);
         // With another code's points the title names whose converged value the lines use
@@ -836,7 +844,6 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
             &wall_label,
             label,
             &lines,
-            &markers,
             true,
             true,
         )?;

@@ -111,7 +111,10 @@ pub enum Marker {
     Triangle,
 }
 
-/// [`xy`] with a marker per series (`markers[k]` for `series[k]`; circles beyond its end).
+/// A named series of (x, y) points with its marker, for [`xy_marked`].
+pub type MarkedSeries<'a> = (&'a str, Vec<(f64, f64)>, Marker);
+
+/// [`xy`] with a marker per series: each entry of `series` is (name, points, marker).
 ///
 /// Errors: [`PlotError::Invalid`] if no plottable point remains.
 pub fn xy_marked(
@@ -119,18 +122,20 @@ pub fn xy_marked(
     title: &str,
     x_label: &str,
     y_label: &str,
-    series: &[(&str, Vec<(f64, f64)>)],
-    markers: &[Marker],
+    series: &[MarkedSeries],
     log_x: bool,
     log_y: bool,
 ) -> Result<(), PlotError> {
+    let data: Vec<(&str, Vec<(f64, f64)>)> =
+        series.iter().map(|(n, p, _)| (*n, p.clone())).collect();
+    let shapes: Vec<Marker> = series.iter().map(|s| s.2).collect();
     xy_axes(
         path,
         title,
         x_label,
         y_label,
-        series,
-        markers,
+        &data,
+        &shapes,
         (log_x, log_y),
         false,
     )
