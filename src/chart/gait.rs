@@ -5,7 +5,8 @@
 //! steps, BDF2 with error-controlled steps over tolerances ([`crate::integrator::adaptive`]);
 //! by default at the scene's mesh, twice and four times it), each line's points in order of
 //! cost, the `--accuracy` selection as one point (its whole wall time, probes included), and a
-//! 1 % line.
+//! 1 % line. Another code's runs of the same scene can be added as their own series, each
+//! against that code's converged value ([`super::external`]).
 //!
 //! **Reference.** On the finest mesh of the chart: `reference_integrator` (implicit Euler by
 //! default) at fixed steps from
@@ -671,7 +672,8 @@ impl GaitPrecision {
 }
 
 /// Write `gait_precision.csv`, `gait_precision.json`, `gait_precision.png` (error of
-/// `v_s/v_m` against wall time) and `gait_precision_centreline.png` into `dir`.
+/// `v_s/v_m` against wall time) and `gait_precision_centreline.png` into `dir`, and with
+/// external runs `gait_precision_external.csv` (they are drawn on `gait_precision.png` only).
 pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartError> {
     std::fs::create_dir_all(dir).map_err(|source| ChartError::Io {
         path: dir.into(),
