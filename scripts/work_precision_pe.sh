@@ -11,10 +11,11 @@
 # 1. runs (record pyelastica-convergence, about 15 minutes): compare/pyelastica_s_start.py
 #    over the whole 4 s at 50, 100 and 200 elements at PyElastica's largest stable step and at
 #    half of it (the points), at 400 elements at its largest stable step 1.8e-5 and at 9e-6,
-#    and at 800 elements at its largest stable step 9e-6. PyElastica converges at first order
-#    in the mesh on this scene (each doubling halves the change of v_s/v_m; printed) and 400
-#    and 800 elements still differ by more than 1 %, so its converged value is the first-order
-#    extrapolation 2 v_800 - v_400 (both at 9e-6 s; the step's share is the printed change from
+#    and at 800 elements at its largest stable step 9e-6. From 50 to 800 elements each
+#    doubling halves the change of v_s/v_m (printed) and 400 and 800 elements still differ by
+#    more than 1 %, so its converged value is taken as the first-order extrapolation
+#    2 v_800 - v_400 (a 1600-element run at 4.5e-6 s lies 1.45 % above it: the guide,
+#    speed-accuracy.md, says what that leaves open) (both at 9e-6 s; the step's share is the printed change from
 #    1.8e-5 to 9e-6 s at 400 elements). The largest stable steps were measured by
 #    compare/stable_steps.sh. v_s/v_m is the net definition, the centre of mass's displacement
 #    along the initial head direction over T v_m, as slither's v_s_over_v_m.
