@@ -5,7 +5,8 @@
 //! steps, BDF2 with error-controlled steps over tolerances ([`crate::integrator::adaptive`]);
 //! by default at the scene's mesh, twice and four times it), each line's points in order of
 //! cost, the `--accuracy` selection as one point (its whole wall time, probes included), and a
-//! 1 % line.
+//! 1 % line. Another code's runs of the same scene can be added as their own series, each
+//! against that code's converged value ([`super::external`]).
 //!
 //! **Reference.** On the finest mesh of the chart: `reference_integrator` (implicit Euler by
 //! default) at fixed steps from
@@ -27,6 +28,7 @@
 //! **Errors.** `|v_s/v_m - ref| / ref` (relative) and the largest distance of a real node from
 //! the reference's at the final time, over the rod length.
 
+use super::external::{ExternalPoint, ExternalRun};
 use super::*;
 use crate::observe::{evaluate, measure, Measure, Observed};
 use crate::problem::{Adaptive, IntegratorKind};
@@ -223,6 +225,9 @@ pub struct GaitPrecision {
     pub reference: GaitReference,
     /// All runs.
     pub points: Vec<GaitPoint>,
+    /// Another code's runs of the same scene, each against its own converged value
+    /// ([`super::external`]); empty unless added by [`GaitPrecision::with_external`].
+    pub external: Vec<ExternalPoint>,
 }
 
 /// FNV-1a, 64 bit: the cache key of a reference (stable across builds, unlike `std`'s hasher).
@@ -472,10 +477,20 @@ pub fn gait_precision(
         options: opts.clone(),
         reference,
         points,
+        external: Vec::new(),
     })
 }
 
 impl GaitPrecision {
+    /// The chart with another code's `runs` of the same scene added (their wall time is
+    /// their wall seconds per simulated second times this chart's duration).
+    pub fn with_external(mut self, runs: Vec<ExternalRun>) -> GaitPrecision {
+        let t = self.duration;
+        self.external
+            .extend(runs.into_iter().map(|r| ExternalPoint::new(r, t)));
+        self
+    }
+
     /// A plain-text table of the reference and every run.
     pub fn summary(&self) -> String {
         let r = &self.reference;
@@ -511,8 +526,73 @@ impl GaitPrecision {
                 if q.status == "ok" { "" } else { "  failed" }
             );
         }
+        if !self.external.is_empty() {
+            s.push_str(
+                "external runs, each against its own code's converged value; wall time for T:\n\
+                 code                el.  dt (s)     v_s/v_m  own ref.  v error   wall/sim. s  wall (s)\n",
+            );
+            for p in &self.external {
+                let r = &p.run;
+                let _ = writeln!(
+                    s,
+                    "{:18} {:4} {:.3e} {:8.5} {:8.5} {:9.2e} {:11.3} {:8.2}",
+                    r.code,
+                    r.elements,
+                    r.dt,
+                    r.v_ratio,
+                    r.reference,
+                    p.v_error,
+                    r.wall_per_simulated_s,
+                    p.wall_s
+                );
+            }
+        }
         s.push_str(&self.first_within(0.01));
+        s.push_str(&self.cheapest_within(0.01));
         s
+    }
+
+    /// The cheapest slither run within `error` of slither's converged `v_s/v_m` against the
+    /// cheapest external run within `error` of its own code's (one line; empty without
+    /// external runs).
+    pub fn cheapest_within(&self, error: f64) -> String {
+        if self.external.is_empty() {
+            return String::new();
+        }
+        let ours = self
+            .points
+            .iter()
+            .filter(|p| p.v_error <= error)
+            .min_by(|a, b| a.run.wall_s.total_cmp(&b.run.wall_s));
+        let theirs = self
+            .external
+            .iter()
+            .filter(|p| p.v_error <= error)
+            .min_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+        let pct = 100.0 * error;
+        let ours_s = ours.map_or(format!("slither: no run within {pct:.1} %"), |p| {
+            format!(
+                "slither {} {} el. (dt {:.1e} s, tol {:.0e}) {:.2} s",
+                p.run.method,
+                p.run.elements,
+                p.run.dt,
+                p.run.tolerance.unwrap_or(f64::NAN),
+                p.run.wall_s
+            )
+        });
+        let theirs_s = theirs.map_or(format!("external: no run within {pct:.1} %"), |p| {
+            format!(
+                "{} {} el. (dt {:.1e} s) {:.2} s",
+                p.run.code, p.run.elements, p.run.dt, p.wall_s
+            )
+        });
+        let ratio = match (ours, theirs) {
+            (Some(a), Some(b)) => format!("; {:.1}x", b.wall_s / a.run.wall_s),
+            _ => String::new(),
+        };
+        format!(
+            "cheapest within {pct:.1} % of its own converged value: {ours_s}; {theirs_s}{ratio}\n"
+        )
     }
 
     /// For each method and mesh, its cheapest run within `error` of the converged `v_s/v_m`
@@ -553,13 +633,47 @@ impl GaitPrecision {
                 }
             })
             .collect();
+        let mut ext: Vec<(&str, usize)> = self
+            .external
+            .iter()
+            .map(|p| (p.run.code.as_str(), p.run.elements))
+            .collect();
+        ext.sort_unstable();
+        ext.dedup();
+        for (code, n) in ext {
+            let best = self
+                .external
+                .iter()
+                .filter(|p| p.run.code == code && p.run.elements == n && p.v_error <= error)
+                .min_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+            rows.push(match best {
+                Some(p) => (
+                    p.wall_s,
+                    format!(
+                        "{code} {n} el.: within {:.1} % of its own converged value at {:.2} s (dt {:.1e} s, error {:.2} %)",
+                        100.0 * error,
+                        p.wall_s,
+                        p.run.dt,
+                        100.0 * p.v_error
+                    ),
+                ),
+                None => (
+                    f64::INFINITY,
+                    format!(
+                        "{code} {n} el.: never within {:.1} % of its own converged value",
+                        100.0 * error
+                    ),
+                ),
+            });
+        }
         rows.sort_by(|a, b| a.0.total_cmp(&b.0));
         rows.into_iter().map(|(_, l)| l + "\n").collect()
     }
 }
 
 /// Write `gait_precision.csv`, `gait_precision.json`, `gait_precision.png` (error of
-/// `v_s/v_m` against wall time) and `gait_precision_centreline.png` into `dir`.
+/// `v_s/v_m` against wall time) and `gait_precision_centreline.png` into `dir`, and with
+/// external runs `gait_precision_external.csv` (they are drawn on `gait_precision.png` only).
 pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartError> {
     std::fs::create_dir_all(dir).map_err(|source| ChartError::Io {
         path: dir.into(),
@@ -589,6 +703,12 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
         );
     }
     write(&dir.join("gait_precision.csv"), &csv)?;
+    if !g.external.is_empty() {
+        write(
+            &dir.join("gait_precision_external.csv"),
+            &super::external::external_csv(&g.external),
+        )?;
+    }
     let json = serde_json::to_string_pretty(g).expect("serialisable");
     write(&dir.join("gait_precision.json"), &json)?;
     // One line per method and mesh, its points in order of cost (wall time).
@@ -605,7 +725,12 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
     let mut meshes: Vec<usize> = g.points.iter().map(|p| p.run.elements).collect();
     meshes.sort_unstable();
     meshes.dedup();
-    let walls: Vec<f64> = g.points.iter().map(|p| p.run.wall_s).collect();
+    let walls: Vec<f64> = g
+        .points
+        .iter()
+        .map(|p| p.run.wall_s)
+        .chain(g.external.iter().map(|p| p.wall_s))
+        .collect();
     let wmin = walls.iter().copied().fold(f64::INFINITY, f64::min);
     let wmax = walls.iter().copied().fold(0.0, f64::max);
     let names = [
@@ -650,6 +775,29 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
                 acc,
             ));
         }
+        // Another code's runs: one line per code and mesh, triangles, against its own
+        // converged value (the centreline chart has no external data).
+        let circles = lines.len();
+        if file == "gait_precision.png" {
+            let mut ext: Vec<(&str, usize)> = g
+                .external
+                .iter()
+                .map(|p| (p.run.code.as_str(), p.run.elements))
+                .collect();
+            ext.sort_unstable();
+            ext.dedup();
+            for (code, n) in ext {
+                let mut v: Vec<(f64, f64)> = g
+                    .external
+                    .iter()
+                    .filter(|p| p.run.code == code && p.run.elements == n)
+                    .map(|p| (p.wall_s, p.v_error))
+                    .collect();
+                v.sort_by(|a, b| a.0.total_cmp(&b.0));
+                lines.push((format!("{code}, {n} el. (vs its own converged value)"), v));
+            }
+        }
+        let triangles = lines.len() - circles;
         if file == "gait_precision.png" {
             lines.push(("1 % error".into(), vec![(wmin, 0.01), (wmax, 0.01)]));
             lines.push((
@@ -657,18 +805,45 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
                 vec![(wmin, g.reference.scatter), (wmax, g.reference.scatter)],
             ));
         }
-        let lines: Vec<(&str, Vec<(f64, f64)>)> =
-            lines.iter().map(|(n, v)| (n.as_str(), v.clone())).collect();
-        plot::xy(
+        // Circles for slither's lines, triangles for another code's.
+        let lines: Vec<plot::MarkedSeries> = lines
+            .iter()
+            .enumerate()
+            .map(|(k, (n, v))| {
+                let m = if (circles..circles + triangles).contains(&k) {
+                    plot::Marker::Triangle
+                } else {
+                    plot::Marker::Circle
+                };
+                (n.as_str(), v.clone(), m)
+            })
+            .collect();
+        let ref_dt = g.reference.runs.last().map_or(f64::NAN, |r| r.dt);
+        // With another code's points the title names whose converged value the lines use
+        // (and drops "Work-precision" to stay within the figure's width).
+        let title = if g.external.is_empty() {
+            format!(
+                "Work-precision: {} (T = {} s; converged: {} el., dt {ref_dt:.1e} s)",
+                g.scene, g.duration, g.elements
+            )
+        } else {
+            format!(
+                "{}, T = {} s (slither converged: {} el., dt {ref_dt:.1e} s)",
+                g.scene, g.duration, g.elements
+            )
+        };
+        let wall_label = if g.external.is_empty() {
+            "wall time (s)".to_string()
+        } else {
+            format!(
+                "wall time for the scene's {} s (s; external: wall s per simulated s x {})",
+                g.duration, g.duration
+            )
+        };
+        plot::xy_marked(
             &dir.join(file),
-            &format!(
-                "Work-precision: {} (T = {} s; converged: {} el., dt {:.1e} s)",
-                g.scene,
-                g.duration,
-                g.elements,
-                g.reference.runs.last().map_or(f64::NAN, |r| r.dt)
-            ),
-            "wall time (s)",
+            &title,
+            &wall_label,
             label,
             &lines,
             true,

@@ -41,10 +41,12 @@ use crate::state::State;
 /// The accuracy selection moved to [`crate::design::selection`]; this path stays until the
 /// command line calls it there.
 pub use crate::design::selection as accuracy;
+pub mod external;
 mod gait;
 mod stability;
 mod work_precision;
 
+pub use external::{read_external, ExternalError, ExternalPoint, ExternalRun};
 pub use gait::*;
 pub use stability::*;
 use std::fmt::Write as _;

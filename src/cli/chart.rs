@@ -17,6 +17,11 @@ pub enum ChartCmd {
         /// Output directory (created if absent).
         #[arg(long, default_value = "out/work_precision")]
         out: PathBuf,
+        /// Another code's runs of the same scene (CSV: scene, code, elements, dt_s,
+        /// v_s_over_v_m, reference_v_s_over_v_m, wall_s_per_simulated_s), drawn as their own
+        /// series against their own converged value (gait scenes only).
+        #[arg(long)]
+        external: Option<PathBuf>,
     },
     /// Largest stable step of each integrator over scaled weight W and element count, by
     /// bisection, for the cantilever swing (or --problem).
@@ -35,7 +40,9 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
     const SWING: &str = include_str!("../../problems/cantilever_swing.toml");
     let load = |path: &Path| problem::load(path);
     let (p, scene, out) = match &which {
-        ChartCmd::WorkPrecision { problem, out } => (load(problem), problem.clone(), out.clone()),
+        ChartCmd::WorkPrecision { problem, out, .. } => {
+            (load(problem), problem.clone(), out.clone())
+        }
         ChartCmd::Stability {
             problem: Some(f),
             out,
@@ -65,9 +72,31 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
         );
         return ExitCode::from(2);
     }
+    let external = match &which {
+        ChartCmd::WorkPrecision {
+            external: Some(f), ..
+        } => Some(f),
+        _ => None,
+    };
+    if let (Some(f), false) = (external, gait_scene) {
+        eprintln!(
+            "error: {}: --external {} needs a scene with [ground] and a gait (external points are errors of v_s/v_m)",
+            scene.display(),
+            f.display()
+        );
+        return ExitCode::from(2);
+    }
     if gait_scene && matches!(which, ChartCmd::WorkPrecision { .. }) {
         // A scene with ground: implicit Euler, BDF2 and adaptive BDF2 against a fine implicit
-        // Euler reference.
+        // Euler reference, and another code's runs when given (read first: a bad file fails
+        // before the runs).
+        let external = match external.map(|f| chart::read_external(f, &name)).transpose() {
+            Ok(e) => e.unwrap_or_default(),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        };
         let model = Model::new(&p);
         let cache = out.join("reference.json");
         if let Err(e) = std::fs::create_dir_all(&out) {
@@ -83,6 +112,7 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
             &mut log,
         )
         .and_then(|g| {
+            let g = g.with_external(external);
             eprint!("{}", g.summary());
             chart::write_gait_precision(&out, &g)
         });

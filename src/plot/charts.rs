@@ -65,7 +65,7 @@ pub fn series(
         "time t (s)",
         y_label,
         &data,
-        false,
+        None,
         (false, false),
     )?;
     root.present().map_err(draw_err)
@@ -89,7 +89,56 @@ pub fn xy(
     log_x: bool,
     log_y: bool,
 ) -> Result<(), PlotError> {
-    xy_axes(path, title, x_label, y_label, series, (log_x, log_y), false)
+    xy_axes(
+        path,
+        title,
+        x_label,
+        y_label,
+        series,
+        &[],
+        (log_x, log_y),
+        false,
+    )
+}
+
+/// The marker of a series in [`xy_marked`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Marker {
+    /// A filled circle (the marker of [`xy`]).
+    #[default]
+    Circle,
+    /// A filled triangle, point up: another code's points beside circles.
+    Triangle,
+}
+
+/// A named series of (x, y) points with its marker, for [`xy_marked`].
+pub type MarkedSeries<'a> = (&'a str, Vec<(f64, f64)>, Marker);
+
+/// [`xy`] with a marker per series: each entry of `series` is (name, points, marker).
+///
+/// Errors: [`PlotError::Invalid`] if no plottable point remains.
+pub fn xy_marked(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[MarkedSeries],
+    log_x: bool,
+    log_y: bool,
+) -> Result<(), PlotError> {
+    let data: Vec<(&str, Vec<(f64, f64)>)> =
+        series.iter().map(|(n, p, _)| (*n, p.clone())).collect();
+    let shapes: Vec<Marker> = series.iter().map(|s| s.2).collect();
+    xy_axes(
+        path,
+        title,
+        x_label,
+        y_label,
+        &data,
+        &shapes,
+        (log_x, log_y),
+        false,
+    )
 }
 
 /// [`xy`] on log-log axes even when the data span less than two powers of ten (a cost
@@ -104,16 +153,28 @@ pub fn xy_log_log(
     y_label: &str,
     series: &[(&str, Vec<(f64, f64)>)],
 ) -> Result<(), PlotError> {
-    xy_axes(path, title, x_label, y_label, series, (true, true), true)
+    xy_axes(
+        path,
+        title,
+        x_label,
+        y_label,
+        series,
+        &[],
+        (true, true),
+        true,
+    )
 }
 
-/// The body of [`xy`] and [`xy_log_log`]; `force` keeps the log axes of narrow data.
+/// The body of [`xy`], [`xy_marked`] and [`xy_log_log`]; `force` keeps the log axes of
+/// narrow data.
+#[allow(clippy::too_many_arguments)] // the public functions' arguments, passed through
 fn xy_axes(
     path: &Path,
     title: &str,
     x_label: &str,
     y_label: &str,
     series: &[(&str, Vec<(f64, f64)>)],
+    shapes: &[Marker],
     (log_x, log_y): (bool, bool),
     force: bool,
 ) -> Result<(), PlotError> {
@@ -185,11 +246,11 @@ fn xy_axes(
                 x_label,
                 y_label,
                 &data,
-                true,
+                Some(shapes),
                 (true, true),
             )?;
         } else {
-            xy_body(&body, xr, yr, x_label, y_label, &data, log_x, log_y)?;
+            xy_body(&body, xr, yr, x_label, y_label, &data, shapes, log_x, log_y)?;
         }
         root.present().map_err(draw_err)
     })
@@ -204,6 +265,7 @@ fn xy_body<DB: DrawingBackend>(
     x_label: &str,
     y_label: &str,
     data: &[(&str, Vec<(f64, f64)>)],
+    shapes: &[Marker],
     log_x: bool,
     log_y: bool,
 ) -> Result<(), PlotError> {
@@ -220,7 +282,7 @@ fn xy_body<DB: DrawingBackend>(
             x_label,
             y_label,
             data,
-            true,
+            Some(shapes),
             logs,
         )?,
         (true, false) => line_chart(
@@ -232,7 +294,7 @@ fn xy_body<DB: DrawingBackend>(
             x_label,
             y_label,
             data,
-            true,
+            Some(shapes),
             logs,
         )?,
         (false, true) => line_chart(
@@ -244,7 +306,7 @@ fn xy_body<DB: DrawingBackend>(
             x_label,
             y_label,
             data,
-            true,
+            Some(shapes),
             logs,
         )?,
         (true, true) => line_chart(
@@ -256,14 +318,16 @@ fn xy_body<DB: DrawingBackend>(
             x_label,
             y_label,
             data,
-            true,
+            Some(shapes),
             logs,
         )?,
     }
     Ok(())
 }
 
-/// Shared body of [`series`] and [`xy`]: axes, grid, curves (optionally with markers), legend.
+/// Shared body of [`series`] and [`xy`]: axes, grid, curves, legend. `markers`: `None` draws
+/// plain curves; `Some(shapes)` draws each point with the marker `shapes[k]` of series `k`
+/// (a circle beyond its end).
 #[allow(clippy::too_many_arguments)]
 fn line_chart<DB, X, Y>(
     area: &DrawingArea<DB, Shift>,
@@ -274,7 +338,7 @@ fn line_chart<DB, X, Y>(
     x_label: &str,
     y_label: &str,
     data: &[(&str, Vec<(f64, f64)>)],
-    markers: bool,
+    markers: Option<&[Marker]>,
     logs: (bool, bool),
 ) -> Result<(), PlotError>
 where
@@ -329,7 +393,8 @@ where
     for (k, (name, pts)) in data.iter().enumerate() {
         let c = colormap::palette(k);
         let runs = finite_runs(pts.iter().copied());
-        let width = if markers { 2 } else { 3 };
+        let shape = markers.map(|m| m.get(k).copied().unwrap_or_default());
+        let width = if shape.is_some() { 2 } else { 3 };
         let mut labelled = false;
         for run in runs {
             let ann = chart
@@ -339,14 +404,30 @@ where
                 labelled = true;
                 ann.label(name.to_string()).legend(move |(x, y)| {
                     let line = PathElement::new(vec![(x - 2, y), (x + 22, y)], c.stroke_width(3));
-                    let dot = Circle::new((x + 10, y), if markers { 5 } else { 0 }, c.filled());
-                    EmptyElement::at((0, 0)) + line + dot
+                    // One element type for every shape: the marker not drawn is transparent.
+                    let (circle, triangle) = match shape {
+                        Some(Marker::Circle) => (c.filled(), c.mix(0.0).filled()),
+                        Some(Marker::Triangle) => (c.mix(0.0).filled(), c.filled()),
+                        None => (c.mix(0.0).filled(), c.mix(0.0).filled()),
+                    };
+                    EmptyElement::at((0, 0))
+                        + line
+                        + Circle::new((x + 10, y), 5, circle)
+                        + TriangleMarker::new((x + 10, y), 7, triangle)
                 });
             }
-            if markers {
-                chart
-                    .draw_series(run.iter().map(|&p| Circle::new(p, 5, c.filled())))
-                    .map_err(draw_err)?;
+            match shape {
+                Some(Marker::Circle) => {
+                    chart
+                        .draw_series(run.iter().map(|&p| Circle::new(p, 5, c.filled())))
+                        .map_err(draw_err)?;
+                }
+                Some(Marker::Triangle) => {
+                    chart
+                        .draw_series(run.iter().map(|&p| TriangleMarker::new(p, 8, c.filled())))
+                        .map_err(draw_err)?;
+                }
+                None => {}
             }
         }
     }

@@ -32,7 +32,7 @@ mod scatter;
 mod snapshots;
 mod tracks;
 
-pub use charts::{series, xy, xy_log_log};
+pub use charts::{series, xy, xy_log_log, xy_marked, MarkedSeries, Marker};
 pub use kymograph::{kymograph, kymograph_styled, quantile, KymographScale, KymographStyle};
 pub use scatter::scatter;
 pub use snapshots::snapshots;
