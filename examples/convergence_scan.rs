@@ -75,7 +75,7 @@ fn parse() -> Args {
             "--chart" => args.chart = Some(PathBuf::from(value())),
             "--reference" => {
                 let r: Vec<f64> = list(&value(), "--reference");
-                if r.len() != 2 || !(r[0] <= r[1]) {
+                if r.len() != 2 || r[0].is_nan() || r[1].is_nan() || r[0] > r[1] {
                     eprintln!("convergence_scan: --reference takes LO,HI with LO <= HI");
                     std::process::exit(2)
                 }
@@ -185,7 +185,13 @@ fn main() {
             csv,
             "{},{},{:e},{},{},{},{},{}",
             method(r.bdf2),
-            r.elements, r.dt, r.v, err, r.wall, r.steps, r.iterations
+            r.elements,
+            r.dt,
+            r.v,
+            err,
+            r.wall,
+            r.steps,
+            r.iterations
         );
     }
     // The scatter from mesh to mesh: each half of the element list on its own.
@@ -250,14 +256,13 @@ fn chart(path: &Path, args: &Args, runs: &[Run]) {
         labels.push(format!("converged: {hi:.4}"));
         series.push(vec![(n0, hi), (n1, hi)]);
     }
-    let named: Vec<(&str, Vec<(f64, f64)>)> = labels
-        .iter()
-        .map(String::as_str)
-        .zip(series)
-        .collect();
+    let named: Vec<(&str, Vec<(f64, f64)>)> =
+        labels.iter().map(String::as_str).zip(series).collect();
     let title = format!(
         "{}: v_s/v_m against the mesh",
-        args.scene.file_name().map_or(String::new(), |f| f.to_string_lossy().into_owned())
+        args.scene
+            .file_name()
+            .map_or(String::new(), |f| f.to_string_lossy().into_owned())
     );
     if let Err(e) = plot::xy(path, &title, "elements", "v_s/v_m", &named, true, false) {
         eprintln!("convergence_scan: chart: {e}");
