@@ -469,9 +469,11 @@ impl Term for BendTwist {
         if nodes >= PARALLEL_NODES {
             edges.par_extend((0..nodes - 1).into_par_iter().map(frame));
             let edges = &*edges;
-            locals.par_extend((1..nodes - 1).into_par_iter().map(|i| {
-                node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]])
-            }));
+            locals.par_extend(
+                (1..nodes - 1)
+                    .into_par_iter()
+                    .map(|i| node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]])),
+            );
         } else {
             edges.extend((0..nodes - 1).map(frame));
             locals.extend(
