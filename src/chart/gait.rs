@@ -491,6 +491,18 @@ impl GaitPrecision {
         self
     }
 
+    /// The external runs' lines: each (code, element count) once, in order.
+    fn external_lines(&self) -> Vec<(&str, usize)> {
+        let mut lines: Vec<(&str, usize)> = self
+            .external
+            .iter()
+            .map(|p| (p.run.code.as_str(), p.run.elements))
+            .collect();
+        lines.sort_unstable();
+        lines.dedup();
+        lines
+    }
+
     /// A plain-text table of the reference and every run.
     pub fn summary(&self) -> String {
         let r = &self.reference;
@@ -633,14 +645,7 @@ impl GaitPrecision {
                 }
             })
             .collect();
-        let mut ext: Vec<(&str, usize)> = self
-            .external
-            .iter()
-            .map(|p| (p.run.code.as_str(), p.run.elements))
-            .collect();
-        ext.sort_unstable();
-        ext.dedup();
-        for (code, n) in ext {
+        for (code, n) in self.external_lines() {
             let best = self
                 .external
                 .iter()
@@ -779,14 +784,7 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
         // converged value (the centreline chart has no external data).
         let circles = lines.len();
         if file == "gait_precision.png" {
-            let mut ext: Vec<(&str, usize)> = g
-                .external
-                .iter()
-                .map(|p| (p.run.code.as_str(), p.run.elements))
-                .collect();
-            ext.sort_unstable();
-            ext.dedup();
-            for (code, n) in ext {
+            for (code, n) in g.external_lines() {
                 let mut v: Vec<(f64, f64)> = g
                     .external
                     .iter()

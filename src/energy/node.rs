@@ -466,20 +466,18 @@ impl Term for BendTwist {
         };
         edges.clear();
         locals.clear();
-        if nodes >= PARALLEL_NODES {
+        let parallel = nodes >= PARALLEL_NODES;
+        if parallel {
             edges.par_extend((0..nodes - 1).into_par_iter().map(frame));
-            let edges = &*edges;
-            locals.par_extend(
-                (1..nodes - 1)
-                    .into_par_iter()
-                    .map(|i| node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]])),
-            );
         } else {
             edges.extend((0..nodes - 1).map(frame));
-            locals.extend(
-                (1..nodes - 1)
-                    .map(|i| node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]])),
-            );
+        }
+        let edges = &*edges;
+        let local = |i: usize| node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]]);
+        if parallel {
+            locals.par_extend((1..nodes - 1).into_par_iter().map(local));
+        } else {
+            locals.extend((1..nodes - 1).map(local));
         }
         let mut e = 0.0;
         for (i, local) in (1..nodes - 1).zip(locals.iter()) {
