@@ -613,3 +613,57 @@ fn conic_certificate_confirms_the_active_set_while_sliding_and_sticking() {
         assert_eq!(c.certificate_failures, 0);
     }
 }
+
+/// The S-start's first 0.3 s with `[solver] hessian_reuse` as given: the final state, Newton
+/// iterations and the iterations that kept the bending and twist Hessian.
+fn s_start_with_reuse(reuse: f64) -> (State, usize, usize) {
+    use slither::gait::Muscles;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/s_start.toml");
+    let mut p = slither::problem::load(&path).unwrap();
+    p.time.duration = Some(0.3);
+    p.solver.hessian_reuse = reuse;
+    let m = Model::new(&p);
+    let mut integ = Integrator::new(
+        &m,
+        Box::new(Muscles {
+            gait: m.gait.clone(),
+        }),
+    );
+    let mut s = State::initial(&m);
+    for _ in 0..(m.duration / m.dt).round() as usize {
+        integ.step(&mut s, m.dt).unwrap();
+    }
+    let st = integ.stats();
+    (s, st.newton_iterations, st.newton.hessian_reuses)
+}
+
+/// Keeping the bending and twist Hessian over a step's iterates changes only Newton's path,
+/// not its solution: the gradient is exact at every iterate, so the S-start's state after
+/// 0.3 s (150 steps with muscles acting, most of them with contacts changing status) is the
+/// one with the Hessian assembled at every iterate, to the Newton tolerance, at no more
+/// iterations. Fails if the kept Hessian were used with a stale gradient, or if the reuse
+/// never happened.
+#[test]
+fn a_kept_hessian_leaves_the_s_start_where_a_fresh_one_does() {
+    let (fresh, it_fresh, kept_fresh) = s_start_with_reuse(0.0);
+    let default = slither::problem::SolverSpec::default().hessian_reuse;
+    assert!(default > 0.0, "the default keeps the Hessian");
+    let (kept, it_kept, kept_n) = s_start_with_reuse(default);
+    assert_eq!(kept_fresh, 0);
+    assert!(
+        kept_n > it_kept / 2,
+        "kept the Hessian at {kept_n} of {it_kept} iterations"
+    );
+    assert!(
+        it_kept as f64 <= 1.05 * it_fresh as f64,
+        "{it_kept} iterations against {it_fresh}"
+    );
+    let dx = fresh
+        .q
+        .iter()
+        .zip(&kept.q)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    println!("max |q_kept - q_fresh| = {dx:e}; iterations {it_kept} / {it_fresh}, kept {kept_n}");
+    assert!(dx < 1e-6, "states differ by {dx:e}");
+}

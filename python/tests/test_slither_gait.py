@@ -194,7 +194,9 @@ def test_arrays_have_the_documented_shapes_and_units():
     # press the middle down, so 3.38 N at 0.36 s; a force per length would be 50x larger).
     weight = 1000.0 * 9.81 * np.pi * a**2 / 4 * length
     assert 0.8 < r.normal_force[-1].sum() / weight < 1.25
-    assert r.normal_force[-1].sum() == r.summary["normal_force_final"]
+    # Summed node by node in order, as the run sums it (numpy's pairwise sum may differ in the
+    # last bit).
+    assert sum(r.normal_force[-1].tolist()) == r.summary["normal_force_final"]
     # m/s: the displacement over a frame interval divided by the interval is the frames' mean
     # velocity to within a factor 2 (a velocity per step or in mm/s would be off by 18x or
     # 1000x).

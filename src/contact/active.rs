@@ -35,7 +35,7 @@ use super::reactions::{Reactions, UNCOUPLED};
 use super::status::{Mode, Statuses};
 use super::{Conic, ContactFailure, ContactModel, ContactStats, Contacts, Ground};
 use crate::model::Model;
-use crate::newton::{Failure, Newton, Objective, Path, Potential};
+use crate::newton::{Failure, HessianCache, Newton, Objective, Path, Potential};
 use crate::rod::dof;
 use std::time::Instant;
 
@@ -146,6 +146,8 @@ struct Scratch {
     fingerprinted: usize,
     /// `switches` when `progress` was last cleared.
     progress_switches: usize,
+    /// The bending and twist Hessian kept over the step's iterates close together.
+    hessians: HessianCache,
 }
 
 /// One active-set step: the model's parts borrowed for the iteration.
@@ -210,6 +212,7 @@ impl ActiveSet {
             spent: 0,
             scratch: Scratch {
                 held: vec![false; m.ndof],
+                hessians: HessianCache::new(m.ndof),
                 ..Scratch::default()
             },
         }
@@ -278,6 +281,7 @@ impl Step<'_, '_> {
         s.fingerprinted = usize::MAX;
         s.progress.clear();
         s.progress_switches = 0;
+        s.hessians.invalidate();
         log::debug!("  active step");
     }
 
@@ -405,7 +409,16 @@ impl Step<'_, '_> {
         let (m, obj, ground) = (self.m, self.obj, self.ground);
         let set = &m.solver;
         let it = self.s.it;
-        let f0 = obj.assemble(q, &mut self.nw.asm, self.s.project);
+        let (f0, kept) = obj.assemble_reusing(
+            q,
+            &mut self.nw.asm,
+            self.s.project,
+            &mut self.s.hessians,
+            set.hessian_reuse,
+        );
+        if kept {
+            self.nw.stats.hessian_reuses += 1;
+        }
         if self.s.project {
             self.nw.stats.projected_iterations += 1;
         }

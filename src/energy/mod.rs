@@ -74,6 +74,19 @@ pub trait Term: Send + Sync {
         }
         e
     }
+    /// Whether Newton may keep this term's Hessian from an earlier iterate close by and take
+    /// only its value and gradient ([`Term::value_gradient`]) at the next ones
+    /// ([`crate::newton::HessianCache`]): terms whose Hessian is most of an assembly's cost.
+    fn reusable_hessian(&self) -> bool {
+        false
+    }
+    /// Energy at an iterate of an implicit step (frozen frames not at the current tangents),
+    /// its gradient added to `grad`, without the Hessian. The default assembles everything
+    /// and drops the Hessian; terms with [`Term::reusable_hessian`] override it.
+    fn value_gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64]) -> f64 {
+        let mut scratch = Assembly::new(grad.len());
+        self.gradient(ctx, q, grad, &mut scratch)
+    }
 }
 
 /// All elastic and gravitational terms of the rod.

@@ -39,14 +39,13 @@
 //! the current tangents, and through the rod's whole energy against finite differences
 //! (`tests/derivatives.rs`).
 
-use super::local::{add_local, intrinsic, Local};
-use super::reftwist::{ref_twist_tangent_derivatives, ref_twist_value};
+use super::local::{add_gradient, add_local, intrinsic, Local};
+use super::reftwist::{ref_twist_tangent_derivatives, ref_twist_tangent_gradient, ref_twist_value};
 use super::stencil::{self, BendStencil, StencilEnergy, TwistStencil};
 use super::{Assembly, Ctx, Term};
 use crate::rod::frames::StencilFrame;
 use crate::rod::{dof, vec3::f};
 use nalgebra::{SMatrix, SVector};
-use rayon::prelude::*;
 use std::sync::{Mutex, TryLockError};
 
 type M3 = [[f64; 3]; 3];
@@ -225,20 +224,40 @@ impl<'a> NodeStencil<'a> {
     }
 }
 
-/// Value, gradient and Hessian of node `st`'s bending plus twist in its intrinsic
-/// coordinates, with its two edges' frames (their twist angles `theta` included).
+/// The first-order part of node `st`'s bending: everything the gradient needs, and what the
+/// Hessian of [`node_local`] reuses.
+struct Bend {
+    /// The frames' Jacobians contracted with the other edge's tangent: `Ja^T t`.
+    ja0: [f64; 3],
+    jb0: [f64; 3],
+    ja1: [f64; 3],
+    jb1: [f64; 3],
+    g_kappa: [[f64; 8]; 2],
+    g_chi: [f64; 8],
+    /// `1 / chi`.
+    w: f64,
+    delta: [f64; 2],
+    /// `sum_a delta_a kappa_a`.
+    big_k: f64,
+    /// `sum_a delta_a grad kappa_a`.
+    gk: [f64; 8],
+}
+
 #[inline(always)]
-pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2]) -> Local {
+fn mix(x: f64, a: [f64; 3], y: f64, b: [f64; 3]) -> [f64; 3] {
+    f::add(f::scale(a, x), f::scale(b, y))
+}
+
+#[inline(always)]
+fn bend_first(st: &NodeStencil, edges: [&EdgeFrame; 2]) -> Bend {
     let [e0, e1] = edges;
     let (t0, t1) = (e0.t, e1.t);
     let (s0, c0) = (e0.sin, e0.cos);
     let (s1, c1) = (e1.sin, e1.cos);
     let (d10, d20) = (e0.d1, e0.d2);
     let (d11, d21) = (e1.d1, e1.d2);
-    // The frames' Jacobians contracted with the other edge's tangent: `Ja^T t`.
     let (ja0, jb0) = (mul_t(&e0.ja1, t1), mul_t(&e0.ja2, t1));
     let (ja1, jb1) = (mul_t(&e1.ja1, t0), mul_t(&e1.ja2, t0));
-    let mix = |x: f64, a: [f64; 3], y: f64, b: [f64; 3]| f::add(f::scale(a, x), f::scale(b, y));
 
     // Bending: psi_a, chi and their gradients in x = (t0, t1, theta0, theta1).
     let chi = 1.0 + f::dot(t0, t1);
@@ -270,8 +289,58 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2]) -> Local {
     let g_kappa: [[f64; 8]; 2] =
         std::array::from_fn(|a| std::array::from_fn(|k| (g_psi[a][k] - kappa[a] * g_chi[k]) * w));
     let delta = [kappa[0] - st.kappa0[0], kappa[1] - st.kappa0[1]];
-    let big_k = delta[0] * kappa[0] + delta[1] * kappa[1];
-    let gk: [f64; 8] = std::array::from_fn(|k| delta[0] * g_kappa[0][k] + delta[1] * g_kappa[1][k]);
+    Bend {
+        ja0,
+        jb0,
+        ja1,
+        jb1,
+        g_kappa,
+        g_chi,
+        w,
+        delta,
+        big_k: delta[0] * kappa[0] + delta[1] * kappa[1],
+        gk: std::array::from_fn(|k| delta[0] * g_kappa[0][k] + delta[1] * g_kappa[1][k]),
+    }
+}
+
+/// Value and gradient (no Hessian) of node `st`'s bending plus twist in its intrinsic
+/// coordinates: the first-order part of [`node_local`], for iterates whose Hessian is kept
+/// from an earlier one ([`BendTwist::value_gradient`]).
+#[inline(always)]
+pub fn node_local_gradient(st: &NodeStencil, edges: [&EdgeFrame; 2]) -> (f64, [f64; 8]) {
+    let [e0, e1] = edges;
+    let (t0, t1) = (e0.t, e1.t);
+    let b = bend_first(st, edges);
+    let r = ref_twist_value([t0, t1], [e0.a1, e1.a1], st.frame.ref_twist_prev);
+    let gr = ref_twist_tangent_gradient(t0, t1, st.frame.t_old[0], st.frame.t_old[1]);
+    let dm = e1.theta - e0.theta + r - st.m0;
+    let gm = [gr[0], gr[1], gr[2], gr[3], gr[4], gr[5], -1.0, 1.0];
+    let (cb, ct) = (2.0 * st.bend, 2.0 * st.twist);
+    let energy = st.bend * (b.delta[0] * b.delta[0] + b.delta[1] * b.delta[1]) + st.twist * dm * dm;
+    let gx: [f64; 8] = std::array::from_fn(|k| cb * b.gk[k] + ct * dm * gm[k]);
+    (energy, tangent_gradient_to_edges(edges, &gx).0)
+}
+
+/// Value, gradient and Hessian of node `st`'s bending plus twist in its intrinsic
+/// coordinates, with its two edges' frames (their twist angles `theta` included).
+#[inline(always)]
+pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2]) -> Local {
+    let [e0, e1] = edges;
+    let (t0, t1) = (e0.t, e1.t);
+    let (s0, c0) = (e0.sin, e0.cos);
+    let (s1, c1) = (e1.sin, e1.cos);
+    let Bend {
+        ja0,
+        jb0,
+        ja1,
+        jb1,
+        g_kappa,
+        g_chi,
+        w,
+        delta,
+        big_k,
+        gk,
+    } = bend_first(st, edges);
 
     // Psi = sum_a delta_a psi_a = t0 . U1 + t1 . U0, U = alpha a1 + beta a2 of each edge.
     let (dl1, dl2) = (delta[0], delta[1]);
@@ -338,6 +407,31 @@ pub fn node_local(st: &NodeStencil, edges: [&EdgeFrame; 2]) -> Local {
     (energy, g, h)
 }
 
+/// The gradient part of [`tangents_to_edges_8`]: the gradient in `(e0, e1, theta0, theta1)`
+/// from that in `(t0, t1, theta0, theta1)`, with each edge's `g . t` and `p = P g` (the edge
+/// gradient is `p / |e|`).
+#[inline(always)]
+fn tangent_gradient_to_edges(
+    edges: [&EdgeFrame; 2],
+    gx: &[f64; 8],
+) -> ([f64; 8], [f64; 2], [[f64; 3]; 2]) {
+    let t = [edges[0].t, edges[1].t];
+    let il = [1.0 / edges[0].len, 1.0 / edges[1].len];
+    let gt: [f64; 2] =
+        std::array::from_fn(|j| f::dot([gx[3 * j], gx[3 * j + 1], gx[3 * j + 2]], t[j]));
+    let p: [[f64; 3]; 2] =
+        std::array::from_fn(|j| std::array::from_fn(|a| gx[3 * j + a] - t[j][a] * gt[j]));
+    let mut ge = [0.0; 8];
+    for j in 0..2 {
+        for a in 0..3 {
+            ge[3 * j + a] = p[j][a] * il[j];
+        }
+    }
+    ge[6] = gx[6];
+    ge[7] = gx[7];
+    (ge, gt, p)
+}
+
 /// Chain rule through `t^j = e^j / |e^j|` for the two edges, the twist angles passing
 /// through: gradient and Hessian in `(e0, e1, theta0, theta1)` from those in
 /// `(t0, t1, theta0, theta1)`. With `J_j = P_j / |e_j|`, `P_j = I - t_j t_j^T`, block by block:
@@ -357,20 +451,9 @@ fn tangents_to_edges_8(
         let d = f::dot(t[j], x);
         std::array::from_fn(|a| (x[a] - t[j][a] * d) * il[j])
     };
-    // Each edge's tangent gradient `g`, `g . t` and `p = P g` (the edge gradient is `p / |e|`).
-    let gt: [f64; 2] =
-        std::array::from_fn(|j| f::dot([gx[3 * j], gx[3 * j + 1], gx[3 * j + 2]], t[j]));
-    let p: [[f64; 3]; 2] =
-        std::array::from_fn(|j| std::array::from_fn(|a| gx[3 * j + a] - t[j][a] * gt[j]));
+    let (ge, gt, p) = tangent_gradient_to_edges(edges, gx);
+    let ge = SVector::<f64, 8>::from(ge);
     let mut he = SMatrix::<f64, 8, 8>::zeros();
-    let mut ge = SVector::<f64, 8>::zeros();
-    for j in 0..2 {
-        for a in 0..3 {
-            ge[3 * j + a] = p[j][a] * il[j];
-        }
-    }
-    ge[6] = gx[6];
-    ge[7] = gx[7];
     // Position blocks (j, k), k >= j.
     for (j, k) in [(0, 0), (0, 1), (1, 1)] {
         let h: M3 = std::array::from_fn(|a| std::array::from_fn(|b| hx[3 * j + a][3 * k + b]));
@@ -418,25 +501,39 @@ fn tangents_to_edges_8(
 
 /// Bending and twist as one term, each node's stencil by [`node_local`] and scattered once;
 /// its energy alone and its gradient alone (explicit integration) as the separate terms.
-/// Holds the edge frames and the stencils' local derivatives of the last assembly as
-/// scratch, so that an assembly allocates nothing (a term evaluated from two threads at once
-/// computes the second into fresh vectors).
+/// Holds the edge frames of the last assembly as scratch, so that an assembly allocates
+/// nothing (a term evaluated from two threads at once computes the second into a fresh
+/// vector).
 ///
-/// From [`PARALLEL_NODES`] nodes on, the edge frames and the local derivatives (pure
-/// functions of `q`, most of an assembly's work) are computed on rayon's threads; they are
-/// then scattered into the band in node order on the calling thread, so the assembly is the
-/// same to the bit whatever the number of threads.
+/// The assembly runs on the calling thread. Computing the edge frames and the stencils on
+/// rayon's threads (tried from 50 elements on) cost more than it saved on 2 cores: every
+/// assembly handed work to the pool and waited for it (futex wake-ups were a third of the
+/// samples), and the S-start took 1.7 to 2 times as long at 50 to 200 elements and the same
+/// at 400 (guide, "What an iteration costs").
 #[derive(Default)]
 pub struct BendTwist {
-    scratch: Mutex<(Vec<EdgeFrame>, Vec<Local>)>,
+    scratch: Mutex<Vec<EdgeFrame>>,
 }
 
-/// Rods with at least this many nodes (50 elements) compute their stencils in parallel.
-/// Measured with `examples/contact_scaling` (PyElastica's S-start scene, first 0.5 s at
-/// 1e-3 s, 2 cores, whole process timed alternately with 1 and 2 rayon threads, medians of
-/// 7): 2 threads take 0.72, 0.87 and 0.84 times the wall time of 1 at 50, 200 and 400
-/// elements. Shorter rods were not measured and stay on the calling thread.
-pub const PARALLEL_NODES: usize = 51;
+impl BendTwist {
+    /// Every edge's frame at `q`, passed to `f` (in the scratch buffer, or a fresh one when
+    /// another thread holds it).
+    fn with_frames<R>(&self, ctx: &Ctx, q: &[f64], f: impl FnOnce(&[EdgeFrame]) -> R) -> R {
+        let mut fresh = Vec::new();
+        let mut guard = match self.scratch.try_lock() {
+            Ok(g) => Some(g),
+            Err(TryLockError::Poisoned(p)) => Some(p.into_inner()),
+            Err(TryLockError::WouldBlock) => None,
+        };
+        let edges = guard.as_deref_mut().unwrap_or(&mut fresh);
+        edges.clear();
+        edges.extend((0..ctx.model.nodes - 1).map(|j| {
+            let (e, t_old, a1_old) = super::edge_at(ctx, q, j);
+            EdgeFrame::new(e, t_old, a1_old, q[dof::edge(j)])
+        }));
+        f(edges)
+    }
+}
 
 impl Term for BendTwist {
     fn name(&self) -> &'static str {
@@ -453,37 +550,29 @@ impl Term for BendTwist {
             }
             return e;
         };
-        let mut fresh = (Vec::new(), Vec::new());
-        let mut guard = match self.scratch.try_lock() {
-            Ok(g) => Some(g),
-            Err(TryLockError::Poisoned(p)) => Some(p.into_inner()),
-            Err(TryLockError::WouldBlock) => None,
-        };
-        let (edges, locals) = guard.as_deref_mut().unwrap_or(&mut fresh);
-        let frame = |j: usize| {
-            let (e, t_old, a1_old) = super::edge_at(ctx, q, j);
-            EdgeFrame::new(e, t_old, a1_old, q[dof::edge(j)])
-        };
-        edges.clear();
-        locals.clear();
-        let parallel = nodes >= PARALLEL_NODES;
-        if parallel {
-            edges.par_extend((0..nodes - 1).into_par_iter().map(frame));
-        } else {
-            edges.extend((0..nodes - 1).map(frame));
-        }
-        let edges = &*edges;
-        let local = |i: usize| node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]]);
-        if parallel {
-            locals.par_extend((1..nodes - 1).into_par_iter().map(local));
-        } else {
-            locals.extend((1..nodes - 1).map(local));
-        }
-        let mut e = 0.0;
-        for (i, local) in (1..nodes - 1).zip(locals.iter()) {
-            e += add_local(asm, i, *local, project);
-        }
-        e
+        self.with_frames(ctx, q, |edges| {
+            let mut e = 0.0;
+            for i in 1..nodes - 1 {
+                let local = node_local(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]]);
+                e += add_local(asm, i, local, project);
+            }
+            e
+        })
+    }
+    fn reusable_hessian(&self) -> bool {
+        true
+    }
+    fn value_gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64]) -> f64 {
+        self.with_frames(ctx, q, |edges| {
+            let mut e = 0.0;
+            for i in 1..ctx.model.nodes - 1 {
+                let (v, g) =
+                    node_local_gradient(&NodeStencil::of(ctx, i), [&edges[i - 1], &edges[i]]);
+                add_gradient(grad, i, &g);
+                e += v;
+            }
+            e
+        })
     }
     fn gradient(&self, ctx: &Ctx, q: &[f64], grad: &mut [f64], _scratch: &mut Assembly) -> f64 {
         stencil::gradient_nodes(
@@ -547,6 +636,58 @@ mod tests {
                 (vb + vt, gb + gt, hb + ht),
                 seed,
             );
+        }
+    }
+
+    /// The gradient-only stencil (used at iterates that keep an earlier Hessian) equals the
+    /// value and gradient of the full one, which the test above checks against the jets, on
+    /// the same random stencils; and its gradient matches central differences of its own
+    /// value.
+    #[test]
+    fn gradient_only_stencil_matches_the_full_one_and_finite_differences() {
+        for seed in 1..=300 {
+            let (frame, y, mut r) = stencil(seed);
+            let st = NodeStencil {
+                frame: &frame,
+                kappa0: [0.5 * r.sym(), 0.5 * r.sym()],
+                bend: 1.0 + r.sym(),
+                m0: 0.5 * r.sym(),
+                twist: 1.0 + r.sym(),
+            };
+            let at = |y: &[f64; 8]| {
+                let edges = [
+                    EdgeFrame::new([y[0], y[1], y[2]], frame.t_old[0], frame.a1_old[0], y[6]),
+                    EdgeFrame::new([y[3], y[4], y[5]], frame.t_old[1], frame.a1_old[1], y[7]),
+                ];
+                (
+                    node_local_gradient(&st, [&edges[0], &edges[1]]),
+                    node_local(&st, [&edges[0], &edges[1]]),
+                )
+            };
+            let ((v, g), (vf, gf, _)) = at(&y);
+            let scale = 1.0 + vf.abs() + gf.amax();
+            assert!(
+                (v - vf).abs() <= 1e-12 * scale,
+                "seed {seed}: value {v} vs {vf}"
+            );
+            for k in 0..8 {
+                assert!(
+                    (g[k] - gf[k]).abs() <= 1e-11 * scale,
+                    "seed {seed}: gradient {k}: {} vs {}",
+                    g[k],
+                    gf[k]
+                );
+                let h = 1e-6;
+                let (mut yp, mut ym) = (y, y);
+                yp[k] += h;
+                ym[k] -= h;
+                let fd = (at(&yp).0 .0 - at(&ym).0 .0) / (2.0 * h);
+                assert!(
+                    (fd - g[k]).abs() <= 1e-6 * scale,
+                    "seed {seed}: gradient {k}: {} vs central difference {fd}",
+                    g[k]
+                );
+            }
         }
     }
 

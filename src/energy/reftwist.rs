@@ -76,6 +76,37 @@ pub fn ref_twist_tangent_derivatives(
     (g, h)
 }
 
+/// The reference twist's gradient alone in the tangents `(t0, t1)`: that of
+/// [`ref_twist_tangent_derivatives`], from `d atan2(n, d) = (d dn - n dd) / (n^2 + d^2)`.
+#[inline(always)]
+pub fn ref_twist_tangent_gradient(
+    t0: [f64; 3],
+    t1: [f64; 3],
+    tb0: [f64; 3],
+    tb1: [f64; 3],
+) -> [f64; 6] {
+    // -Omega(tb0, t0, t1) over (t0, t1).
+    let (dn0, dn1) = (f::cross(t1, tb0), f::cross(tb0, t0));
+    let n1 = f::dot(tb0, f::cross(t0, t1));
+    let d1 = 1.0 + f::dot(tb0, t0) + f::dot(t0, t1) + f::dot(t1, tb0);
+    let (dd0, dd1) = (f::add(tb0, t1), f::add(tb0, t0));
+    let s1 = -2.0 / (n1 * n1 + d1 * d1);
+    // +Omega(tb0, tb1, t1) over t1.
+    let c = f::cross(tb0, tb1);
+    let n2 = f::dot(c, t1);
+    let d2 = 1.0 + f::dot(tb0, tb1) + f::dot(tb1, t1) + f::dot(t1, tb0);
+    let dd2 = f::add(tb1, tb0);
+    let s2 = 2.0 / (n2 * n2 + d2 * d2);
+    std::array::from_fn(|k| {
+        if k < 3 {
+            s1 * (d1 * dn0[k] - n1 * dd0[k])
+        } else {
+            let i = k - 3;
+            s1 * (d1 * dn1[i] - n1 * dd1[i]) + s2 * (d2 * c[i] - n2 * dd2[i])
+        }
+    })
+}
+
 /// The reference twist's value, as [`crate::rod::frames::strains`] computes it: the angle
 /// about `t^i` from the space-parallel transport of `a1^{i-1}` to `a1^i`, on the `2 pi` branch
 /// nearest the previous step's `prev`.

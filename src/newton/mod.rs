@@ -52,6 +52,9 @@ pub struct Stats {
     /// Newton iterations (plain and contact) assembled with every stencil's Hessian
     /// projected to positive semi-definite, after the exact Hessian was found indefinite.
     pub projected_iterations: usize,
+    /// Active-set iterations that kept the bending and twist Hessian of an earlier iterate
+    /// of the step and assembled only their gradient (`[solver] hessian_reuse`).
+    pub hessian_reuses: usize,
 }
 
 /// Which iteration failed (for messages).
@@ -197,9 +200,106 @@ impl Objective for Potential<'_> {
     }
 
     fn assemble(&self, q: &[f64], asm: &mut Assembly, project: bool) -> f64 {
-        let m = self.model;
         asm.clear();
-        let mut f = energy::total(self.terms, &self.ctx(), q, Some(asm), project);
+        let f = energy::total(self.terms, &self.ctx(), q, Some(asm), project);
+        self.add_inertia(q, asm, f)
+    }
+}
+
+/// The Hessian of the terms with [`crate::energy::Term::reusable_hessian`] (bending and
+/// twist) at one iterate of a step, for [`Potential::assemble_reusing`]. A Newton iterate
+/// whose coordinates all lie within `reuse` of that iterate (positions within `reuse * a`,
+/// angles within `reuse` rad) takes their value and gradient at its own coordinates and this
+/// Hessian: the gradient stays exact, so the iteration converges to the same solution, and
+/// the Hessian's error is of the order of the rotation of a stencil, `reuse * a / l`, so
+/// the convergence stays fast. Valid for one step (the frames and the natural curvature are
+/// the step's).
+pub struct HessianCache {
+    hessian: Assembly,
+    at: Vec<f64>,
+    project: bool,
+    valid: bool,
+}
+
+impl Default for HessianCache {
+    fn default() -> Self {
+        HessianCache::new(0)
+    }
+}
+
+impl HessianCache {
+    /// An empty cache for `n` coordinates.
+    pub fn new(n: usize) -> Self {
+        HessianCache {
+            hessian: Assembly::new(n),
+            at: vec![0.0; n],
+            project: false,
+            valid: false,
+        }
+    }
+    /// Forget the Hessian (a new step).
+    pub fn invalidate(&mut self) {
+        self.valid = false;
+    }
+    fn usable(&self, m: &Model, q: &[f64], project: bool, reuse: f64) -> bool {
+        if !self.valid || self.project != project || reuse <= 0.0 {
+            return false;
+        }
+        let l_min = m.rest_len.iter().copied().fold(f64::INFINITY, f64::min);
+        let (dx, dth) = (reuse * l_min, reuse);
+        q.iter()
+            .zip(&self.at)
+            .enumerate()
+            .all(|(k, (a, b))| (a - b).abs() <= if dof::is_edge(k) { dth } else { dx })
+    }
+}
+
+impl Potential<'_> {
+    /// [`Objective::assemble`], with the Hessian of the terms that allow it kept in `cache`
+    /// from an earlier iterate of the step within `reuse` (see [`HessianCache`]); at other
+    /// iterates it is assembled and kept. Returns the value and whether the Hessian was kept.
+    pub fn assemble_reusing(
+        &self,
+        q: &[f64],
+        asm: &mut Assembly,
+        project: bool,
+        cache: &mut HessianCache,
+        reuse: f64,
+    ) -> (f64, bool) {
+        if reuse <= 0.0 {
+            return (self.assemble(q, asm, project), false);
+        }
+        asm.clear();
+        let ctx = self.ctx();
+        let keep = cache.usable(self.model, q, project, reuse);
+        if !keep {
+            cache.hessian.clear();
+        }
+        let mut f = 0.0;
+        for t in self.terms {
+            f += match (t.reusable_hessian(), keep) {
+                (true, true) => t.value_gradient(&ctx, q, &mut asm.grad),
+                (true, false) => t.eval(&ctx, q, Some(&mut cache.hessian), project),
+                (false, _) => t.eval(&ctx, q, Some(asm), project),
+            };
+        }
+        if !keep {
+            cache.at.copy_from_slice(q);
+            cache.project = project;
+            cache.valid = true;
+            for (g, c) in asm.grad.iter_mut().zip(&cache.hessian.grad) {
+                *g += c;
+            }
+        }
+        for (h, c) in asm.values.iter_mut().zip(&cache.hessian.values) {
+            *h += c;
+        }
+        (self.add_inertia(q, asm, f), keep)
+    }
+
+    /// Add the inertial term's gradient and Hessian to `asm`; returns `f` plus its value.
+    fn add_inertia(&self, q: &[f64], asm: &mut Assembly, mut f: f64) -> f64 {
+        let m = self.model;
         if let Some(inertia) = self.inertia {
             let w = inertia.weight;
             for k in 0..m.ndof {

@@ -103,6 +103,7 @@ pub const SUMMARY: &[Field] = &[
     f("stats.certificate_failures", "", "certified steps whose conic program moved the solution by more than the Newton tolerance or changed a normal force by more than contact_force_tolerance * W / n_c"),
     f("stats.certificate_max_correction", "", "largest correction of a certifying conic program, in units of solver.tolerance (positions over a, angles in rad)"),
     f("stats.certificate_max_normal_change", "", "largest normal-force change of a certifying conic program, in units of contact_force_tolerance * W / n_c"),
+    f("stats.hessian_reuses", "", "active-set iterations that kept the bending and twist Hessian of an earlier iterate of the step (solver.hessian_reuse) and assembled their gradient alone"),
     f("stats.projected_iterations", "", "Newton iterations assembled with projected (positive semi-definite) stencil Hessians"),
     f("max_penetration", "m", "largest penetration below z = a/2 (0 without a ground)"),
     f("centroid_displacement", "m", "centroid displacement [x, y, z] from the first to the last frame"),

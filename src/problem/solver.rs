@@ -92,6 +92,13 @@ pub struct SolverSpec {
     /// `false` lags them by one iterate (linear convergence) ([`keys::SOLVER_CONTACT_COUPLING`]).
     #[serde(default = "d_coupling")]
     pub contact_coupling: bool,
+    /// Active set: the bending and twist Hessian of an earlier iterate of the step is kept
+    /// while every position stays within this fraction of the shortest element (and every
+    /// angle within this many rad) of it; the gradient is exact at every iterate
+    /// ([`crate::newton::HessianCache`]; 0: assembled at every iterate)
+    /// ([`keys::SOLVER_HESSIAN_REUSE`]).
+    #[serde(default = "d_hessian_reuse")]
+    pub hessian_reuse: f64,
     /// Active-set contact: certify every N-th step it solves with one conic program from its
     /// solution, whose correction must stay below the Newton tolerance and whose normal-force
     /// change below `normal_force_tolerance` (0: never). For tests and audits: a conic solve
@@ -189,6 +196,9 @@ fn d_contact_force_tol() -> f64 {
 fn d_coupling() -> bool {
     keys::SOLVER_CONTACT_COUPLING.flag()
 }
+fn d_hessian_reuse() -> f64 {
+    keys::SOLVER_HESSIAN_REUSE.real()
+}
 fn d_conic_tol() -> f64 {
     keys::SOLVER_CONIC_TOLERANCE.real()
 }
@@ -216,6 +226,7 @@ impl Default for SolverSpec {
             active_set_extra_switches: d_switch_margin(),
             warm_conic_iterations: d_warm(),
             contact_coupling: d_coupling(),
+            hessian_reuse: d_hessian_reuse(),
             normal_force_tolerance: d_normal_tol(),
             contact_tolerance: d_contact_tol(),
             contact_force_tolerance: d_contact_force_tol(),
@@ -231,7 +242,7 @@ impl SolverSpec {
     /// Range checks of every numeric setting and of `clarabel_method` against its key
     /// ([`keys`]): `Err((key, value as written))`.
     pub(crate) fn check_settings(&self) -> Result<(), (&'static Key, String)> {
-        let reals: [(&'static Key, f64); 8] = [
+        let reals: [(&'static Key, f64); 9] = [
             (&keys::SOLVER_TOLERANCE, self.tolerance),
             (&keys::SOLVER_ARMIJO, self.armijo),
             (&keys::SOLVER_LINE_SEARCH_NOISE, self.line_search_noise),
@@ -246,6 +257,7 @@ impl SolverSpec {
                 self.contact_force_tolerance,
             ),
             (&keys::SOLVER_CONIC_TOLERANCE, self.conic_tolerance),
+            (&keys::SOLVER_HESSIAN_REUSE, self.hessian_reuse),
         ];
         let ints: [(&'static Key, usize); 9] = [
             (&keys::SOLVER_MAX_ITERATIONS, self.max_iterations),
