@@ -41,9 +41,10 @@
 
 use super::local::{add_gradient, add_local, intrinsic, Local};
 use super::reftwist::{ref_twist_tangent_derivatives, ref_twist_tangent_gradient, ref_twist_value};
-use super::stencil::{self, BendStencil, StencilEnergy, TwistStencil};
+use super::stencil::{self, BendStencil, TwistStencil};
 use super::{Assembly, Ctx, Term};
-use crate::rod::frames::StencilFrame;
+use crate::rod::frames::{self, StencilFrame};
+use crate::rod::V3;
 use crate::rod::{dof, vec3::f};
 use nalgebra::{SMatrix, SVector};
 use std::sync::{Mutex, TryLockError};
@@ -542,11 +543,18 @@ impl Term for BendTwist {
     fn eval(&self, ctx: &Ctx, q: &[f64], out: Option<&mut Assembly>, project: bool) -> f64 {
         let nodes = ctx.model.nodes;
         let Some(asm) = out else {
+            // The bending and the twist of a node from one evaluation of its strains (the
+            // same numbers as `BendStencil::eval + TwistStencil::eval`, which compute them
+            // once each).
             let mut e = 0.0;
             for i in 1..nodes - 1 {
-                let (b, t) = split(&NodeStencil::of(ctx, i));
+                let st = NodeStencil::of(ctx, i);
                 let y = intrinsic(q, i);
-                e += b.eval(&y) + t.eval(&y);
+                let (e0, e1) = (V3([y[0], y[1], y[2]]), V3([y[3], y[4], y[5]]));
+                let s = frames::strains(&e0, &e1, &y[6], &y[7], st.frame);
+                let (d1, d2) = (s.kappa[0] - st.kappa0[0], s.kappa[1] - st.kappa0[1]);
+                let d = s.twist - st.m0;
+                e += (d1 * d1 + d2 * d2) * st.bend + d * d * st.twist;
             }
             return e;
         };
