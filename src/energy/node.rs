@@ -509,7 +509,7 @@ fn tangents_to_edges_8(
 /// The assembly runs on the calling thread. Computing the edge frames and the stencils on
 /// rayon's threads (tried from 50 elements on) cost more than it saved on 2 cores: every
 /// assembly handed work to the pool and waited for it (futex wake-ups were a third of the
-/// samples), and the S-start took 1.7 to 2 times as long at 50 to 200 elements and the same
+/// samples), and the S-start took 1.4 to 2 times as long at 50 to 200 elements and the same
 /// at 400 (guide, "What an iteration costs").
 #[derive(Default)]
 pub struct BendTwist {
