@@ -22,8 +22,8 @@ trap 'rm -rf "$tmp"' EXIT
 
 # case name, elements, dt, duration (0: the file's), integrator
 cases=(
-    "bundled 50 2e-3 0 implicit"
-    "100el-bdf2 100 3e-3 0 bdf2"
+    "50el-implicit 50 2e-3 0 implicit"
+    "bundled-100el-bdf2 100 3e-3 0 bdf2"
     "200el-first-0.6s 200 1e-3 0.6 implicit"
     "400el-first-0.4s 400 1e-3 0.4 implicit"
 )

@@ -298,12 +298,12 @@ fn bdf2_slides_to_the_same_stop_distances_and_sticks_below_the_friction_angle() 
     incline_with(90.0, MU[2], true, "bdf2");
 }
 
-/// The S-start's first 0.3 s with the active-set contact path, `[solver] contact_coupling`
+/// The S-start's first 0.3 s on 50 elements with implicit Euler at 2e-3 s
+/// ([`common::s_start_coarse`]) with the active-set contact path, `[solver] contact_coupling`
 /// as given; returns every step's residual sequence (see `Stats::residuals`).
 fn s_start_residuals(coupling: bool) -> Vec<Vec<f64>> {
     use slither::gait::Muscles;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/s_start.toml");
-    let mut p = slither::problem::load(&path).unwrap();
+    let mut p = common::s_start_coarse();
     p.time.duration = Some(0.3);
     p.solver.contact_coupling = coupling;
     p.solver.tolerance = 1e-9;
@@ -614,12 +614,12 @@ fn conic_certificate_confirms_the_active_set_while_sliding_and_sticking() {
     }
 }
 
-/// The S-start's first 0.3 s with `[solver] hessian_reuse` as given: the final state, Newton
-/// iterations and the iterations that kept the bending and twist Hessian.
+/// The S-start's first 0.3 s on 50 elements with implicit Euler at 2e-3 s
+/// ([`common::s_start_coarse`]) with `[solver] hessian_reuse` as given: the final state,
+/// Newton iterations and the iterations that kept the bending and twist Hessian.
 fn s_start_with_reuse(reuse: f64) -> (State, usize, usize) {
     use slither::gait::Muscles;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/s_start.toml");
-    let mut p = slither::problem::load(&path).unwrap();
+    let mut p = common::s_start_coarse();
     p.time.duration = Some(0.3);
     p.solver.hessian_reuse = reuse;
     let m = Model::new(&p);

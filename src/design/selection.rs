@@ -4,9 +4,12 @@
 //! resolution and the mesh, Richardson-style, until the estimated relative error of `v_s/v_m`
 //! from time and from mesh is below the target, and stop there.
 //!
-//! **Time resolution** ([`Resolution`]) follows the file's `[solver] integrator`: implicit
-//! Euler (the default, and for an explicit file) at fixed steps, refined by halving `dt`;
-//! `"bdf2"` as adaptive BDF2, refined by dividing the error tolerance by ten.
+//! **Time resolution** ([`Resolution`]) follows the file's `[solver] integrator` and
+//! `[time] adaptive`: adaptive BDF2 (`"bdf2"` with `adaptive = true`) is refined by dividing
+//! the error tolerance by ten; every other file (implicit Euler, the default; explicit; BDF2 at
+//! fixed steps, as the bundled S-start) by implicit Euler from the file's `dt`, refined by
+//! halving it. Fixed-step BDF2 is not refined as BDF2 because its value scatters between
+//! neighbouring steps (see "Why implicit Euler is the default" below).
 //!
 //! **Estimates** ([`PairEstimate`]). The error of a model (`N` elements, resolution `h`) is
 //! estimated from its own two pairs: the time pair (`N`, one refinement coarser than `h`) and
@@ -74,11 +77,11 @@ pub enum Resolution {
 
 impl Resolution {
     /// The resolution the selection starts from for `p`: adaptive BDF2 at the file's
-    /// tolerance (or the default) when `[solver] integrator = "bdf2"`, else implicit Euler at
-    /// the file's `dt`.
+    /// tolerance (or the default) when `[solver] integrator = "bdf2"` with `[time] adaptive`,
+    /// else implicit Euler at the file's `dt`.
     pub fn of(p: &Problem) -> Self {
         match p.solver.integrator {
-            IntegratorKind::Bdf2 => Resolution::Tolerance(
+            IntegratorKind::Bdf2 if p.time.adaptive => Resolution::Tolerance(
                 p.time
                     .error_tolerance
                     .unwrap_or(crate::problem::time::DEFAULT_TOLERANCE),
