@@ -10,6 +10,9 @@
 #   scripts/bundled_cost.sh [K]       # K repeats (default 7); about 3 s per repeat
 #
 # SLITHER names a built binary to use instead of building one (`cargo build --release`).
+# SLITHER_OLD names an older build: it runs problems/s_start_coarse.toml too, in the same
+# rounds (the file is byte for byte the bundled S-start of builds before the move to 100
+# elements), and the ratio against it is printed as well.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
@@ -25,12 +28,16 @@ else
 fi
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-files=(problems/s_start.toml problems/s_start_coarse.toml)
+runs=("$slither problems/s_start.toml s_start" "$slither problems/s_start_coarse.toml s_start_coarse")
+if [ -n "${SLITHER_OLD:-}" ]; then
+    runs+=("$SLITHER_OLD problems/s_start_coarse.toml old_build")
+    echo "old build: $SLITHER_OLD"
+fi
 for rep in $(seq 1 "$k"); do
-    for f in "${files[@]}"; do
-        name="$(basename "$f" .toml)"
+    for r in "${runs[@]}"; do
+        read -r bin f name <<<"$r"
         t0="$(date +%s.%N)"
-        "$slither" run "$f" --out "$tmp/$name" --no-plots --quiet
+        "$bin" run "$f" --out "$tmp/$name" --no-plots --quiet
         t1="$(date +%s.%N)"
         awk -v n="$name" -v a="$t0" -v b="$t1" 'BEGIN { printf "%s %.3f\n", n, b - a }' | tee -a "$tmp/times"
     done
@@ -46,6 +53,9 @@ for line in open(sys.argv[1]):
 new, old = statistics.median(times["s_start"]), statistics.median(times["s_start_coarse"])
 print(f"median wall time, whole process: s_start.toml {new:.3f} s, s_start_coarse.toml {old:.3f} s")
 print(f"ratio s_start / s_start_coarse: {new / old:.2f}")
+if "old_build" in times:
+    before = statistics.median(times["old_build"])
+    print(f"old build on s_start_coarse.toml: median {before:.3f} s; ratio s_start / old build: {new / before:.2f}")
 for name, v in (("s_start.toml", float(sys.argv[2])), ("s_start_coarse.toml", float(sys.argv[3]))):
     errs = ", ".join(f"{100 * (v / ref - 1):+.2f} %" for ref in (0.3197, 0.3205))
     print(f"{name}: v_s/v_m {v:.5f}, against 0.3197 and 0.3205: {errs}")

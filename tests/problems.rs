@@ -218,14 +218,14 @@ fn pin_s_start_newton_and_contact_statistics() {
 }
 
 /// Pinned: the bundled S-start as the file runs it (100 elements, BDF2 at fixed steps of
-/// 3e-3 s). Four runs (the file and `mu_forward` raised by 1e-6, 2e-6 and 3e-6, which stand in
-/// for another machine's round-off) measured 1191 steps, 9167 to 9248 Newton iterations (7.70
-/// to 7.77 per step: BDF2's large steps cost more iterations than implicit Euler's small ones
-/// above), 2 to 7 conic fallbacks, no halving, and v_s/v_m 0.31690 to 0.31696 (about 1 % below
-/// the converged 0.3197 to 0.3205).
+/// 3.6e-3 s). Four runs (the file and `mu_forward` raised by 1e-6, 2e-6 and 3e-6, which stand
+/// in for another machine's round-off) measured 993 steps, 8235 to 8486 Newton iterations
+/// (8.29 to 8.55 per step: BDF2's large steps cost more iterations than implicit Euler's small
+/// ones above), 4 to 7 conic fallbacks, no halving, and v_s/v_m 0.31755 to 0.31760 (0.7 to
+/// 0.9 % below the converged 0.3197 to 0.3205).
 ///
-/// Regression pin: iterations per step at most 8.1 (5 % above the largest run), fallbacks on
-/// at most 1.2 % of the steps (twice the largest run), v_s/v_m within 1e-3 relative (the runs
+/// Regression pin: iterations per step at most 9.0 (5 % above the largest run), fallbacks on
+/// at most 1.4 % of the steps (twice the largest run), v_s/v_m within 1e-3 relative (the runs
 /// spread 2e-4).
 #[test]
 fn pin_bundled_s_start_statistics() {
@@ -234,15 +234,15 @@ fn pin_bundled_s_start_statistics() {
     assert!(!p.time.adaptive);
     let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
-    assert_eq!(st.steps, 1191);
-    assert!(per_step <= 8.1, "{per_step} Newton iterations per step");
+    assert_eq!(st.steps, 993);
+    assert!(per_step <= 9.0, "{per_step} Newton iterations per step");
     assert!(
-        st.contact.active_set_fallbacks as f64 <= 0.012 * st.steps as f64,
+        st.contact.active_set_fallbacks as f64 <= 0.014 * st.steps as f64,
         "{} fallbacks",
         st.contact.active_set_fallbacks
     );
     assert_eq!(st.step_halvings, 0);
-    assert!((v / 0.31693 - 1.0).abs() < 1e-3, "v_s/v_m {v}");
+    assert!((v / 0.31758 - 1.0).abs() < 1e-3, "v_s/v_m {v}");
 }
 
 /// Pinned: the S-start at 100 elements and dt 1e-3 (the mesh where v_s/v_m is within 0.3 %

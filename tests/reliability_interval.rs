@@ -111,5 +111,5 @@ fn the_observation_grid_is_set_by_the_pulse_time() {
     let expected = 1.0 / 0.28 / sim::OBSERVATIONS_PER_PULSE;
     assert!((sim::observation_interval(&m) - expected).abs() < 1e-15);
     let s = sim::Schedule::of(&m);
-    assert_eq!(s.observe_every, 6, "0.01786 s in steps of 3 ms");
+    assert_eq!(s.observe_every, 5, "0.01786 s in steps of 3.6 ms");
 }
