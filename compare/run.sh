@@ -87,9 +87,9 @@ for dt in $PE_DTS; do
         --out "$out/pyelastica_$i.json" >/dev/null
     i=$((i + 1))
 done
-# The scene files at N elements (the files' own mesh is 50).
+# The scene files at N elements (the files' own meshes are 50 and 100).
 for name in pyelastica_s_start s_start; do
-    sed -e "s/^elements = 50 *\(#.*\)\?$/elements = $elements/" "problems/$name.toml" > "$out/$name.toml"
+    sed -e "s/^elements = [0-9]* *\(#.*\)\?$/elements = $elements/" "problems/$name.toml" > "$out/$name.toml"
     grep -q "^elements = $elements" "$out/$name.toml"
 done
 echo "== slither, problems/pyelastica_s_start.toml at $elements elements"
@@ -104,9 +104,14 @@ done
 # bundled S-start (problems/s_start.toml), each as the file with integrator and adaptive set.
 for name in pyelastica_s_start s_start; do
     echo "== slither, BDF2 adaptive, problems/$name.toml"
-    sed -e 's/^\[ground\]/[solver]\nintegrator = "bdf2"\n\n[ground]/' \
-        -e 's/^dt = 2e-3/dt = 2e-3\nadaptive = true/' \
-        "$out/$name.toml" > "$out/${name}_bdf2_adaptive.toml"
+    f="$out/${name}_bdf2_adaptive.toml"
+    sed -e 's/^dt = .*/dt = 2e-3\nadaptive = true/' "$out/$name.toml" > "$f"
+    # (problems/s_start.toml has a [solver] table with the integrator already.)
+    if grep -q '^integrator = ' "$f"; then
+        sed -i 's/^integrator = .*/integrator = "bdf2"/' "$f"
+    else
+        sed -i 's/^\[ground\]/[solver]\nintegrator = "bdf2"\n\n[ground]/' "$f"
+    fi
     grep -q '^adaptive = true' "$out/${name}_bdf2_adaptive.toml"
     grep -q '^integrator = "bdf2"' "$out/${name}_bdf2_adaptive.toml"
     "$slither" run "$out/${name}_bdf2_adaptive.toml" --out "$out/${name}_bdf2_adaptive" \

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # What the bundled S-start costs a newcomer, against the mesh and step it had before: whole
 # `slither run FILE --no-plots --quiet` processes (start-up, simulation, summary) of
-# problems/s_start.toml (100 elements, BDF2 at fixed steps of 3e-3 s) and
+# problems/s_start.toml (100 elements, BDF2 at fixed steps of 3.6e-3 s) and
 # problems/s_start_coarse.toml (50 elements, implicit Euler at 2e-3 s), alternately, K times in
 # one window with one build. Prints each run, the medians, their ratio and each file's v_s/v_m
 # with its error against the converged 0.3197 to 0.3205 (implicit Euler at 400 elements, record
