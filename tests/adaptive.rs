@@ -369,7 +369,10 @@ fn accuracy_settings_are_checked_and_reported() {
             "duration = 3.572               # T: the pulse leaves the tail",
             "duration = 0.3",
         ),
-        ("interval = 0.036               # 10 steps", "interval = 0.03"),
+        (
+            "interval = 0.036               # 10 steps",
+            "interval = 0.03",
+        ),
     ] {
         assert!(text.contains(from), "problems/s_start.toml has no `{from}`");
         text = text.replace(from, to);
