@@ -130,6 +130,43 @@ fn the_command_rejects_a_bad_file_before_running() {
     assert!(t0.elapsed().as_secs_f64() < 2.0, "{:?}", t0.elapsed());
 }
 
+/// `--meshes` and `--bdf2-dt` name the bad value and the allowed range, before any run.
+#[test]
+fn the_command_rejects_bad_meshes_and_steps() {
+    let dir = scratch("cli-options");
+    let problem = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/pyelastica_s_start.toml");
+    for (flag, value, message) in [
+        (
+            "--meshes",
+            "50,1",
+            "'1' is not a mesh: a whole number of elements in [2, 100000]",
+        ),
+        ("--meshes", "50,x", "'x' is not a mesh"),
+        (
+            "--bdf2-dt",
+            "3.6e-3,0",
+            "'0' is not a step: seconds in (0, 1]",
+        ),
+        ("--bdf2-dt", "-1e-3", "is not a step"),
+    ] {
+        let o = Command::new(BIN)
+            .args(["chart", "work-precision"])
+            .arg(&problem)
+            .arg("--out")
+            .arg(dir.join("out"))
+            .arg(format!("{flag}={value}"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{flag} {value}: {err}");
+        assert!(
+            err.contains(flag) && err.contains(message),
+            "{flag} {value}: {err}"
+        );
+        assert!(!dir.join("out/reference.json").exists());
+    }
+}
+
 /// A run of the chart with the given values (no simulation behind it).
 fn run(method: &str, elements: usize, dt: f64, v: f64, wall_s: f64) -> GaitRun {
     GaitRun {

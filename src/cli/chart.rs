@@ -22,6 +22,14 @@ pub enum ChartCmd {
         /// series against their own converged value (gait scenes only).
         #[arg(long)]
         external: Option<PathBuf>,
+        /// Meshes (elements, comma-separated, e.g. 50,100,200) of a gait scene's runs; the
+        /// reference runs on the finest. Default: the file's mesh, twice and four times it.
+        #[arg(long, value_delimiter = ',', value_parser = parse_mesh)]
+        meshes: Vec<usize>,
+        /// Fixed BDF2 steps (s, comma-separated, e.g. 3.6e-3) of a gait scene, drawn as their
+        /// own line on every mesh. Default: none.
+        #[arg(long, value_delimiter = ',', value_parser = parse_step)]
+        bdf2_dt: Vec<f64>,
     },
     /// Largest stable step of each integrator over scaled weight W and element count, by
     /// bisection, for the cantilever swing (or --problem).
@@ -103,19 +111,20 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
             eprintln!("error: {}: {e}", out.display());
             return ExitCode::from(1);
         }
-        let r = chart::gait_precision(
-            &name,
-            &p,
-            &model,
-            &Default::default(),
-            Some(&cache),
-            &mut log,
-        )
-        .and_then(|g| {
-            let g = g.with_external(external);
-            eprint!("{}", g.summary());
-            chart::write_gait_precision(&out, &g)
-        });
+        let mut opts = chart::GaitPrecisionOptions::default();
+        if let ChartCmd::WorkPrecision {
+            meshes, bdf2_dt, ..
+        } = &which
+        {
+            opts.meshes.clone_from(meshes);
+            opts.bdf2_dt.clone_from(bdf2_dt);
+        }
+        let r =
+            chart::gait_precision(&name, &p, &model, &opts, Some(&cache), &mut log).and_then(|g| {
+                let g = g.with_external(external);
+                eprint!("{}", g.summary());
+                chart::write_gait_precision(&out, &g)
+            });
         return match r {
             Ok(()) => {
                 eprintln!("wrote {}", out.display());
@@ -158,5 +167,23 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
             eprintln!("error: {}: {e}", scene.display());
             ExitCode::from(1)
         }
+    }
+}
+
+/// A mesh of `--meshes`: a whole number of elements in [2, 100000].
+fn parse_mesh(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if (2..=100_000).contains(&n) => Ok(n),
+        _ => Err(format!(
+            "'{text}' is not a mesh: a whole number of elements in [2, 100000]"
+        )),
+    }
+}
+
+/// A step of `--bdf2-dt`: seconds in (0, 1].
+fn parse_step(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(h) if h > 0.0 && h <= 1.0 => Ok(h),
+        _ => Err(format!("'{text}' is not a step: seconds in (0, 1]")),
     }
 }
