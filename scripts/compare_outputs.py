@@ -201,7 +201,7 @@ def main():
     if args.optimize:
         text = (ROOT / "problems" / "optimize_s_start.toml").read_text()
         text = re.sub(r"^max_evaluations\s*=.*$", "max_evaluations = 6", text, flags=re.M)
-        text = text.replace('base = "s_start_coarse.toml"', f'base = "{ROOT / "problems" / "s_start_coarse.toml"}"')
+        text = text.replace('base = "s_start.toml"', f'base = "{ROOT / "problems" / "s_start.toml"}"')
         study = work / "optimize_short.toml"
         study.write_text(text)
         codes = {}
