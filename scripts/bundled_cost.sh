@@ -41,9 +41,9 @@ for rep in $(seq 1 "$k"); do
         t1="$(date +%s.%N)"
         awk -v n="$name" -v a="$t0" -v b="$t1" 'BEGIN { printf "%s %.3f\n", n, b - a }' | tee -a "$tmp/times"
     done
-    v_new="$(jq .v_s_over_v_m "$tmp/s_start/summary.json")"
-    v_old="$(jq .v_s_over_v_m "$tmp/s_start_coarse/summary.json")"
 done
+v_new="$(jq .v_s_over_v_m "$tmp/s_start/summary.json")"
+v_old="$(jq .v_s_over_v_m "$tmp/s_start_coarse/summary.json")"
 python3 - "$tmp/times" "$v_new" "$v_old" <<'PY'
 import statistics, sys
 times = {}

@@ -44,8 +44,8 @@ fn juvenile_s_starts_forward() {
     assert!(ob.lambda_pulse_r2 >= 0.8);
     // The pulse's amplitude varies by 27.6 % over the run on 50 elements (implicit Euler at
     // 2e-3 s), 31.4 % on 100 (5e-4 s), 34.2 % in the file's run (100 elements, BDF2 at
-    // 3.6e-3 s) and 35.7 % on 200 (5e-4 s): the 30 % the scene was tuned to on 50 elements does not
-    // survive mesh refinement, and the bound sits above the finest mesh's 36 %.
+    // 3.6e-3 s) and 35.7 % on 200 (5e-4 s): the 30 % the scene was tuned to on 50 elements
+    // does not survive mesh refinement, and the bound sits above the finest mesh's 36 %.
     assert!(
         ob.lambda_amplitude_variation <= 0.40,
         "amplitude variation {}",

@@ -291,7 +291,8 @@ fn pin_s_start_at_100_elements_has_no_fallback_storm() {
 }
 
 /// Pinned: the S-start on 50 elements ([`common::s_start_coarse`]) with `integrator = "bdf2"`
-/// and `adaptive = true` at the default tolerance, from a first step of 2e-3 s. With inelastic BDF2 landings and the default 5e-6 six runs
+/// and `adaptive = true` at the default tolerance, from a first step of 2e-3 s. With inelastic
+/// BDF2 landings and the default 5e-6 six runs
 /// (the file and `mu_forward` raised by 1e-6 to 5e-6) measured v_s/v_m 0.30778 to 0.30835,
 /// -0.16 % to +0.02 % from implicit Euler at 3.125e-5 s (0.30829), in 3752 to 3802 accepted
 /// steps with 566 to 598 rejected and 3.72 to 3.76 Newton iterations per accepted step. A
