@@ -2,11 +2,13 @@
 //! `DURATION` seconds (0.5 by default) with implicit Euler at `dt` (5e-4 by default) at each
 //! element count, and per run the Newton iterations, factorisations and conic fallbacks per
 //! step, the step halvings, microseconds per step per element and wall seconds per simulated
-//! second, plus the time split (assembly, factorisation, solves, line search, Clarabel).
+//! second, plus the time split (assembly, factorisation, solves, line search, Clarabel), and a
+//! second table of the active set's status changes per step by kind (`stats.switches`).
 //!
 //! ```sh
 //! cargo run --release --example contact_scaling -- [--elements 50,100,200,400] [--duration 0.5]
-//!     [--dt 5e-4[,1e-3...]] [--contact active-set|semi-smooth|conic] [--scene problems/s_start.toml]
+//!     [--dt 5e-4[,1e-3...]] [--integrator implicit|bdf2] [--contact active-set|semi-smooth|conic]
+//!     [--scene problems/s_start.toml]
 //!     [--certificate N] [--adaptive TOL] [--chart OUT.png [--pyelastica STEPS.csv]]
 //! ```
 //!
@@ -18,7 +20,8 @@
 //! `--duration full` runs the whole scene and adds v_s/v_m. `--certificate N` certifies every
 //! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it.
 //! `--adaptive TOL` runs adaptive BDF2 instead (error tolerance `TOL`, a fraction of L per step;
-//! `dt` is its first step). `scripts/contact_scaling.sh`
+//! `dt` is its first step); `--integrator bdf2`, BDF2 at the fixed step `dt`.
+//! `scripts/contact_scaling.sh`
 //! keeps the output as a dated record under `docs/results/contact-scaling/`.
 use slither::model::Model;
 use slither::{observe, problem, sim};
@@ -30,6 +33,8 @@ struct Args {
     duration: Option<f64>,
     dts: Vec<f64>,
     contact: Option<problem::ContactKind>,
+    /// Fixed-step BDF2 instead of implicit Euler (`--integrator bdf2`).
+    bdf2: bool,
     certificate: usize,
     /// Adaptive BDF2 with this error tolerance (fraction of L), `dt` its first step.
     adaptive: Option<f64>,
@@ -44,6 +49,7 @@ fn parse() -> Args {
         duration: Some(0.5),
         dts: vec![5e-4],
         contact: None,
+        bdf2: false,
         certificate: 0,
         adaptive: None,
         chart: None,
@@ -82,6 +88,13 @@ fn parse() -> Args {
                     v.parse()
                         .expect("--adaptive: error tolerance, fraction of L"),
                 )
+            }
+            "--integrator" => {
+                a.bdf2 = match v.as_str() {
+                    "implicit" => false,
+                    "bdf2" => true,
+                    _ => panic!("--integrator: implicit or bdf2"),
+                }
             }
             "--contact" => {
                 a.contact = Some(match v.as_str() {
@@ -226,8 +239,9 @@ fn chart(path: &std::path::Path, args: &Args, mut lines: Vec<(String, Vec<(f64, 
 
 /// The time stepping of a table: implicit Euler at `dt`, or adaptive BDF2 starting with it.
 fn method(args: &Args, dt: f64) -> String {
+    let fixed = if args.bdf2 { "BDF2" } else { "implicit Euler" };
     args.adaptive
-        .map_or(format!("implicit Euler, dt {dt:e} s"), |tol| {
+        .map_or(format!("{fixed}, dt {dt:e} s"), |tol| {
             format!("adaptive BDF2, error tolerance {tol:e}, first step {dt:e} s")
         })
 }
@@ -236,6 +250,7 @@ fn method(args: &Args, dt: f64) -> String {
 /// simulated second)` of the runs that finished.
 fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
     let mut points = Vec::new();
+    let mut switches = Vec::new();
     println!(
         "scene {}, {}, {}",
         args.scene.display(),
@@ -252,6 +267,9 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
         p.time.dt = Some(dt);
         p.solver.integrator = problem::IntegratorKind::Implicit;
         p.time.adaptive = false;
+        if args.bdf2 {
+            p.solver.integrator = problem::IntegratorKind::Bdf2;
+        }
         if let Some(tol) = args.adaptive {
             p.solver.integrator = problem::IntegratorKind::Bdf2;
             p.time.adaptive = true;
@@ -312,9 +330,29 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             pct(st.contact.conic_s),
             o.error.as_ref().map_or(String::new(), |e| format!(" failed: {e}"))
         );
+        let w = &st.contact.switches;
+        switches.push(format!(
+            "| {n} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
+            w.early_slides as f64 / steps,
+            w.reversals as f64 / steps,
+            w.converged_slides as f64 / steps,
+            w.front_slides as f64 / steps,
+            w.zero_slip_sticks as f64 / steps,
+            w.landings as f64 / steps,
+            w.early_lifts as f64 / steps,
+            w.converged_lifts as f64 / steps,
+        ));
         if o.error.is_none() {
             points.push((n as f64, wall / simulated));
         }
+    }
+    println!();
+    println!("Active-set status changes per step (`stats.switches` of summary.json):");
+    println!();
+    println!("| elements | early slides | reversals | converged slides | front slides | zero-slip sticks | landings | early lift-offs | converged lift-offs |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for row in &switches {
+        println!("{row}");
     }
     println!();
     points

@@ -132,6 +132,16 @@ fn stop_distance_with(heading: f64, v: [f64; 3], mu: f64, active: bool, integrat
     println!("heading {heading}: stopped after {d:.6} m (analytic {expected:.6} m), final speed {speed:e}, {:.2} conic solves/step", integ.stats().contact.conic_solves as f64 / integ.stats().steps as f64);
     assert!((d / expected - 1.0).abs() < 0.01);
     assert!(speed < 1e-9, "still moving at {speed}");
+    if active {
+        // Every contact slides from the start and comes to rest on the ground: each stops
+        // once (a slip reversal or a vanished slip) and never slides again, and none lands or
+        // lifts off (`stats.switches` counts each kind).
+        let w = integ.stats().contact.switches;
+        println!("status changes: {w:?}");
+        assert_eq!(w.reversals + w.zero_slip_sticks, m.real.len());
+        assert_eq!(w.early_slides + w.converged_slides + w.front_slides, 0);
+        assert_eq!(w.landings + w.early_lifts + w.converged_lifts, 0);
+    }
 }
 
 #[test]

@@ -376,6 +376,7 @@ impl Step<'_, '_> {
         for c in 0..nc {
             if self.st.slip_vanished(self.ct, c, q, tol) {
                 log::debug!("  switch zero-slip {c}");
+                self.stats.switches.zero_slip_sticks += 1;
                 self.st.set(self.ct, m, c, Mode::Stick, q, &mut self.s.held);
                 switched += 1;
             }

@@ -129,6 +129,8 @@ pub struct ContactStats {
     /// Largest normal-force change of a certifying conic program, in units of
     /// `normal_force_tolerance * W / n_c`.
     pub certificate_max_normal_change: f64,
+    /// The active set's status changes by kind, over all steps (failed attempts included).
+    pub switches: SwitchCounts,
     /// The last active-set solve's residual at each iterate (largest force on a free
     /// position coordinate, or torque on a free angle over `a`, relative to the mean weight
     /// per contact; NaN marks a change of contact statuses, -1 a step that was not a full
@@ -155,8 +157,41 @@ static NO_STATS: ContactStats = ContactStats {
     certificate_failures: 0,
     certificate_max_correction: 0.0,
     certificate_max_normal_change: 0.0,
+    switches: SwitchCounts {
+        converged_lifts: 0,
+        converged_slides: 0,
+        front_slides: 0,
+        early_lifts: 0,
+        early_slides: 0,
+        reversals: 0,
+        landings: 0,
+        zero_slip_sticks: 0,
+    },
     residuals: Vec::new(),
 };
+
+/// The active set's contact status changes by kind ([`active`]; `stats.switches` in
+/// `summary.json`): where its iterations go when a step needs many.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct SwitchCounts {
+    /// A touching contact pulling at a converged point lifts off.
+    pub converged_lifts: usize,
+    /// A sticking contact outside the friction cone at a converged point slides.
+    pub converged_slides: usize,
+    /// A sticking neighbour within the front margin of a contact that slid slides with it.
+    pub front_slides: usize,
+    /// A contact pulling now and after the Newton step lifts off before convergence.
+    pub early_lifts: usize,
+    /// A sticking contact outside the cone now and after the Newton step slides before
+    /// convergence.
+    pub early_slides: usize,
+    /// A sliding contact whose full Newton step reverses its slip sticks.
+    pub reversals: usize,
+    /// A free contact that the full Newton step takes below the ground lands.
+    pub landings: usize,
+    /// A sliding contact whose slip vanished sticks.
+    pub zero_slip_sticks: usize,
+}
 
 /// Why a contact model's step solve failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

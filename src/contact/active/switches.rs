@@ -18,10 +18,12 @@ impl Step<'_, '_> {
         for c in 0..ct.nodes.len() {
             if st.mode[c] != Mode::Free && st.react[c] < -force_tol * self.scale {
                 log::debug!("  switch conv-lift {c}");
+                self.stats.switches.converged_lifts += 1;
                 st.set(ct, m, c, Mode::Free, q, &mut s.held);
                 switched += 1;
             } else if st.mode[c] == Mode::Stick && st.ratio[c] > 1.0 + force_tol {
                 log::debug!("  switch conv-slide {c}");
+                self.stats.switches.converged_slides += 1;
                 st.set(ct, m, c, Mode::Slide, q, &mut s.held);
                 s.slid.push(c);
                 switched += 1;
@@ -62,6 +64,7 @@ impl Step<'_, '_> {
                         break;
                     }
                     log::debug!("  switch front-slide {c}");
+                    self.stats.switches.front_slides += 1;
                     st.set(ct, self.m, c, Mode::Slide, q, &mut s.held);
                     switched += 1;
                     prev = c;
@@ -132,6 +135,7 @@ impl Step<'_, '_> {
             }
             if st.mode[c] != Mode::Free && st.react[c] < pull && st.react[c] + ch[2] < pull {
                 log::debug!("  switch early-lift {c}");
+                self.stats.switches.early_lifts += 1;
                 st.set(ct, m, c, Mode::Free, q, &mut s.held);
                 s.early[c] += 1;
                 switched += 1;
@@ -142,6 +146,7 @@ impl Step<'_, '_> {
                 let (r, _, _) = ct.stick_ratio(self.ground, c, after, n_after);
                 if r > 1.0 + force_tol {
                     log::debug!("  switch early-slide {c}");
+                    self.stats.switches.early_slides += 1;
                     st.set(ct, m, c, Mode::Slide, q, &mut s.held);
                     s.early[c] += 1;
                     switched += 1;
@@ -176,6 +181,7 @@ impl Step<'_, '_> {
                             s1[1]
                         );
                         st.set(ct, m, c, Mode::Stick, q, &mut s.held);
+                        self.stats.switches.reversals += 1;
                         switched += 1;
                     }
                 }
@@ -188,6 +194,7 @@ impl Step<'_, '_> {
                             Mode::Stick
                         };
                         log::debug!("  switch landing {c}");
+                        self.stats.switches.landings += 1;
                         st.set(ct, m, c, mode, q, &mut s.held);
                         switched += 1;
                     }
