@@ -8,7 +8,7 @@
 //! ```sh
 //! cargo run --release --example contact_scaling -- [--elements 50,100,200,400] [--duration 0.5]
 //!     [--dt 5e-4[,1e-3...]] [--integrator implicit|bdf2] [--contact active-set|semi-smooth|conic]
-//!     [--scene problems/s_start.toml]
+//!     [--scene problems/s_start.toml] [--cap N] [--perturb X]
 //!     [--certificate N] [--adaptive TOL] [--chart OUT.png [--pyelastica STEPS.csv]]
 //! ```
 //!
@@ -20,7 +20,9 @@
 //! `--duration full` runs the whole scene and adds v_s/v_m. `--certificate N` certifies every
 //! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it.
 //! `--adaptive TOL` runs adaptive BDF2 instead (error tolerance `TOL`, a fraction of L per step;
-//! `dt` is its first step); `--integrator bdf2`, BDF2 at the fixed step `dt`.
+//! `dt` is its first step); `--integrator bdf2`, BDF2 at the fixed step `dt`. `--cap N` sets
+//! `[solver] active_set_max_iterations`; `--perturb X` adds `X` to `mu_forward` (another
+//! trajectory of the same scene, for solver statistics that depend on it).
 //! `scripts/contact_scaling.sh`
 //! keeps the output as a dated record under `docs/results/contact-scaling/`.
 use slither::model::Model;
@@ -35,6 +37,10 @@ struct Args {
     contact: Option<problem::ContactKind>,
     /// Fixed-step BDF2 instead of implicit Euler (`--integrator bdf2`).
     bdf2: bool,
+    /// `[solver] active_set_max_iterations` (`--cap`; the file's by default).
+    cap: Option<usize>,
+    /// Added to `[ground] mu_forward` (`--perturb`): another trajectory of the same scene.
+    perturb: f64,
     certificate: usize,
     /// Adaptive BDF2 with this error tolerance (fraction of L), `dt` its first step.
     adaptive: Option<f64>,
@@ -50,6 +56,8 @@ fn parse() -> Args {
         dts: vec![5e-4],
         contact: None,
         bdf2: false,
+        cap: None,
+        perturb: 0.0,
         certificate: 0,
         adaptive: None,
         chart: None,
@@ -89,6 +97,8 @@ fn parse() -> Args {
                         .expect("--adaptive: error tolerance, fraction of L"),
                 )
             }
+            "--cap" => a.cap = Some(v.parse().expect("--cap: active-set iterations per step")),
+            "--perturb" => a.perturb = v.parse().expect("--perturb: added to mu_forward"),
             "--integrator" => {
                 a.bdf2 = match v.as_str() {
                     "implicit" => false,
@@ -252,11 +262,19 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
     let mut points = Vec::new();
     let mut switches = Vec::new();
     println!(
-        "scene {}, {}, {}",
+        "scene {}{}, {}, {}{}",
         args.scene.display(),
+        if args.perturb != 0.0 {
+            format!(" (mu_forward + {:e})", args.perturb)
+        } else {
+            String::new()
+        },
         method(args, dt),
         args.duration
-            .map_or("whole scene".to_string(), |d| format!("first {d} s"))
+            .map_or("whole scene".to_string(), |d| format!("first {d} s")),
+        args.cap.map_or(String::new(), |c| format!(
+            ", active-set cap {c} iterations"
+        ))
     );
     println!();
     println!("| elements | steps | Newton it./step | factorizations/step | fallbacks/step | fallbacks | halvings | us/step/element | wall s | wall s per simulated s | assembly % | factor % | solve % | line search % | Clarabel % | v_s/v_m |");
@@ -279,6 +297,12 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             p.solver.contact = c;
         }
         p.solver.conic_certificate = args.certificate;
+        if let Some(cap) = args.cap {
+            p.solver.active_set_max_iterations = cap;
+        }
+        if let Some(g) = p.ground.as_mut() {
+            g.mu_forward += args.perturb;
+        }
         if let Some(d) = args.duration {
             p.time.duration = Some(d);
         }

@@ -258,11 +258,18 @@ fn pin_bundled_s_start_statistics() {
 /// (the bound leaves 3 % for rounding differences between machines, and fails without the
 /// front rule).
 ///
-/// Regression pin: iterations and fallbacks per step with margins from four runs with
-/// friction perturbed by 1e-6 (round-off of another machine); v_s/v_m within 1 % of the value
-/// the fast-Newton work recorded (0.3149; the 100-element mesh is within 0.3 % of 200
-/// elements, so 1 % catches a change of the physics, not of the solver). Re-pinned by the
-/// lead after the contact and accuracy work, not here.
+/// Re-pinned when the active set's iteration cap went from 40 to 100 (`[solver]
+/// active_set_max_iterations` 40 -> 100 and `max_iterations` 50 -> 100): steps that gave up after 40 iterations now run on, and some of them into the
+/// status-change cap or a cycle instead. Four runs (the file and `mu_forward` raised by 1e-6,
+/// 2e-6 and 3e-6) measured 3.80 to 3.88 Newton iterations per step and 3 to 9 fallbacks with
+/// the cap at 40, and 3.75 to 4.00 per step and 3 to 21 fallbacks (0.6 % of the 3572 steps)
+/// with 100, in the same wall time (1.84 and 1.89 s on average); at 400 elements the larger
+/// cap takes a third less wall time (see `contact::active`).
+///
+/// Regression pin: iterations per step 3 % above the largest run, fallbacks on at most
+/// 1.2 % of the steps (twice the largest run; the storm above was 11 %); v_s/v_m within 1 % of the value the fast-Newton work recorded
+/// (0.3149; the 100-element mesh is within 0.3 % of 200 elements, so 1 % catches a change of
+/// the physics, not of the solver).
 #[test]
 fn pin_s_start_at_100_elements_has_no_fallback_storm() {
     let mut p = common::s_start_coarse();
@@ -270,7 +277,7 @@ fn pin_s_start_at_100_elements_has_no_fallback_storm() {
     p.time.dt = Some(1e-3);
     let (o, per_step, v) = whole_run(&p);
     let st = &o.stats;
-    assert!(per_step <= 3.88, "{per_step} Newton iterations per step");
+    assert!(per_step <= 4.12, "{per_step} Newton iterations per step");
     // Its fallbacks were mostly stick-slide cycles caught by the exact-repeat test (5 of 6)
     // before the contact rewrite; after it, 0 cycles of 5 fallbacks (re-pinned: a cycle is
     // still counted as a fallback, never beside one).
@@ -281,7 +288,7 @@ fn pin_s_start_at_100_elements_has_no_fallback_storm() {
         st.contact.active_set_fallbacks
     );
     assert!(
-        st.contact.active_set_fallbacks as f64 <= 0.005 * st.steps as f64,
+        st.contact.active_set_fallbacks as f64 <= 0.012 * st.steps as f64,
         "{} fallbacks",
         st.contact.active_set_fallbacks
     );

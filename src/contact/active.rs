@@ -775,6 +775,12 @@ impl ContactModel for ActiveSet {
             return Ok(it);
         }
         self.q_init.copy_from_slice(q);
+        // The default cap is 100 iterations (`active_set_max_iterations` and
+        // `max_iterations`; 40 and 50 before): a step the active set gives up on costs a conic
+        // solve and usually the conic path, about 0.25 s at 400 elements (some 500
+        // active-set iterations there), while the steps that need many iterations are mostly
+        // slip fronts walking one contact per iteration, which converge if let run.
+        // scripts/active_set_cap.sh (record active-set-cap) measures it.
         let cap = m.max_iterations.min(m.solver.active_set_max_iterations);
         let why = match self.iterate(nw, obj, q, cap) {
             Ok(it) => {

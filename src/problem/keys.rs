@@ -352,7 +352,7 @@ keys! {
     // [solver]
     SOLVER_TOLERANCE = "solver.tolerance", "", Real(5e-6), open_closed(0.0, 1e-3), "",
         "Newton has converged when its last correction is below `tolerance * a` on every position and `tolerance` rad on every twist angle.";
-    SOLVER_MAX_ITERATIONS = "solver.max_iterations", "", Int(50), Range::Int { lo: 1, hi: 10_000 }, "",
+    SOLVER_MAX_ITERATIONS = "solver.max_iterations", "", Int(100), Range::Int { lo: 1, hi: 10_000 }, "",
         "Newton iterations per step before the step is rejected (static mode: 10 times as many).";
     SOLVER_MAX_HALVINGS = "solver.max_halvings", "", Int(8), Range::Int { lo: 0, hi: 30 }, "",
         "Times a rejected step may be halved before the run stops (exit 3).";
@@ -370,7 +370,7 @@ keys! {
         "First diagonal shift of a Hessian that is only semi-definite (times 10 per retry).";
     SOLVER_SHIFT_TRIES = "solver.shift_tries", "", Int(12), Range::Int { lo: 1, hi: 30 }, "",
         "Diagonal shift retries before the step fails.";
-    SOLVER_ACTIVE_SET_MAX_ITERATIONS = "solver.active_set_max_iterations", "", Int(40), Range::Int { lo: 1, hi: 10_000 }, "",
+    SOLVER_ACTIVE_SET_MAX_ITERATIONS = "solver.active_set_max_iterations", "", Int(100), Range::Int { lo: 1, hi: 10_000 }, "",
         "Active set: Newton iterations before the conic program takes over (capped by `max_iterations`).";
     SOLVER_ACTIVE_SET_EXTRA_SWITCHES = "solver.active_set_extra_switches", "", Int(8), Range::Int { lo: 0, hi: 10_000 }, "",
         "Active set: contact status changes per step allowed beyond the number of contacts.";
