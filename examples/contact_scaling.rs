@@ -21,7 +21,7 @@
 //! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it.
 //! `--adaptive TOL` runs adaptive BDF2 instead (error tolerance `TOL`, a fraction of L per step;
 //! `dt` is its first step); `--integrator bdf2`, BDF2 at the fixed step `dt`. `--cap N` sets
-//! `[solver] active_set_max_iterations`; `--perturb X` adds `X` to `mu_forward` (another
+//! `[solver] active_set_max_iterations` (and `max_iterations` to at least `N`, which caps it); `--perturb X` adds `X` to `mu_forward` (another
 //! trajectory of the same scene, for solver statistics that depend on it).
 //! `scripts/contact_scaling.sh`
 //! keeps the output as a dated record under `docs/results/contact-scaling/`.
@@ -299,6 +299,7 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
         p.solver.conic_certificate = args.certificate;
         if let Some(cap) = args.cap {
             p.solver.active_set_max_iterations = cap;
+            p.solver.max_iterations = p.solver.max_iterations.max(cap);
         }
         if let Some(g) = p.ground.as_mut() {
             g.mu_forward += args.perturb;
