@@ -21,10 +21,10 @@
 //! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it.
 //! `--adaptive TOL` runs adaptive BDF2 instead (error tolerance `TOL`, a fraction of L per step;
 //! `dt` is its first step); `--integrator bdf2`, BDF2 at the fixed step `dt`. `--cap N` sets
-//! `[solver] active_set_max_iterations` (and `max_iterations` to at least `N`, which caps it); `--perturb X` adds `X` to `mu_forward` (another
-//! trajectory of the same scene, for solver statistics that depend on it).
-//! `scripts/contact_scaling.sh`
-//! keeps the output as a dated record under `docs/results/contact-scaling/`.
+//! `[solver] active_set_max_iterations` (and `max_iterations`, which caps it, to at least
+//! `N`); `--perturb X` adds `X` to `mu_forward` (another trajectory of the same scene, for
+//! solver statistics that depend on it). `scripts/contact_scaling.sh` keeps the output as a
+//! dated record under `docs/results/contact-scaling/`.
 use slither::model::Model;
 use slither::{observe, problem, sim};
 use std::path::PathBuf;
@@ -283,11 +283,12 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
         let mut p = base.clone();
         p.rod.elements = n;
         p.time.dt = Some(dt);
-        p.solver.integrator = problem::IntegratorKind::Implicit;
+        p.solver.integrator = if args.bdf2 {
+            problem::IntegratorKind::Bdf2
+        } else {
+            problem::IntegratorKind::Implicit
+        };
         p.time.adaptive = false;
-        if args.bdf2 {
-            p.solver.integrator = problem::IntegratorKind::Bdf2;
-        }
         if let Some(tol) = args.adaptive {
             p.solver.integrator = problem::IntegratorKind::Bdf2;
             p.time.adaptive = true;

@@ -259,17 +259,18 @@ fn pin_bundled_s_start_statistics() {
 /// front rule).
 ///
 /// Re-pinned when the active set's iteration cap went from 40 to 100 (`[solver]
-/// active_set_max_iterations` 40 -> 100 and `max_iterations` 50 -> 100): steps that gave up after 40 iterations now run on, and some of them into the
-/// status-change cap or a cycle instead. Four runs (the file and `mu_forward` raised by 1e-6,
-/// 2e-6 and 3e-6) measured 3.80 to 3.88 Newton iterations per step and 3 to 9 fallbacks with
-/// the cap at 40, and 3.75 to 4.00 per step and 3 to 21 fallbacks (0.6 % of the 3572 steps)
-/// with 100, in the same wall time (1.84 and 1.89 s on average); at 400 elements the larger
-/// cap takes a third less wall time (see `contact::active`).
+/// active_set_max_iterations` 40 -> 100 and `max_iterations` 50 -> 100): steps that gave up
+/// after 40 iterations now run on, and some of them into the status-change cap or a cycle
+/// instead. Four runs (the file and `mu_forward` raised by 1e-6, 2e-6 and 3e-6) measured 3.80
+/// to 3.88 Newton iterations per step and 3 to 9 fallbacks with the cap at 40, and 3.75 to
+/// 4.00 per step and 3 to 21 fallbacks (0.6 % of the 3572 steps) with 100, in the same wall
+/// time (1.84 and 1.89 s on average); at 400 elements the larger cap takes 40 to 60 % less
+/// wall time (record active-set-cap).
 ///
-/// Regression pin: iterations per step 3 % above the largest run, fallbacks on at most
-/// 1.2 % of the steps (twice the largest run; the storm above was 11 %); v_s/v_m within 1 % of the value the fast-Newton work recorded
-/// (0.3149; the 100-element mesh is within 0.3 % of 200 elements, so 1 % catches a change of
-/// the physics, not of the solver).
+/// Regression pin: iterations per step 3 % above the largest run, fallbacks on at most 1.2 %
+/// of the steps (twice the largest run; the storm above was 11 %); v_s/v_m within 1 % of the
+/// value the fast-Newton work recorded (0.3149; the 100-element mesh is within 0.3 % of 200
+/// elements, so 1 % catches a change of the physics, not of the solver).
 #[test]
 fn pin_s_start_at_100_elements_has_no_fallback_storm() {
     let mut p = common::s_start_coarse();
@@ -299,10 +300,10 @@ fn pin_s_start_at_100_elements_has_no_fallback_storm() {
 
 /// Pinned: the S-start on 50 elements ([`common::s_start_coarse`]) with `integrator = "bdf2"`
 /// and `adaptive = true` at the default tolerance, from a first step of 2e-3 s. With inelastic
-/// BDF2 landings and the default 5e-6 six runs
-/// (the file and `mu_forward` raised by 1e-6 to 5e-6) measured v_s/v_m 0.30778 to 0.30835,
-/// -0.16 % to +0.02 % from implicit Euler at 3.125e-5 s (0.30829), in 3752 to 3802 accepted
-/// steps with 566 to 598 rejected and 3.72 to 3.76 Newton iterations per accepted step. A
+/// BDF2 landings and the default 5e-6 six runs (the file and `mu_forward` raised by 1e-6 to
+/// 5e-6) measured v_s/v_m 0.30778 to 0.30835, -0.16 % to +0.02 % from implicit Euler at
+/// 3.125e-5 s (0.30829), in 3752 to 3802 accepted steps with 566 to 598 rejected and 3.72 to
+/// 3.76 Newton iterations per accepted step. A
 /// looser default (3e-5 gives +3.0 %), a lost error estimate (more steps), or landings that
 /// bounce again fail here.
 ///
