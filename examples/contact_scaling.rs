@@ -8,7 +8,7 @@
 //! ```sh
 //! cargo run --release --example contact_scaling -- [--elements 50,100,200,400] [--duration 0.5]
 //!     [--dt 5e-4[,1e-3...]] [--integrator implicit|bdf2] [--contact active-set|semi-smooth|conic]
-//!     [--scene problems/s_start.toml] [--cap N] [--perturb X]
+//!     [--scene problems/s_start.toml] [--cap N] [--perturb X] [--merit-memory M]
 //!     [--certificate N] [--adaptive TOL] [--chart OUT.png [--pyelastica STEPS.csv]]
 //! ```
 //!
@@ -22,8 +22,9 @@
 //! `--adaptive TOL` runs adaptive BDF2 instead (error tolerance `TOL`, a fraction of L per step;
 //! `dt` is its first step); `--integrator bdf2`, BDF2 at the fixed step `dt`. `--cap N` sets
 //! `[solver] active_set_max_iterations` (and `max_iterations`, which caps it, to at least
-//! `N`); `--perturb X` adds `X` to `mu_forward` (another trajectory of the same scene, for
-//! solver statistics that depend on it). `scripts/contact_scaling.sh` keeps the output as a
+//! `N`); `--merit-memory M` sets `[solver] semi_smooth_merit_memory` (the semi-smooth
+//! Newton's non-monotone line search; 1 is monotone); `--perturb X` adds `X` to `mu_forward`
+//! (another trajectory of the same scene, for solver statistics that depend on it). `scripts/contact_scaling.sh` keeps the output as a
 //! dated record under `docs/results/contact-scaling/`.
 use slither::model::Model;
 use slither::{observe, problem, sim};
@@ -39,6 +40,8 @@ struct Args {
     bdf2: bool,
     /// `[solver] active_set_max_iterations` (`--cap`; the file's by default).
     cap: Option<usize>,
+    /// `[solver] semi_smooth_merit_memory` (`--merit-memory`; the file's by default).
+    memory: Option<usize>,
     /// Added to `[ground] mu_forward` (`--perturb`): another trajectory of the same scene.
     perturb: f64,
     certificate: usize,
@@ -57,6 +60,7 @@ fn parse() -> Args {
         contact: None,
         bdf2: false,
         cap: None,
+        memory: None,
         perturb: 0.0,
         certificate: 0,
         adaptive: None,
@@ -95,6 +99,12 @@ fn parse() -> Args {
                 a.adaptive = Some(
                     v.parse()
                         .expect("--adaptive: error tolerance, fraction of L"),
+                )
+            }
+            "--merit-memory" => {
+                a.memory = Some(
+                    v.parse()
+                        .expect("--merit-memory: accepted merits remembered"),
                 )
             }
             "--cap" => a.cap = Some(v.parse().expect("--cap: active-set iterations per step")),
@@ -262,7 +272,7 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
     let mut points = Vec::new();
     let mut switches = Vec::new();
     println!(
-        "scene {}{}, {}, {}{}",
+        "scene {}{}, {}, {}{}{}",
         args.scene.display(),
         if args.perturb != 0.0 {
             format!(" (mu_forward + {:e})", args.perturb)
@@ -274,7 +284,9 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             .map_or("whole scene".to_string(), |d| format!("first {d} s")),
         args.cap.map_or(String::new(), |c| format!(
             ", active-set cap {c} iterations"
-        ))
+        )),
+        args.memory
+            .map_or(String::new(), |k| format!(", semi-smooth merit memory {k}"))
     );
     println!();
     println!("| elements | steps | Newton it./step | factorizations/step | fallbacks/step | fallbacks | halvings | us/step/element | wall s | wall s per simulated s | assembly % | factor % | solve % | line search % | Clarabel % | v_s/v_m |");
@@ -298,6 +310,9 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             p.solver.contact = c;
         }
         p.solver.conic_certificate = args.certificate;
+        if let Some(mem) = args.memory {
+            p.solver.semi_smooth_merit_memory = mem;
+        }
         if let Some(cap) = args.cap {
             p.solver.active_set_max_iterations = cap;
             p.solver.max_iterations = p.solver.max_iterations.max(cap);

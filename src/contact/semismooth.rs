@@ -38,9 +38,16 @@
 //!
 //! Globalisation: the merit `theta = 1/2 |F|^2` (forces relative to the mean weight per
 //! contact, torques over `a`), evaluated with each assembly; a full step is taken and its
-//! sufficient decrease `theta(alpha) <= (1 - 2 sigma alpha) theta(0)` checked at the next
+//! sufficient decrease `theta(alpha) <= (1 - 2 sigma alpha) theta_ref` checked at the next
 //! assembly, backtracking from the saved iterate otherwise (each try one assembly, no
-//! factorisation). Convergence: a full step below the Newton tolerance on positions and
+//! factorisation). The test is non-monotone: `theta_ref` is the largest merit of the last `M`
+//! accepted iterates (`[solver] semi_smooth_merit_memory`), because on the S-start the
+//! monotone test (`M = 1`) refuses full steps near the solution, where contacts on the edge of
+//! the cone change branch between iterates, and then creeps at a quarter step per iterate
+//! until the iteration cap. A watchdog keeps it from cycling: after `M` accepted iterates
+//! without a new lowest merit (by the same sufficient decrease) the test is against the last
+//! iterate again. The bending and twist Hessian is kept within a step as in the active set
+//! (`[solver] hessian_reuse`). Convergence: a full step below the Newton tolerance on positions and
 //! angles, contact forces that change by less than `[solver] normal_force_tolerance`, and the
 //! same statuses at the new iterate. A failure falls back to the conic program, as the active
 //! set does.
@@ -49,8 +56,9 @@ use super::reactions::{Reactions, UNCOUPLED};
 use super::status::Mode;
 use super::{Conic, ContactFailure, ContactModel, ContactStats, Contacts, Ground};
 use crate::model::Model;
-use crate::newton::{Failure, Newton, Objective, Path, Potential};
+use crate::newton::{Failure, HessianCache, Newton, Path, Potential};
 use crate::rod::dof::{self, HALF_BANDWIDTH as W};
+use std::collections::VecDeque;
 use std::time::Instant;
 
 /// Per-contact linearisation of a sliding contact: the branch's scaled direction `w/|w|`,
@@ -104,6 +112,10 @@ struct Scratch {
     force0: Vec<[f64; 2]>,
     row: Vec<f64>,
     modes_before: Vec<Mode>,
+    /// The merits of the last accepted iterates (at most `[solver] semi_smooth_merit_memory`).
+    recent: VecDeque<f64>,
+    /// The bending and twist Hessian kept within the step (`[solver] hessian_reuse`).
+    hessians: HessianCache,
 }
 
 /// A pending sufficient-decrease test of the step taken from the saved iterate.
@@ -131,6 +143,7 @@ impl SemiSmooth {
             scratch: Scratch {
                 held: vec![false; m.ndof],
                 target: vec![0.0; m.ndof],
+                hessians: HessianCache::new(m.ndof),
                 ..Scratch::default()
             },
         }
@@ -246,13 +259,27 @@ impl SemiSmooth {
         let cap = m.max_iterations.min(set.active_set_max_iterations);
         let mut project = false;
         let mut pending: Option<Pending> = None;
+        // The non-monotone test's memory: accepted merits, the lowest and the iterates since.
+        let memory = set.semi_smooth_merit_memory;
+        self.scratch.recent.clear();
+        let (mut best, mut since_best) = (f64::INFINITY, 0usize);
+        self.scratch.hessians.invalidate();
         let mut it = 0;
         while it < cap {
             it += 1;
             self.spent = it;
             let theta_c = self.branches(m, ground, q, scale);
             let t0 = Instant::now();
-            let f0 = obj.assemble(q, &mut nw.asm, project);
+            let (f0, kept) = obj.assemble_reusing(
+                q,
+                &mut nw.asm,
+                project,
+                &mut self.scratch.hessians,
+                set.hessian_reuse,
+            );
+            if kept {
+                nw.stats.hessian_reuses += 1;
+            }
             if project {
                 nw.stats.projected_iterations += 1;
             }
@@ -267,7 +294,12 @@ impl SemiSmooth {
             let theta = 0.5 * (theta_q + theta_c).max(0.0);
             if let Some(p) = pending.take() {
                 let noise = 1e-20 * (m.ndof + 3 * nc) as f64;
-                if !(theta <= (1.0 - 2.0 * set.armijo * p.alpha) * p.theta0 + noise) {
+                let reference = if since_best < memory {
+                    self.scratch.recent.iter().fold(p.theta0, |a, &b| a.max(b))
+                } else {
+                    p.theta0
+                };
+                if !(theta <= (1.0 - 2.0 * set.armijo * p.alpha) * reference + noise) {
                     // Not enough decrease: back along the saved direction.
                     nw.stats.backtracks += 1;
                     let alpha = 0.5 * p.alpha;
@@ -290,6 +322,17 @@ impl SemiSmooth {
                 }
             }
             self.conic.stats.residuals.push((2.0 * theta).sqrt());
+            let recent = &mut self.scratch.recent;
+            recent.push_back(theta);
+            while recent.len() > memory {
+                recent.pop_front();
+            }
+            if theta < (1.0 - 2.0 * set.armijo) * best {
+                best = theta;
+                since_best = 0;
+            } else {
+                since_best += 1;
+            }
             self.add_sliding(nw, q);
             self.hold_targets(m, nw, q);
             let t1 = Instant::now();

@@ -111,7 +111,7 @@ pub const SUMMARY: &[Field] = &[
     f("stats.switches.reversals", "", "active-set status changes: sliding contacts whose full Newton step reverses their slip, which stick"),
     f("stats.switches.landings", "", "active-set status changes: free contacts that the full Newton step takes below the ground, which land"),
     f("stats.switches.zero_slip_sticks", "", "active-set status changes: sliding contacts whose slip vanished, which stick"),
-    f("stats.hessian_reuses", "", "active-set iterations that kept the bending and twist Hessian of an earlier iterate of the step (solver.hessian_reuse) and assembled their gradient alone"),
+    f("stats.hessian_reuses", "", "active-set and semi-smooth iterations that kept the bending and twist Hessian of an earlier iterate of the step (solver.hessian_reuse) and assembled their gradient alone"),
     f("stats.projected_iterations", "", "Newton iterations assembled with projected (positive semi-definite) stencil Hessians"),
     f("max_penetration", "m", "largest penetration below z = a/2 (0 without a ground)"),
     f("centroid_displacement", "m", "centroid displacement [x, y, z] from the first to the last frame"),

@@ -374,6 +374,8 @@ keys! {
         "Active set: Newton iterations before the conic program takes over (capped by `max_iterations`).";
     SOLVER_ACTIVE_SET_EXTRA_SWITCHES = "solver.active_set_extra_switches", "", Int(8), Range::Int { lo: 0, hi: 10_000 }, "",
         "Active set: contact status changes per step allowed beyond the number of contacts.";
+    SOLVER_SEMI_SMOOTH_MERIT_MEMORY = "solver.semi_smooth_merit_memory", "", Int(4), Range::Int { lo: 1, hi: 100 }, "",
+        "Semi-smooth contact: a full step is accepted when its merit falls enough below the largest of the last this many accepted iterates' (a non-monotone line search); after as many iterates without a new lowest merit the test is against the last iterate again; 1 is the monotone test.";
     SOLVER_WARM_CONIC_ITERATIONS = "solver.warm_conic_iterations", "", Int(20), Range::Int { lo: 1, hi: 10_000 }, "",
         "Newton iterations of the conic path started where a failed active-set attempt stopped (then it starts over from the step's start).";
     SOLVER_NORMAL_FORCE_TOLERANCE = "solver.normal_force_tolerance", "fraction of W / n_c", Real(1e-3), open_closed(0.0, 1.0), "",
@@ -381,7 +383,7 @@ keys! {
     SOLVER_CONTACT_COUPLING = "solver.contact_coupling", "", Flag(true), Text("true or false"), "",
         "Active set: the sliding contacts' normal forces inside the Newton system (quadratic convergence); false lags them one iterate.";
     SOLVER_HESSIAN_REUSE = "solver.hessian_reuse", "fraction of an element length (rad for angles)", Real(1e-2), closed(0.0, 0.1), "",
-        "Active set: Newton keeps the bending and twist Hessian of an earlier iterate of the step while no position has moved more than this times the shortest element and no angle more than this (in rad), and assembles only their gradient (exact) at the iterates between; 0 assembles it at every iterate.";
+        "Active set and semi-smooth contact: Newton keeps the bending and twist Hessian of an earlier iterate of the step while no position has moved more than this times the shortest element and no angle more than this (in rad), and assembles only their gradient (exact) at the iterates between; 0 assembles it at every iterate.";
     SOLVER_CONTACT_TOLERANCE = "solver.contact_tolerance", "fraction of a", Real(1e-9), open_closed(0.0, 1e-3), "",
         "A contact touches when its gap is below this, and sticks when its slip over the step is below it.";
     SOLVER_CONTACT_FORCE_TOLERANCE = "solver.contact_force_tolerance", "fraction of W / n_c", Real(1e-9), open_closed(0.0, 1e-3), "",

@@ -64,6 +64,10 @@ pub struct SolverSpec {
     /// ([`keys::SOLVER_ACTIVE_SET_EXTRA_SWITCHES`]).
     #[serde(default = "d_switch_margin")]
     pub active_set_extra_switches: usize,
+    /// Semi-smooth contact: accepted merits the non-monotone line search compares a full step
+    /// with ([`keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY`]).
+    #[serde(default = "d_merit_memory")]
+    pub semi_smooth_merit_memory: usize,
     /// Newton iterations of the conic path started where a failed active-set attempt stopped
     /// (beyond them it starts over from the step's start): the conic path's normal-force fixed
     /// point contracts by about 0.6 per iteration on the S-start steps the active set stalls
@@ -178,6 +182,9 @@ fn d_shift_tries() -> usize {
 fn d_active_iters() -> usize {
     keys::SOLVER_ACTIVE_SET_MAX_ITERATIONS.int() as usize
 }
+fn d_merit_memory() -> usize {
+    keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY.int() as usize
+}
 fn d_switch_margin() -> usize {
     keys::SOLVER_ACTIVE_SET_EXTRA_SWITCHES.int() as usize
 }
@@ -224,6 +231,7 @@ impl Default for SolverSpec {
             shift_tries: d_shift_tries(),
             active_set_max_iterations: d_active_iters(),
             active_set_extra_switches: d_switch_margin(),
+            semi_smooth_merit_memory: d_merit_memory(),
             warm_conic_iterations: d_warm(),
             contact_coupling: d_coupling(),
             hessian_reuse: d_hessian_reuse(),
@@ -259,7 +267,7 @@ impl SolverSpec {
             (&keys::SOLVER_CONIC_TOLERANCE, self.conic_tolerance),
             (&keys::SOLVER_HESSIAN_REUSE, self.hessian_reuse),
         ];
-        let ints: [(&'static Key, usize); 9] = [
+        let ints: [(&'static Key, usize); 10] = [
             (&keys::SOLVER_MAX_ITERATIONS, self.max_iterations),
             (&keys::SOLVER_MAX_HALVINGS, self.max_halvings),
             (&keys::SOLVER_MAX_BACKTRACKS, self.max_backtracks),
@@ -271,6 +279,10 @@ impl SolverSpec {
             (
                 &keys::SOLVER_ACTIVE_SET_EXTRA_SWITCHES,
                 self.active_set_extra_switches,
+            ),
+            (
+                &keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY,
+                self.semi_smooth_merit_memory,
             ),
             (
                 &keys::SOLVER_WARM_CONIC_ITERATIONS,
