@@ -195,10 +195,10 @@ fn drop_steps() -> Vec<StepRecord> {
 }
 
 /// Not passing (marked, not loosened). With the monotone line search (`[solver]
-/// semi_smooth_merit_memory = 1`, before the default became 4) 12 of 15 landing pairs and 6 of
+/// semi_smooth_merit_memory = 1`, before the default became 8) 12 of 15 landing pairs and 6 of
 /// 7 lift-off pairs were superlinear (stalled pairs 2.2e-1 -> 2.2e-1 and 5.7e-1 -> 5.5e-1 on
 /// landing steps: statuses changing between iterates, where this solve's sliding Jacobian is
-/// a symmetric approximation, not the exact generalized Jacobian). With the default memory 4
+/// a symmetric approximation, not the exact generalized Jacobian). With the default memory 8
 /// and the kept bending and twist Hessian, 7 of 11 and 4 of 6: the non-monotone search
 /// accepts full steps that raise the residual far from the solution (4.0e-1 -> 2.1e0, 2.4e-1
 /// -> 1.2e0), and some pairs fall by a factor of 100 rather than to `r^1.5` (1.4e-5 ->

@@ -374,7 +374,7 @@ keys! {
         "Active set: Newton iterations before the conic program takes over (capped by `max_iterations`).";
     SOLVER_ACTIVE_SET_EXTRA_SWITCHES = "solver.active_set_extra_switches", "", Int(8), Range::Int { lo: 0, hi: 10_000 }, "",
         "Active set: contact status changes per step allowed beyond the number of contacts.";
-    SOLVER_SEMI_SMOOTH_MERIT_MEMORY = "solver.semi_smooth_merit_memory", "", Int(4), Range::Int { lo: 1, hi: 100 }, "",
+    SOLVER_SEMI_SMOOTH_MERIT_MEMORY = "solver.semi_smooth_merit_memory", "", Int(8), Range::Int { lo: 1, hi: 100 }, "",
         "Semi-smooth contact: a full step is accepted when its merit falls enough below the largest of the last this many accepted iterates' (a non-monotone line search); after as many iterates without a new lowest merit the test is against the last iterate again; 1 is the monotone test.";
     SOLVER_WARM_CONIC_ITERATIONS = "solver.warm_conic_iterations", "", Int(20), Range::Int { lo: 1, hi: 10_000 }, "",
         "Newton iterations of the conic path started where a failed active-set attempt stopped (then it starts over from the step's start).";
