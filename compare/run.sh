@@ -12,7 +12,9 @@
 # 3. PyElastica at dt 2e-5, 1e-4 (its largest stable step) and 1e-5 (for its converged value),
 #    timing only the time stepping after an in-process warm-up that compiles numba's kernels;
 #    then slither at the file's dt 2e-3 and at 1e-3, 5e-4 (4x smaller) and 1.25e-4 (16x
-#    smaller, for its converged value). All in one window.
+#    smaller, for its converged value), adaptive BDF2 on both scenes, and the converged
+#    S-start (problems/s_start.toml with BDF2 at 5e-3 s and the semi-smooth contact). All in
+#    one window.
 # 4. The table: wall seconds per simulated second, the ratio PyElastica / slither, and each
 #    row's v_s/v_m error against its own code's converged value: the finest run of that code
 #    (PyElastica dt 1e-5, slither dt 1.25e-4), whose own error is bounded by its change from
@@ -117,6 +119,16 @@ for name in pyelastica_s_start s_start; do
     "$slither" run "$out/${name}_bdf2_adaptive.toml" --out "$out/${name}_bdf2_adaptive" \
         --no-plots --quiet
 done
+# The converged S-start: problems/s_start.toml at N elements with BDF2 at fixed steps of 5e-3 s
+# and the semi-smooth contact Newton (at 200 elements within 0.2 % of the converged 0.3197 to
+# 0.3205; guide, "Speed against accuracy").
+echo "== slither, converged S-start: problems/s_start.toml, BDF2 at 5e-3 s, semi-smooth contact"
+f="$out/s_start_converged.toml"
+sed -e 's/^dt = .*/dt = 5e-3/' -e 's/^integrator = .*/integrator = "bdf2"\ncontact = "semi-smooth"/' \
+    "$out/s_start.toml" > "$f"
+grep -q '^dt = 5e-3' "$f"
+grep -q '^contact = "semi-smooth"' "$f"
+"$slither" run "$f" --out "$out/s_start_converged" --no-plots --quiet
 echo "load after: $(cat /proc/loadavg)"
 
 "$venv/bin/python" - "$out" "$repo/problems/pyelastica_s_start.toml" <<'EOF'
@@ -204,6 +216,16 @@ print(f"Bundled S-start (problems/s_start.toml at {elements} elements) by adapti
       f"= {b_rate:.3f} s per simulated s, v_s/v_m {b['v_s_over_v_m']:.4f}; PyElastica at its "
       f"largest stable step {dt_str(pe['max']['dt'])} on its scene {pe_rate:.3f}: "
       f"{pe_rate / b_rate:.1f}x.")
+c = json.load(open(os.path.join(out, "s_start_converged", "summary.json")))
+c_rate = c["wall_time_s"] / c["t_final"]
+lo, hi = 0.3197, 0.3205
+c_err = max(abs(c["v_s_over_v_m"] - lo), abs(c["v_s_over_v_m"] - hi)) / lo
+print(f"Converged S-start (problems/s_start.toml at {elements} elements, BDF2 at 5e-3 s, "
+      f"semi-smooth contact): {c['steps']} steps, {c['wall_time_s']:.2f} s for "
+      f"{c['t_final']:.3f} s = {c_rate:.3f} s per simulated s, v_s/v_m "
+      f"{c['v_s_over_v_m']:.4f}, at most {100 * c_err:.2f} % from the converged {lo} to {hi}; "
+      f"PyElastica at its largest stable step {dt_str(pe['max']['dt'])} on its scene "
+      f"{pe_rate:.3f}: {pe_rate / c_rate:.1f}x.")
 print()
 print("v_s/v_m (heading): centre-of-mass velocity along the instantaneous ground-projected")
 print("tail-to-head direction, time-averaged (the PyElastica reference README's v_s).")
