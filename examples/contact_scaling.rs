@@ -8,7 +8,7 @@
 //! ```sh
 //! cargo run --release --example contact_scaling -- [--elements 50,100,200,400] [--duration 0.5]
 //!     [--dt 5e-4[,1e-3...]] [--integrator implicit|bdf2] [--contact active-set|semi-smooth|conic]
-//!     [--scene problems/s_start.toml] [--cap N] [--perturb X] [--merit-memory M]
+//!     [--scene problems/s_start.toml] [--cap N] [--perturb X] [--merit-memory M] [--penalty P]
 //!     [--certificate N] [--adaptive TOL] [--chart OUT.png [--pyelastica STEPS.csv]]
 //! ```
 //!
@@ -23,9 +23,10 @@
 //! `dt` is its first step); `--integrator bdf2`, BDF2 at the fixed step `dt`. `--cap N` sets
 //! `[solver] active_set_max_iterations` (and `max_iterations`, which caps it, to at least
 //! `N`); `--merit-memory M` sets `[solver] semi_smooth_merit_memory` (the semi-smooth
-//! Newton's non-monotone line search; 1 is monotone); `--perturb X` adds `X` to `mu_forward`
-//! (another trajectory of the same scene, for solver statistics that depend on it). `scripts/contact_scaling.sh` keeps the output as a
-//! dated record under `docs/results/contact-scaling/`.
+//! Newton's non-monotone line search; 1 is monotone), `--penalty P` its `semi_smooth_penalty`;
+//! `--perturb X` adds `X` to `mu_forward` (another trajectory of the same scene, for solver
+//! statistics that depend on it). `scripts/contact_scaling.sh` keeps the output as a dated
+//! record under `docs/results/contact-scaling/`.
 use slither::model::Model;
 use slither::{observe, problem, sim};
 use std::path::PathBuf;
@@ -42,6 +43,8 @@ struct Args {
     cap: Option<usize>,
     /// `[solver] semi_smooth_merit_memory` (`--merit-memory`; the file's by default).
     memory: Option<usize>,
+    /// `[solver] semi_smooth_penalty` (`--penalty`; the file's by default).
+    penalty: Option<f64>,
     /// Added to `[ground] mu_forward` (`--perturb`): another trajectory of the same scene.
     perturb: f64,
     certificate: usize,
@@ -61,6 +64,7 @@ fn parse() -> Args {
         bdf2: false,
         cap: None,
         memory: None,
+        penalty: None,
         perturb: 0.0,
         certificate: 0,
         adaptive: None,
@@ -101,6 +105,7 @@ fn parse() -> Args {
                         .expect("--adaptive: error tolerance, fraction of L"),
                 )
             }
+            "--penalty" => a.penalty = Some(v.parse().expect("--penalty: a positive number")),
             "--merit-memory" => {
                 a.memory = Some(
                     v.parse()
@@ -272,7 +277,7 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
     let mut points = Vec::new();
     let mut switches = Vec::new();
     println!(
-        "scene {}{}, {}, {}{}{}",
+        "scene {}{}, {}, {}{}{}{}",
         args.scene.display(),
         if args.perturb != 0.0 {
             format!(" (mu_forward + {:e})", args.perturb)
@@ -286,7 +291,9 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             ", active-set cap {c} iterations"
         )),
         args.memory
-            .map_or(String::new(), |k| format!(", semi-smooth merit memory {k}"))
+            .map_or(String::new(), |k| format!(", semi-smooth merit memory {k}")),
+        args.penalty
+            .map_or(String::new(), |k| format!(", semi-smooth penalty {k}"))
     );
     println!();
     println!("| elements | steps | Newton it./step | factorizations/step | fallbacks/step | fallbacks | halvings | us/step/element | wall s | wall s per simulated s | assembly % | factor % | solve % | line search % | Clarabel % | v_s/v_m |");
@@ -310,6 +317,9 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             p.solver.contact = c;
         }
         p.solver.conic_certificate = args.certificate;
+        if let Some(pen) = args.penalty {
+            p.solver.semi_smooth_penalty = pen;
+        }
         if let Some(mem) = args.memory {
             p.solver.semi_smooth_merit_memory = mem;
         }

@@ -15,8 +15,10 @@
 //! ```
 //!
 //! with `u = (mu(s_f) s_f, mu_s s_s)` the scaled slip `s` of the step (`mu(s_f) = mu_f` for
-//! forward slip) and `rho = m_node w` (the node's inertia stiffness; any positive value gives
-//! the same roots). Together with the force balance `grad Phi(q) - lambda e_z + G = 0` at every
+//! forward slip) and `rho = P m_node w`: `P` (`[solver] semi_smooth_penalty`, 10 by default)
+//! times the node's inertia stiffness. Any positive value gives the same roots; on the S-start
+//! `P = 10` takes 10 to 20 % fewer iterations than `P = 1`, and `P` of order 100 (the node's
+//! whole stiffness, elasticity included) four times as many. Together with the force balance `grad Phi(q) - lambda e_z + G = 0` at every
 //! contact node this is one semi-smooth system `F(q, lambda, G) = 0`.
 //!
 //! Each iteration takes the element of the generalized Jacobian on the branch the current
@@ -388,6 +390,7 @@ impl SemiSmooth {
     /// Size the per-step storage; the penalty `rho` of every contact.
     fn prepare(&mut self, m: &Model, weight: f64) {
         let nc = self.conic.ct.nodes.len();
+        let penalty = m.solver.semi_smooth_penalty;
         let s = &mut self.scratch;
         s.rho.clear();
         s.rho.extend(
@@ -395,7 +398,7 @@ impl SemiSmooth {
                 .ct
                 .nodes
                 .iter()
-                .map(|&i| m.mass[dof::node(i) + 2] * weight),
+                .map(|&i| penalty * m.mass[dof::node(i) + 2] * weight),
         );
         s.slide.resize(nc, SlideLin::default());
         s.grad.resize(nc, [0.0; 3]);

@@ -68,6 +68,10 @@ pub struct SolverSpec {
     /// with ([`keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY`]).
     #[serde(default = "d_merit_memory")]
     pub semi_smooth_merit_memory: usize,
+    /// Semi-smooth contact: the Alart-Curnier penalty as a multiple of each contact node's
+    /// inertia stiffness ([`keys::SOLVER_SEMI_SMOOTH_PENALTY`]).
+    #[serde(default = "d_penalty")]
+    pub semi_smooth_penalty: f64,
     /// Newton iterations of the conic path started where a failed active-set attempt stopped
     /// (beyond them it starts over from the step's start): the conic path's normal-force fixed
     /// point contracts by about 0.6 per iteration on the S-start steps the active set stalls
@@ -182,6 +186,9 @@ fn d_shift_tries() -> usize {
 fn d_active_iters() -> usize {
     keys::SOLVER_ACTIVE_SET_MAX_ITERATIONS.int() as usize
 }
+fn d_penalty() -> f64 {
+    keys::SOLVER_SEMI_SMOOTH_PENALTY.real()
+}
 fn d_merit_memory() -> usize {
     keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY.int() as usize
 }
@@ -232,6 +239,7 @@ impl Default for SolverSpec {
             active_set_max_iterations: d_active_iters(),
             active_set_extra_switches: d_switch_margin(),
             semi_smooth_merit_memory: d_merit_memory(),
+            semi_smooth_penalty: d_penalty(),
             warm_conic_iterations: d_warm(),
             contact_coupling: d_coupling(),
             hessian_reuse: d_hessian_reuse(),
@@ -250,7 +258,7 @@ impl SolverSpec {
     /// Range checks of every numeric setting and of `clarabel_method` against its key
     /// ([`keys`]): `Err((key, value as written))`.
     pub(crate) fn check_settings(&self) -> Result<(), (&'static Key, String)> {
-        let reals: [(&'static Key, f64); 9] = [
+        let reals: [(&'static Key, f64); 10] = [
             (&keys::SOLVER_TOLERANCE, self.tolerance),
             (&keys::SOLVER_ARMIJO, self.armijo),
             (&keys::SOLVER_LINE_SEARCH_NOISE, self.line_search_noise),
@@ -266,6 +274,7 @@ impl SolverSpec {
             ),
             (&keys::SOLVER_CONIC_TOLERANCE, self.conic_tolerance),
             (&keys::SOLVER_HESSIAN_REUSE, self.hessian_reuse),
+            (&keys::SOLVER_SEMI_SMOOTH_PENALTY, self.semi_smooth_penalty),
         ];
         let ints: [(&'static Key, usize); 10] = [
             (&keys::SOLVER_MAX_ITERATIONS, self.max_iterations),
