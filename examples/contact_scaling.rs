@@ -350,6 +350,17 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
                 c.certificates, c.certificate_failures, c.certificate_max_correction, c.certificate_max_normal_change
             );
         }
+        let hist: Vec<String> = st
+            .iteration_histogram
+            .iter()
+            .enumerate()
+            .filter(|(_, &c)| c > 0)
+            .map(|(k, c)| format!("{k}:{c}"))
+            .collect();
+        eprintln!(
+            "{n} elements: steps by Newton iterations {}",
+            hist.join(" ")
+        );
         let fallbacks = st.contact.active_set_fallbacks + st.contact.semismooth_fallbacks;
         let wall = o.wall_time_s;
         let simulated = o.state.t.max(1e-300);

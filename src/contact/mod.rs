@@ -76,6 +76,13 @@ pub trait ContactModel: Send {
         obj: &Potential,
         q: &mut Vec<f64>,
     ) -> Result<usize, ContactFailure>;
+    /// Whether the step's Newton should start from the velocities extrapolated over the last
+    /// two steps rather than from the scheme's predictor, where the scheme allows it (default:
+    /// no; the active set takes more iterations from there: 3.05 against 2.82 per step on the
+    /// S-start at 200 elements and 5e-4 s).
+    fn extrapolated_start(&self) -> bool {
+        false
+    }
     /// The step's solution `q` was accepted.
     fn accept(&mut self, m: &Model, q: &[f64]);
     /// The step was rejected: restore what `begin_step` saved.

@@ -50,8 +50,16 @@
 //! without a new lowest merit (by the same sufficient decrease) the test is against the last
 //! iterate again. The bending and twist Hessian is kept within a step as in the active set
 //! (`[solver] hessian_reuse`). Convergence: a full step below the Newton tolerance on positions and
-//! angles, contact forces that change by less than `[solver] normal_force_tolerance`, and the
-//! same statuses at the new iterate. A failure falls back to the conic program, as the active
+//! angles, contact forces that change by less than `[solver] normal_force_tolerance`, and at
+//! the new iterate every contact on the same branch or, having changed branch, with its
+//! Alart-Curnier residual below that force tolerance (a contact on the cone's edge, where
+//! both branches have the same root: requiring the same branch there cost up to 8 more
+//! iterations on BDF2 steps of 5e-3 s).
+//!
+//! Start: the force variables extrapolated linearly over the last two steps (where the
+//! contact touched at both), and with implicit Euler the positions from the velocities
+//! extrapolated likewise ([`ContactModel::extrapolated_start`]): on the S-start at 200
+//! elements and 5e-4 s the first 1.5 s take 3.31 instead of 3.96 iterations per step. A failure falls back to the conic program, as the active
 //! set does.
 
 use super::reactions::{Reactions, UNCOUPLED};
@@ -87,6 +95,8 @@ pub struct SemiSmooth {
     force_saved: Vec<[f64; 2]>,
     /// Whether the variables hold a previous step's solution (or a guess).
     valid: bool,
+    /// The size of the last step begun (s; 0: none).
+    step_last: f64,
     q_init: Vec<f64>,
     /// Iterations of the last [`SemiSmooth::iterate`] (counted also when it fails).
     spent: usize,
@@ -140,6 +150,7 @@ impl SemiSmooth {
             lambda_saved: Vec::new(),
             force_saved: Vec::new(),
             valid: false,
+            step_last: 0.0,
             q_init: vec![0.0; m.ndof],
             spent: 0,
             scratch: Scratch {
@@ -370,7 +381,8 @@ impl SemiSmooth {
             }
             self.save(q, nw);
             self.step_from_saved(m, q, 1.0);
-            if small && settled && self.same_branches(m, ground, q) {
+            let tol_f = set.normal_force_tolerance * scale;
+            if small && settled && self.branches_settled(m, ground, q, tol_f) {
                 nw.stats.line_search_s += t3.elapsed().as_secs_f64();
                 return Ok(it);
             }
@@ -432,11 +444,16 @@ impl SemiSmooth {
         sum
     }
 
-    /// Whether every contact's status at `q` is the one the last direction was computed with.
-    fn same_branches(&mut self, m: &Model, g: &Ground, q: &[f64]) -> bool {
+    /// Whether every contact at `q` is on the branch the last direction was computed with, or
+    /// has changed branch with its Alart-Curnier residual below `tol` (N): a contact on the
+    /// cone's edge, where both branches give the same root.
+    fn branches_settled(&mut self, m: &Model, g: &Ground, q: &[f64], tol: f64) -> bool {
+        let mu_x = g.mu_f.max(g.mu_b);
         (0..self.conic.ct.nodes.len()).all(|c| {
             let rho = self.scratch.rho[c];
-            self.branch(m, g, c, q, rho).mode == self.mode[c]
+            let b = self.branch(m, g, c, q, rho);
+            b.mode == self.mode[c]
+                || b.phi_n.hypot(mu_x * b.phi_t[0]).hypot(g.mu_s * b.phi_t[1]) <= tol
         })
     }
 
@@ -685,8 +702,32 @@ impl ContactModel for SemiSmooth {
             self.reset_forces(m, q);
             self.valid = true;
         }
+        // The force variables extrapolated linearly over the last two steps (contacts that
+        // touched at both ends of the last step); `saved` keeps the values at the step's start.
+        let extrapolate = self.step_last > 0.0 && self.lambda_saved.len() == self.lambda.len();
+        std::mem::swap(&mut self.lambda_saved, &mut self.scratch.lambda0);
+        std::mem::swap(&mut self.force_saved, &mut self.scratch.force0);
         self.lambda_saved.clone_from(&self.lambda);
         self.force_saved.clone_from(&self.force);
+        if extrapolate {
+            let r = h / self.step_last;
+            let (older_l, older_f) = (&self.scratch.lambda0, &self.scratch.force0);
+            for c in 0..self.lambda.len() {
+                let l = self.lambda[c];
+                if l > 0.0 && older_l[c] > 0.0 {
+                    self.lambda[c] = (l + r * (l - older_l[c])).max(0.0);
+                    for j in 0..2 {
+                        let f = self.force[c][j];
+                        self.force[c][j] = f + r * (f - older_f[c][j]);
+                    }
+                }
+            }
+        }
+        self.step_last = h;
+    }
+
+    fn extrapolated_start(&self) -> bool {
+        true
     }
 
     fn solve(

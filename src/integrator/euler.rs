@@ -23,6 +23,12 @@ impl Scheme for ImplicitEuler {
         }
     }
 
+    /// On the S-start with the semi-smooth contact at 200 elements and 5e-4 s, 3.3 instead of
+    /// 4.0 iterations per step (BDF2, whose velocities already span two steps, takes more).
+    fn extrapolated_start(&self) -> bool {
+        true
+    }
+
     fn inertia_weight(&self, h: f64) -> f64 {
         1.0 / (h * h)
     }

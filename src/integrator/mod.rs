@@ -74,6 +74,22 @@ pub struct Stats {
     /// The contact model's.
     #[serde(flatten)]
     pub contact: ContactStats,
+    /// Accepted steps by their Newton iteration count: entry `k` counts the steps that took
+    /// `k` iterations (for diagnostics; not in `summary.json`).
+    #[serde(skip)]
+    pub iteration_histogram: Vec<usize>,
+}
+
+impl Stats {
+    /// Count one accepted step of `it` Newton iterations.
+    fn count_step(&mut self, it: usize) {
+        self.steps += 1;
+        self.newton_iterations += it;
+        if self.iteration_histogram.len() <= it {
+            self.iteration_histogram.resize(it + 1, 0);
+        }
+        self.iteration_histogram[it] += 1;
+    }
 }
 
 /// Why one attempt at a step (or a static load increment) failed.
@@ -133,6 +149,11 @@ pub trait Scheme: Send {
     fn name(&self) -> &'static str;
     /// The predictor `qhat` of a step of size `h` from `s` (fixed coordinates stay put).
     fn predictor(&mut self, m: &Model, s: &State, h: f64, qhat: &mut [f64]);
+    /// Whether Newton may start from the velocities extrapolated over the last two steps
+    /// (when the contact model asks for it) instead of from the predictor. Default: no.
+    fn extrapolated_start(&self) -> bool {
+        false
+    }
     /// The inertia weight `w` of a step of size `h` (1/s^2).
     fn inertia_weight(&self, h: f64) -> f64;
     /// Coordinates that take an implicit Euler step in this step (weight `1/h^2`; their
@@ -339,6 +360,9 @@ pub struct Integrator<'m> {
     qhat: Vec<f64>,
     q_prev: Vec<f64>,
     v_prev: Vec<f64>,
+    /// Velocities at the start of the last accepted step and its size (0: none yet).
+    v_older: Vec<f64>,
+    h_older: f64,
     pred: Vec<f64>,
     /// Normal forces at the start and the end of an adaptive try, and the nodes whose contact
     /// state changed (left out of the error estimate).
@@ -375,6 +399,8 @@ impl<'m> Integrator<'m> {
             qhat: vec![0.0; n],
             q_prev: vec![0.0; n],
             v_prev: vec![0.0; n],
+            v_older: vec![0.0; n],
+            h_older: 0.0,
             pred: vec![0.0; n],
             normal_start: vec![0.0; model.real.len()],
             normal_end: vec![0.0; model.real.len()],
@@ -431,6 +457,21 @@ impl<'m> Integrator<'m> {
         self.scheme.predictor(m, s, h, &mut self.qhat);
         self.loads.set_time(m, s.t + h);
         s.q.copy_from_slice(&self.qhat);
+        let extrapolate = self.scheme.extrapolated_start()
+            && self
+                .contact
+                .as_ref()
+                .is_some_and(|c| c.extrapolated_start());
+        if extrapolate && self.h_older > 0.0 {
+            // q_n + h (v_n + h (v_n - v_{n-1}) / h_{n-1}): the velocity extrapolated linearly.
+            let r = h / self.h_older;
+            for k in 0..m.ndof {
+                if !m.fixed[k] {
+                    let v = self.v_prev[k] + r * (self.v_prev[k] - self.v_older[k]);
+                    s.q[k] = self.q_prev[k] + h * v;
+                }
+            }
+        }
         if let Some(c) = self.contact.as_mut() {
             let origin = self.scheme.slip_origin(&self.q_prev);
             c.begin_step(m, &self.q_prev, origin, &self.v_prev, h, &mut s.q);
@@ -466,6 +507,8 @@ impl<'m> Integrator<'m> {
             c.accept(m, &s.q);
         }
         self.scheme.update(m, &self.q_prev, &self.v_prev, h, s);
+        self.v_older.copy_from_slice(&self.v_prev);
+        self.h_older = h;
         s.update_frames();
         s.t += h;
     }
@@ -514,8 +557,7 @@ impl<'m> Integrator<'m> {
                     log::debug!("adaptive try t {} h {h:.4e} err {err:.4e} it {it}", s.t);
                     if err <= 1.0 {
                         self.commit(s, h);
-                        self.stats.steps += 1;
-                        self.stats.newton_iterations += it;
+                        self.stats.count_step(it);
                         out.h = h;
                         out.error = err;
                         out.next = control.next_after_accept(h, err, p);
@@ -561,8 +603,7 @@ impl<'m> Integrator<'m> {
     fn step_level(&mut self, s: &mut State, h: f64, level: usize) -> Result<(), StepError> {
         match self.try_step(s, h) {
             Ok(it) => {
-                self.stats.steps += 1;
-                self.stats.newton_iterations += it;
+                self.stats.count_step(it);
                 Ok(())
             }
             Err(reason) => {
