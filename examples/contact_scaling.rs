@@ -358,7 +358,8 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             .map(|(k, c)| format!("{k}:{c}"))
             .collect();
         eprintln!(
-            "{n} elements: steps by Newton iterations {}",
+            "{n} elements: {} semi-smooth retries; steps by Newton iterations {}",
+            st.contact.semismooth_retries,
             hist.join(" ")
         );
         let fallbacks = st.contact.active_set_fallbacks + st.contact.semismooth_fallbacks;

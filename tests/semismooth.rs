@@ -254,3 +254,43 @@ fn stick_to_slide_at_the_cone_edge_converges_superlinearly() {
     let p = pairs(steps[first..(first + 10).min(steps.len())].iter());
     assert_superlinear("stick-to-slide", &p, 2);
 }
+
+/// The retries of a failed step (`[solver] semi_smooth_retries`): with an iteration cap no
+/// step can meet (one iteration), every step fails its first attempt and each retry, and the
+/// conic program solves it from where the last retry stopped. The retries are counted, and
+/// they leave no trace in the answer: the run ends where the run without retries ends, to
+/// the Newton tolerance.
+#[test]
+fn a_failed_step_is_retried_with_other_penalties_before_the_conic_fallback() {
+    let run = |retries: usize| {
+        let m = scene(
+            "velocity = [0.5, 0.0, 0.0]\nangular_velocity = [0.0, 0.0, 2.0]",
+            MU,
+            0.0,
+            5e-3,
+            0.05,
+            &format!("active_set_max_iterations = 1\nsemi_smooth_retries = {retries}"),
+        );
+        let mut integ = Integrator::new(&m, Box::new(Natural));
+        let mut s = State::initial(&m);
+        for _ in 0..10 {
+            integ.step(&mut s, m.dt).unwrap();
+        }
+        let st = integ.stats().contact.clone();
+        (s.q, st.semismooth_fallbacks, st.semismooth_retries)
+    };
+    let (q0, fallbacks0, retries0) = run(0);
+    let (q2, fallbacks2, retries2) = run(2);
+    assert_eq!((fallbacks0, retries0), (10, 0));
+    assert_eq!((fallbacks2, retries2), (10, 20));
+    let worst = q0
+        .iter()
+        .zip(&q2)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    println!("largest difference of a coordinate: {worst:.3e}");
+    assert!(
+        worst < 1e-9 * 0.02 * 10.0,
+        "the retries changed the answer by {worst:e}"
+    );
+}

@@ -122,6 +122,9 @@ pub struct ContactStats {
     pub semismooth_steps: usize,
     /// Contact steps where the semi-smooth Newton failed and the conic path ran.
     pub semismooth_fallbacks: usize,
+    /// Semi-smooth attempts that failed and started again from the step's start with another
+    /// penalty (`[solver] semi_smooth_retries`; a step solved by a retry is no fallback).
+    pub semismooth_retries: usize,
     /// Fallbacks because the active-set iterates cycled (an exact repeat of iterate and
     /// statuses), sent to the conic path before the iteration cap.
     pub contact_cycles: usize,
@@ -160,6 +163,7 @@ static NO_STATS: ContactStats = ContactStats {
     contact_cycles: 0,
     semismooth_steps: 0,
     semismooth_fallbacks: 0,
+    semismooth_retries: 0,
     certificates: 0,
     certificate_failures: 0,
     certificate_max_correction: 0.0,

@@ -71,6 +71,11 @@ use crate::rod::dof::{self, HALF_BANDWIDTH as W};
 use std::collections::VecDeque;
 use std::time::Instant;
 
+/// The penalty factors of the retries of a failed step (`[solver] semi_smooth_retries`): on
+/// the S-start at 800 elements (the first 1.5 s at 5e-4 s) the first two turned 8 conic
+/// fallbacks and 2 step halvings into 1 fallback and none.
+const RETRY_PENALTIES: [f64; 4] = [3.0, 0.3, 10.0, 0.1];
+
 /// Per-contact linearisation of a sliding contact: the branch's scaled direction `w/|w|`,
 /// the spring `k` across it and the friction coefficients `(mu_w, mu_s)` of the branch.
 #[derive(Clone, Copy, Debug, Default)]
@@ -97,6 +102,8 @@ pub struct SemiSmooth {
     valid: bool,
     /// The size of the last step begun (s; 0: none).
     step_last: f64,
+    /// Factor on the penalty of the current attempt (1 but in a retry).
+    penalty_factor: f64,
     q_init: Vec<f64>,
     /// Iterations of the last [`SemiSmooth::iterate`] (counted also when it fails).
     spent: usize,
@@ -151,6 +158,7 @@ impl SemiSmooth {
             force_saved: Vec::new(),
             valid: false,
             step_last: 0.0,
+            penalty_factor: 1.0,
             q_init: vec![0.0; m.ndof],
             spent: 0,
             scratch: Scratch {
@@ -402,7 +410,7 @@ impl SemiSmooth {
     /// Size the per-step storage; the penalty `rho` of every contact.
     fn prepare(&mut self, m: &Model, weight: f64) {
         let nc = self.conic.ct.nodes.len();
-        let penalty = m.solver.semi_smooth_penalty;
+        let penalty = m.solver.semi_smooth_penalty * self.penalty_factor;
         let s = &mut self.scratch;
         s.rho.clear();
         s.rho.extend(
@@ -738,14 +746,35 @@ impl ContactModel for SemiSmooth {
     ) -> Result<usize, ContactFailure> {
         let m = obj.model;
         self.q_init.copy_from_slice(q);
-        let why = match self.iterate(nw, obj, q) {
-            Ok(it) => {
-                self.conic.stats.semismooth_steps += 1;
-                self.publish_normals();
-                return Ok(it);
+        // Retries from the step's start with other penalties (`[solver] semi_smooth_retries`).
+        let retries = &RETRY_PENALTIES[..m.solver.semi_smooth_retries.min(RETRY_PENALTIES.len())];
+        let mut total = 0;
+        let mut attempt = 0;
+        let why = loop {
+            match self.iterate(nw, obj, q) {
+                Ok(it) => {
+                    self.penalty_factor = 1.0;
+                    self.conic.stats.semismooth_steps += 1;
+                    self.publish_normals();
+                    return Ok(total + it);
+                }
+                Err(why) => {
+                    total += self.spent;
+                    if attempt >= retries.len() || !q.iter().all(|x| x.is_finite()) {
+                        break why;
+                    }
+                    log::debug!("  semi-smooth Newton failed ({why}); again from the step's start");
+                    self.conic.stats.semismooth_retries += 1;
+                    self.penalty_factor = retries[attempt];
+                    attempt += 1;
+                    q.copy_from_slice(&self.q_init);
+                    self.lambda.clone_from(&self.lambda_saved);
+                    self.force.clone_from(&self.force_saved);
+                }
             }
-            Err(why) => why,
         };
+        self.penalty_factor = 1.0;
+        self.spent = total;
         log::debug!("  semi-smooth Newton failed: {why}");
         self.conic.stats.semismooth_fallbacks += 1;
         let spent = self.spent;

@@ -72,6 +72,10 @@ pub struct SolverSpec {
     /// inertia stiffness ([`keys::SOLVER_SEMI_SMOOTH_PENALTY`]).
     #[serde(default = "d_penalty")]
     pub semi_smooth_penalty: f64,
+    /// Semi-smooth contact: retries of a failed step from its start, with other penalties,
+    /// before the conic fallback ([`keys::SOLVER_SEMI_SMOOTH_RETRIES`]).
+    #[serde(default = "d_retries")]
+    pub semi_smooth_retries: usize,
     /// Newton iterations of the conic path started where a failed active-set attempt stopped
     /// (beyond them it starts over from the step's start): the conic path's normal-force fixed
     /// point contracts by about 0.6 per iteration on the S-start steps the active set stalls
@@ -189,6 +193,9 @@ fn d_active_iters() -> usize {
 fn d_penalty() -> f64 {
     keys::SOLVER_SEMI_SMOOTH_PENALTY.real()
 }
+fn d_retries() -> usize {
+    keys::SOLVER_SEMI_SMOOTH_RETRIES.int() as usize
+}
 fn d_merit_memory() -> usize {
     keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY.int() as usize
 }
@@ -240,6 +247,7 @@ impl Default for SolverSpec {
             active_set_extra_switches: d_switch_margin(),
             semi_smooth_merit_memory: d_merit_memory(),
             semi_smooth_penalty: d_penalty(),
+            semi_smooth_retries: d_retries(),
             warm_conic_iterations: d_warm(),
             contact_coupling: d_coupling(),
             hessian_reuse: d_hessian_reuse(),
@@ -276,7 +284,7 @@ impl SolverSpec {
             (&keys::SOLVER_HESSIAN_REUSE, self.hessian_reuse),
             (&keys::SOLVER_SEMI_SMOOTH_PENALTY, self.semi_smooth_penalty),
         ];
-        let ints: [(&'static Key, usize); 10] = [
+        let ints: [(&'static Key, usize); 11] = [
             (&keys::SOLVER_MAX_ITERATIONS, self.max_iterations),
             (&keys::SOLVER_MAX_HALVINGS, self.max_halvings),
             (&keys::SOLVER_MAX_BACKTRACKS, self.max_backtracks),
@@ -293,6 +301,7 @@ impl SolverSpec {
                 &keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY,
                 self.semi_smooth_merit_memory,
             ),
+            (&keys::SOLVER_SEMI_SMOOTH_RETRIES, self.semi_smooth_retries),
             (
                 &keys::SOLVER_WARM_CONIC_ITERATIONS,
                 self.warm_conic_iterations,

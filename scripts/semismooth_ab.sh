@@ -1,20 +1,22 @@
 #!/usr/bin/env bash
-# Where the semi-smooth Newton starts each step: the force variables (and, with implicit
-# Euler, the velocities) extrapolated over the last two steps, against an older build that
-# starts from the last step's forces and the scheme's predictor. Runs, with
-# examples/contact_scaling.rs (semi-smooth contact, default penalty and memory), the whole
+# The semi-smooth Newton of this build against an older one, in one window: runs, with
+# examples/contact_scaling.rs (semi-smooth contact, the defaults of each build), the whole
 # S-start with implicit Euler at 5e-4 s on 200 and 400 elements, its first 1.5 s on 800
 # elements, the heavy S-start on 200 elements, 200 elements with BDF2 at 3.6e-3 and 5e-3 s
-# and the bundled file; each configuration with the old build first, then this one, in one
-# window. Prints, per run, the steps by their Newton iteration count too. Keeps the output as
-# a dated record docs/results/semismooth-start/<date>.md.
+# and the bundled file; each configuration with the old build first, then this one. Prints,
+# per run, the semi-smooth retries and the steps by their Newton iteration count too. Keeps
+# the output as a dated record docs/results/RECORD/<date>.md (records semismooth-start: the
+# extrapolated start against the build before it; semismooth-retries: the retries of a
+# failed step against the build before them).
 #
-#   CONTACT_SCALING_OLD=/path/to/old/contact_scaling scripts/semismooth_start.sh
+#   CONTACT_SCALING_OLD=/path/to/old/contact_scaling scripts/semismooth_ab.sh RECORD
 #   # about 5 minutes; without CONTACT_SCALING_OLD only this build runs
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 if [ "${1:-}" != "--inner" ]; then
-    exec scripts/record.sh semismooth-start "$0" --inner
+    record="${1:-semismooth-ab}"
+    case "$record" in *[!A-Za-z0-9_-]*) echo "semismooth_ab.sh: RECORD may use only letters, digits, - and _" >&2; exit 2 ;; esac
+    exec scripts/record.sh "$record" "$0" --inner
 fi
 cargo build --release --quiet --example contact_scaling
 new="${CARGO_TARGET_DIR:-target}/release/examples/contact_scaling"
