@@ -289,7 +289,7 @@ impl SemiSmooth {
         while it < cap {
             it += 1;
             self.spent = it;
-            let theta_c = self.branches(m, ground, q, scale);
+            let theta_c = self.branches(m, ground, q, scale, it > 1);
             let t0 = Instant::now();
             let (f0, kept) = obj.assemble_reusing(
                 q,
@@ -429,16 +429,28 @@ impl SemiSmooth {
     }
 
     /// Every contact's branch at `q`: its status and, sliding, its linearisation. Returns
-    /// the contacts' part of `2 theta` (relative to `scale`).
-    fn branches(&mut self, m: &Model, g: &Ground, q: &[f64], scale: f64) -> f64 {
+    /// the contacts' part of `2 theta` (relative to `scale`). `within`: a later iterate of the
+    /// step, where a contact that slid at the last iterate and would now slide the other way
+    /// is held stuck for this iterate instead: a contact whose true state is stuck otherwise
+    /// slides back and forth, its slip overshooting by more than twice the cone's radius
+    /// (`rho |u| > 2 N`) at every iterate (on the 50-element S-start with adaptive BDF2, 4.89
+    /// instead of 6.94 iterations per step).
+    fn branches(&mut self, m: &Model, g: &Ground, q: &[f64], scale: f64, within: bool) -> f64 {
         let mut sum = 0.0;
         for c in 0..self.conic.ct.nodes.len() {
             let rho = self.scratch.rho[c];
             let b = self.branch(m, g, c, q, rho);
-            self.mode[c] = b.mode;
+            let mut mode = b.mode;
+            if within && mode == Mode::Slide && self.mode[c] == Mode::Slide {
+                let d = self.scratch.slide[c].dir;
+                if d[0] * b.w[0] + d[1] * b.w[1] < 0.0 {
+                    mode = Mode::Stick;
+                }
+            }
+            self.mode[c] = mode;
             sum += (b.phi_n * b.phi_n + b.phi_t[0] * b.phi_t[0] + b.phi_t[1] * b.phi_t[1])
                 / (scale * scale);
-            if b.mode == Mode::Slide {
+            if mode == Mode::Slide {
                 let wn = b.w[0].hypot(b.w[1]);
                 let cc = b.n_hat / wn;
                 let mu_w = if b.w[0] > 0.0 { g.mu_f } else { g.mu_b };
