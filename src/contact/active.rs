@@ -670,34 +670,6 @@ impl Step<'_, '_> {
     }
 }
 
-impl ActiveSet {
-    /// The conic program as a certificate of the active set's solution `q`
-    /// ([`Conic::certify`]): counted, its correction and normal-force change kept, a failure
-    /// (beyond the Newton tolerance or `normal_force_tolerance`) counted and logged.
-    fn certify(
-        &mut self,
-        nw: &mut Newton,
-        obj: &Potential,
-        q: &[f64],
-    ) -> Result<(), ContactFailure> {
-        let m = obj.model;
-        let (dq, dn) = self.conic.certify(nw, obj, q)?;
-        let dq = dq / m.tolerance;
-        let dn = dn / (m.solver.normal_force_tolerance * self.conic.ct.weight_scale(m));
-        let st = &mut self.conic.stats;
-        st.certificates += 1;
-        st.certificate_max_correction = st.certificate_max_correction.max(dq);
-        st.certificate_max_normal_change = st.certificate_max_normal_change.max(dn);
-        if dq > 1.0 || dn > 1.0 {
-            st.certificate_failures += 1;
-            log::warn!(
-                "conic certificate: correction {dq:.3e} tolerances, normal-force change {dn:.3e} tolerances"
-            );
-        }
-        Ok(())
-    }
-}
-
 /// Active-set iterations allowed after a handoff ([`ActiveSet::handoff`]).
 const HANDOFF_ITERATIONS: usize = 12;
 
@@ -789,7 +761,7 @@ impl ContactModel for ActiveSet {
                 log::debug!("  step total {it}");
                 let every = m.solver.conic_certificate;
                 if every > 0 && self.conic.stats.active_set_steps.is_multiple_of(every) {
-                    self.certify(nw, obj, q)?;
+                    self.conic.certify_recorded(nw, obj, q)?;
                 }
                 return Ok(it);
             }

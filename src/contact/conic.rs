@@ -48,6 +48,32 @@ impl Conic {
         self.ct.normal.clone_from(&self.normal_saved);
     }
 
+    /// Certify a converged step `q` with [`Self::certify`] and record the outcome in the
+    /// statistics (`certificates`, the largest correction and normal-force change in
+    /// tolerances, and a failure where either exceeds one; a warning is logged then).
+    pub(crate) fn certify_recorded(
+        &mut self,
+        nw: &mut Newton,
+        obj: &Potential,
+        q: &[f64],
+    ) -> Result<(), ContactFailure> {
+        let m = obj.model;
+        let (dq, dn) = self.certify(nw, obj, q)?;
+        let dq = dq / m.tolerance;
+        let dn = dn / (m.solver.normal_force_tolerance * self.ct.weight_scale(m));
+        let st = &mut self.stats;
+        st.certificates += 1;
+        st.certificate_max_correction = st.certificate_max_correction.max(dq);
+        st.certificate_max_normal_change = st.certificate_max_normal_change.max(dn);
+        if dq > 1.0 || dn > 1.0 {
+            st.certificate_failures += 1;
+            log::warn!(
+                "conic certificate: correction {dq:.3e} tolerances, normal-force change {dn:.3e} tolerances"
+            );
+        }
+        Ok(())
+    }
+
     /// Certify a converged step `q` (from another solve, with its normal forces in `ct.normal`):
     /// one conic program of the quadratic model at `q`, whose step is zero at the exact
     /// solution. Returns the program's correction `max(|dx| / a, |dtheta|)` and its largest

@@ -128,7 +128,7 @@ pub struct ContactStats {
     /// Fallbacks because the active-set iterates cycled (an exact repeat of iterate and
     /// statuses), sent to the conic path before the iteration cap.
     pub contact_cycles: usize,
-    /// Active-set steps certified by the conic program (`[solver] conic_certificate`).
+    /// Semi-smooth or active-set steps certified by the conic program (`[solver] conic_certificate`).
     pub certificates: usize,
     /// Certified steps whose conic program moved the solution by more than the Newton
     /// tolerance or changed a normal force by more than `normal_force_tolerance * W / n_c`.

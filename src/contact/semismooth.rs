@@ -768,6 +768,10 @@ impl ContactModel for SemiSmooth {
                     self.penalty_factor = 1.0;
                     self.conic.stats.semismooth_steps += 1;
                     self.publish_normals();
+                    let every = m.solver.conic_certificate;
+                    if every > 0 && self.conic.stats.semismooth_steps.is_multiple_of(every) {
+                        self.conic.certify_recorded(nw, obj, q)?;
+                    }
                     return Ok(total + it);
                 }
                 Err(why) => {

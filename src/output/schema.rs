@@ -100,7 +100,7 @@ pub const SUMMARY: &[Field] = &[
     f("stats.semismooth_steps", "", "contact steps solved by the semi-smooth Newton alone (solver.contact = \"semi-smooth\")"),
     f("stats.semismooth_fallbacks", "", "contact steps where the semi-smooth Newton failed and the conic path ran"),
     f("stats.semismooth_retries", "", "semi-smooth attempts that failed and started again from the step's start with another penalty (solver.semi_smooth_retries); a step a retry solves is no fallback"),
-    f("stats.certificates", "", "active-set steps certified by one conic program from their solution (solver.conic_certificate = N: every N-th step; 0 without)"),
+    f("stats.certificates", "", "semi-smooth or active-set steps certified by one conic program from their solution (solver.conic_certificate = N: every N-th step; 0 without)"),
     f("stats.certificate_failures", "", "certified steps whose conic program moved the solution by more than the Newton tolerance or changed a normal force by more than contact_force_tolerance * W / n_c"),
     f("stats.certificate_max_correction", "", "largest correction of a certifying conic program, in units of solver.tolerance (positions over a, angles in rad)"),
     f("stats.certificate_max_normal_change", "", "largest normal-force change of a certifying conic program, in units of contact_force_tolerance * W / n_c"),

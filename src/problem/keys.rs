@@ -358,8 +358,8 @@ keys! {
         "Times a rejected step may be halved before the run stops (exit 3).";
     SOLVER_INTEGRATOR = "solver.integrator", "", Word("implicit"), Text("\"implicit\", \"bdf2\" or \"explicit\""), "",
         "Time integrator: implicit Euler, second-order BDF2 (same Newton and contact), or velocity Verlet (the explicit reference: no ground, dynamic mode, stable only below a step limit).";
-    SOLVER_CONTACT = "solver.contact", "", Word("active-set"), Text("\"active-set\", \"semi-smooth\" or \"conic\""), "",
-        "Contact model: statuses held and verified with the conic program as fallback, a semi-smooth Newton on the Alart-Curnier conditions (every status from each iterate; the conic program as fallback), or one Clarabel program per Newton iterate (`SLITHER_CONTACT=conic` overrides it).";
+    SOLVER_CONTACT = "solver.contact", "", Word("semi-smooth"), Text("\"active-set\", \"semi-smooth\" or \"conic\""), "",
+        "Contact model: a semi-smooth Newton on the Alart-Curnier conditions (every status from each iterate; the conic program as fallback), statuses held and verified by an active set (the conic program as fallback; the default before), or one Clarabel program per Newton iterate (`SLITHER_CONTACT=conic` overrides it).";
     SOLVER_MAX_BACKTRACKS = "solver.max_backtracks", "", Int(40), Range::Int { lo: 1, hi: 200 }, "",
         "Line search: step halvings per Newton iterate before the step fails.";
     SOLVER_ARMIJO = "solver.armijo", "", Real(1e-4), open(0.0, 0.5), "",
@@ -393,7 +393,7 @@ keys! {
     SOLVER_CONTACT_FORCE_TOLERANCE = "solver.contact_force_tolerance", "fraction of W / n_c", Real(1e-9), open_closed(0.0, 1e-3), "",
         "Pulling and cone-boundary margins of the contact forces.";
     SOLVER_CONIC_CERTIFICATE = "solver.conic_certificate", "", Int(0), Range::Int { lo: 0, hi: 1_000_000_000 }, "",
-        "Active set: certify every N-th step it solves with one conic program from its solution (0: never); for tests and audits (about 30 ms a solve at 200 elements).";
+        "Semi-smooth and active-set contact: certify every N-th step the Newton solves with one conic program from its solution (0: never); for tests and audits (about 30 ms a solve at 200 elements).";
     SOLVER_CONIC_TOLERANCE = "solver.conic_tolerance", "", Real(1e-10), open_closed(0.0, 1e-4), "",
         "Clarabel's absolute and relative gap and feasibility tolerances.";
     SOLVER_CONIC_MAX_ITERATIONS = "solver.conic_max_iterations", "", Int(100), Range::Int { lo: 1, hi: 10_000 }, "",

@@ -150,13 +150,13 @@ pub enum IntegratorKind {
 #[serde(rename_all = "kebab-case")]
 pub enum ContactKind {
     /// Active set first, the conic program as the certified fallback.
-    #[default]
     ActiveSet,
     /// The conic program at every Newton iterate.
     Conic,
     /// Semi-smooth Newton on the Alart-Curnier contact conditions, every contact's status
     /// from the current iterate ([`crate::contact::semismooth`]); the conic program as the
-    /// fallback.
+    /// fallback. The default.
+    #[default]
     SemiSmooth,
 }
 
@@ -237,7 +237,7 @@ impl Default for SolverSpec {
             max_iterations: d_iters(),
             max_halvings: d_halvings(),
             integrator: IntegratorKind::Implicit,
-            contact: ContactKind::ActiveSet,
+            contact: ContactKind::SemiSmooth,
             max_backtracks: d_backtracks(),
             armijo: d_armijo(),
             line_search_noise: d_noise(),
@@ -367,9 +367,10 @@ impl Overrides {
             None => None,
             Some("conic") => Some(ContactKind::Conic),
             Some("active-set") => Some(ContactKind::ActiveSet),
+            Some("semi-smooth") => Some(ContactKind::SemiSmooth),
             Some(v) => {
                 return Err(format!(
-                    "SLITHER_CONTACT = {v:?} is not allowed: must be \"active-set\" or \"conic\" (or unset)"
+                    "SLITHER_CONTACT = {v:?} is not allowed: must be \"semi-smooth\", \"active-set\" or \"conic\" (or unset)"
                 ))
             }
         };
