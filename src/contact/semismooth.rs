@@ -98,12 +98,13 @@ pub struct SemiSmooth {
     /// The variables at the step's start (restored by a rejected step).
     lambda_saved: Vec<f64>,
     force_saved: Vec<[f64; 2]>,
+    /// The variables at the last step's start (the older point of the extrapolation).
+    lambda_older: Vec<f64>,
+    force_older: Vec<[f64; 2]>,
     /// Whether the variables hold a previous step's solution (or a guess).
     valid: bool,
     /// The size of the last step begun (s; 0: none).
     step_last: f64,
-    /// Factor on the penalty of the current attempt (1 but in a retry).
-    penalty_factor: f64,
     q_init: Vec<f64>,
     /// Iterations of the last [`SemiSmooth::iterate`] (counted also when it fails).
     spent: usize,
@@ -156,9 +157,10 @@ impl SemiSmooth {
             force: vec![[0.0; 2]; nc],
             lambda_saved: Vec::new(),
             force_saved: Vec::new(),
+            lambda_older: Vec::new(),
+            force_older: Vec::new(),
             valid: false,
             step_last: 0.0,
-            penalty_factor: 1.0,
             q_init: vec![0.0; m.ndof],
             spent: 0,
             scratch: Scratch {
@@ -261,13 +263,14 @@ impl SemiSmooth {
 
 impl SemiSmooth {
     /// The semi-smooth Newton iterations from `q` (at most `[solver]
-    /// active_set_max_iterations` assemblies). `Err`: the caller falls back to the conic
-    /// program.
+    /// active_set_max_iterations` assemblies) with the penalty times `penalty_factor` (1 but
+    /// in a retry). `Err`: the caller retries or falls back to the conic program.
     fn iterate(
         &mut self,
         nw: &mut Newton,
         obj: &Potential,
         q: &mut [f64],
+        penalty_factor: f64,
     ) -> Result<usize, ContactFailure> {
         let m = obj.model;
         let set = &m.solver;
@@ -275,7 +278,7 @@ impl SemiSmooth {
         let nc = self.conic.ct.nodes.len();
         let scale = self.conic.ct.weight_scale(m);
         let weight = obj.inertia.map_or(1.0, |i| i.weight);
-        self.prepare(m, weight);
+        self.prepare(m, weight, penalty_factor);
         self.conic.stats.residuals.clear();
         let cap = m.max_iterations.min(set.active_set_max_iterations);
         let mut project = false;
@@ -407,10 +410,11 @@ impl SemiSmooth {
         .into())
     }
 
-    /// Size the per-step storage; the penalty `rho` of every contact.
-    fn prepare(&mut self, m: &Model, weight: f64) {
+    /// Size the per-step storage; the penalty `rho` of every contact (`[solver]
+    /// semi_smooth_penalty` times `penalty_factor` times the node's inertia stiffness).
+    fn prepare(&mut self, m: &Model, weight: f64, penalty_factor: f64) {
         let nc = self.conic.ct.nodes.len();
-        let penalty = m.solver.semi_smooth_penalty * self.penalty_factor;
+        let penalty = m.solver.semi_smooth_penalty * penalty_factor;
         let s = &mut self.scratch;
         s.rho.clear();
         s.rho.extend(
@@ -724,14 +728,13 @@ impl ContactModel for SemiSmooth {
         }
         // The force variables extrapolated linearly over the last two steps (contacts that
         // touched at both ends of the last step); `saved` keeps the values at the step's start.
-        let extrapolate = self.step_last > 0.0 && self.lambda_saved.len() == self.lambda.len();
-        std::mem::swap(&mut self.lambda_saved, &mut self.scratch.lambda0);
-        std::mem::swap(&mut self.force_saved, &mut self.scratch.force0);
+        std::mem::swap(&mut self.lambda_saved, &mut self.lambda_older);
+        std::mem::swap(&mut self.force_saved, &mut self.force_older);
         self.lambda_saved.clone_from(&self.lambda);
         self.force_saved.clone_from(&self.force);
-        if extrapolate {
+        if self.step_last > 0.0 && self.lambda_older.len() == self.lambda.len() {
             let r = h / self.step_last;
-            let (older_l, older_f) = (&self.scratch.lambda0, &self.scratch.force0);
+            let (older_l, older_f) = (&self.lambda_older, &self.force_older);
             for c in 0..self.lambda.len() {
                 let l = self.lambda[c];
                 if l > 0.0 && older_l[c] > 0.0 {
@@ -760,28 +763,28 @@ impl ContactModel for SemiSmooth {
         self.q_init.copy_from_slice(q);
         // Retries from the step's start with other penalties (`[solver] semi_smooth_retries`).
         let retries = &RETRY_PENALTIES[..m.solver.semi_smooth_retries.min(RETRY_PENALTIES.len())];
-        let mut total = 0;
+        let mut spent = 0;
         let mut attempt = 0;
+        let mut penalty_factor = 1.0;
         let why = loop {
-            match self.iterate(nw, obj, q) {
+            match self.iterate(nw, obj, q, penalty_factor) {
                 Ok(it) => {
-                    self.penalty_factor = 1.0;
                     self.conic.stats.semismooth_steps += 1;
                     self.publish_normals();
                     let every = m.solver.conic_certificate;
                     if every > 0 && self.conic.stats.semismooth_steps.is_multiple_of(every) {
                         self.conic.certify_recorded(nw, obj, q)?;
                     }
-                    return Ok(total + it);
+                    return Ok(spent + it);
                 }
                 Err(why) => {
-                    total += self.spent;
+                    spent += self.spent;
                     if attempt >= retries.len() || !q.iter().all(|x| x.is_finite()) {
                         break why;
                     }
                     log::debug!("  semi-smooth Newton failed ({why}); again from the step's start");
                     self.conic.stats.semismooth_retries += 1;
-                    self.penalty_factor = retries[attempt];
+                    penalty_factor = retries[attempt];
                     attempt += 1;
                     q.copy_from_slice(&self.q_init);
                     self.lambda.clone_from(&self.lambda_saved);
@@ -789,11 +792,8 @@ impl ContactModel for SemiSmooth {
                 }
             }
         };
-        self.penalty_factor = 1.0;
-        self.spent = total;
         log::debug!("  semi-smooth Newton failed: {why}");
         self.conic.stats.semismooth_fallbacks += 1;
-        let spent = self.spent;
         if q.iter().all(|x| x.is_finite()) {
             // The conic path from where the iteration stopped first (as the active set's
             // fallback), then from the step's start.
