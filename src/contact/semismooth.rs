@@ -219,6 +219,18 @@ fn scaled_slip(g: &Ground, s: [f64; 2]) -> [f64; 2] {
     [mu * s[0], g.mu_s * s[1]]
 }
 
+/// The contacts' statuses as one character each, head first (`.` free, `#` stick, `~`
+/// slide): the debug trace's line per iterate, read by `scripts/status_trace.py`.
+fn status_line(mode: &[Mode]) -> String {
+    mode.iter()
+        .map(|m| match m {
+            Mode::Free => '.',
+            Mode::Stick => '#',
+            Mode::Slide => '~',
+        })
+        .collect()
+}
+
 /// One contact's branch and residual at an iterate.
 struct Branch {
     mode: Mode,
@@ -293,6 +305,9 @@ impl SemiSmooth {
             it += 1;
             self.spent = it;
             let theta_c = self.branches(m, ground, q, scale, it > 1);
+            if log::log_enabled!(log::Level::Debug) {
+                log::debug!("  semi-smooth statuses it {it}: {}", status_line(&self.mode));
+            }
             let t0 = Instant::now();
             let (f0, kept) = obj.assemble_reusing(
                 q,
@@ -395,6 +410,7 @@ impl SemiSmooth {
             let tol_f = set.normal_force_tolerance * scale;
             if small && settled && self.branches_settled(m, ground, q, tol_f) {
                 nw.stats.line_search_s += t3.elapsed().as_secs_f64();
+                log::debug!("  semi-smooth converged at it {it}");
                 return Ok(it);
             }
             pending = Some(Pending {
