@@ -306,7 +306,10 @@ impl SemiSmooth {
             self.spent = it;
             let theta_c = self.branches(m, ground, q, scale, it > 1);
             if log::log_enabled!(log::Level::Debug) {
-                log::debug!("  semi-smooth statuses it {it}: {}", status_line(&self.mode));
+                log::debug!(
+                    "  semi-smooth statuses it {it}: {}",
+                    status_line(&self.mode)
+                );
             }
             let t0 = Instant::now();
             let (f0, kept) = obj.assemble_reusing(
