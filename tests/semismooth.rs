@@ -208,10 +208,12 @@ fn drop_steps() -> Vec<StepRecord> {
 /// 3 of 4. With the extrapolated start (velocities and force variables over the last two
 /// steps) 11 of 16: the slow pairs are one far from the solution (3.0e-1 -> 2.2e-1) and three
 /// near the round-off floor that fall by a factor of 20 to 30 (1.6e-5 -> 7.0e-7). With a
-/// reversing sliding contact held stuck for one iterate, 10 of 16. The semi-smooth solve is
-/// not the default contact model; run with `--ignored`.
+/// reversing sliding contact held stuck for one iterate, 10 of 16. Without the kept bending and
+/// twist Hessian (`hessian_reuse = 0`) 9 of 12, with the monotone test 11 of 15: the pairs
+/// near the floor (1.4e-5 -> 1.2e-7, 1.6e-5 -> 7.0e-7, 6.5e-6 -> 2.9e-7) stay slow either way.
+/// Run with `--ignored`.
 #[test]
-#[ignore = "semi-smooth solve: 10 of 16 landing pairs superlinear (needs 9 in 10); not the default"]
+#[ignore = "semi-smooth solve: 10 of 16 landing pairs superlinear (needs 9 in 10)"]
 fn landing_converges_superlinearly() {
     let steps = drop_steps();
     let landing = |r: &&StepRecord| r.touch.0.iter().zip(&r.touch.1).any(|(&a, &b)| !a && b);
