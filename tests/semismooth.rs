@@ -207,7 +207,7 @@ fn drop_steps() -> Vec<StepRecord> {
 /// default penalty 10 (`[solver] semi_smooth_penalty`; these counts were with 1): 9 of 12 and
 /// 3 of 4. With the extrapolated start (velocities and force variables over the last two
 /// steps) 11 of 16: the slow pairs are one far from the solution (3.0e-1 -> 2.2e-1) and three
-/// near the round-off floor that fall by a factor of 20 to 30 (1.6e-5 -> 7.0e-7). With a
+/// near 1e-7 that fall by a factor of 20 to 30 (1.6e-5 -> 7.0e-7). With a
 /// reversing sliding contact held stuck for one iterate, 10 of 16. Without the kept bending and
 /// twist Hessian (`hessian_reuse = 0`) 9 of 12, with the monotone test 11 of 15. Of the six
 /// slow pairs, four end near 1e-7 (1.4e-5 -> 1.2e-7, 2.6e-5 -> 1.8e-7, 1.6e-5 -> 7.0e-7,
