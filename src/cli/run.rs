@@ -142,7 +142,7 @@ pub fn run(args: &Args) -> ExitCode {
         let r = sel.report;
         if !quiet {
             eprintln!(
-                "accuracy {}: chose {} elements, {}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs in {:.1} s, {:.1} s of them probes",
+                "accuracy {}: chose {} elements, {}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs of {:.1} s in all, {:.1} s of them probes, {:.1} s elapsed",
                 r.target,
                 r.elements,
                 model_label(r.dt, r.error_tolerance),
@@ -152,7 +152,8 @@ pub fn run(args: &Args) -> ExitCode {
                 if r.met { "" } else { ", ABOVE the target (refinement limits reached)" },
                 r.runs.len(),
                 r.wall_time_total_s,
-                r.probes_wall_time_s
+                r.probes_wall_time_s,
+                r.elapsed_s
             );
         }
         report = Some(r);

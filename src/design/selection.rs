@@ -65,6 +65,7 @@ use crate::model::Model;
 use crate::output::{AccuracyReport, AccuracyRun};
 use crate::problem::{IntegratorKind, Problem};
 use crate::sim::Outcome;
+use rayon::prelude::*;
 
 /// The time resolution of a model: fixed implicit Euler steps or adaptive BDF2's tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -446,37 +447,10 @@ pub fn select(
     max_elements: usize,
     log: &mut dyn FnMut(&str),
 ) -> Selection {
+    let started = std::time::Instant::now();
     let mut done: Vec<Done> = Vec::new();
-    let mut run = |elements: usize, res: Resolution, done: &mut Vec<Done>| {
-        if made(done, elements, res).is_some() {
-            return;
-        }
-        let model = Model::new(&accuracy_problem(p, elements, res));
-        let muscles = Box::new(crate::gait::Muscles {
-            gait: model.gait.clone(),
-        });
-        let outcome = crate::sim::run(&model, muscles, &mut |_| {}, &mut |_| {});
-        let v = if outcome.error.is_none() {
-            speed_ratio(&model, &outcome)
-        } else {
-            f64::NAN
-        };
-        log(&format!(
-            "accuracy: {elements} elements, {res}: v_s/v_m {v:.5}, {} steps, {:.2} s{}",
-            outcome.steps.accepted,
-            outcome.wall_time_s,
-            outcome
-                .error
-                .as_ref()
-                .map_or(String::new(), |e| format!(" (failed: {e})"))
-        ));
-        done.push(Done {
-            elements,
-            res,
-            v,
-            model,
-            outcome,
-        });
+    let mut run = |wanted: &[(usize, Resolution)], done: &mut Vec<Done>| {
+        run_missing(p, wanted, done, log);
     };
     let n0 = p.rod.elements;
     let res0 = Resolution::of(p);
@@ -487,8 +461,7 @@ pub fn select(
     let mut res = res0;
     let mut h = loop {
         let fine = res.refined();
-        run(n0, res, &mut done);
-        run(n0, fine, &mut done);
+        run(&[(n0, res), (n0, fine)], &mut done);
         let time = time_estimate(&done, n0, fine).expect("the pair was run");
         let (a, b) = (made(&done, n0, res), made(&done, n0, fine));
         let last = rel(a.unwrap_or(f64::NAN), b.unwrap_or(f64::NAN)).abs();
@@ -508,21 +481,24 @@ pub fn select(
     let mut n = 2 * n0;
     let mut last_ran: Option<(usize, Resolution)> = None;
     loop {
-        run(n / 2, h, &mut done);
-        run(n, h, &mut done);
+        // The model, its pairs and, for the envelopes, the time pair on half the elements
+        // (usually made already) and the mesh pair before (a quarter of the elements, cheap).
+        let mut wanted = vec![
+            (n / 2, h),
+            (n, h),
+            (n, h.coarsened()),
+            (n / 2, h.coarsened()),
+        ];
+        if n.is_multiple_of(4) && n / 4 >= 2 {
+            wanted.push((n / 4, h));
+        }
+        run(&wanted, &mut done);
         if made(&done, n, h).is_none_or(f64::is_nan) {
             // A failed model: the answer is the last one that ran.
             if let Some((m, r)) = last_ran {
                 (n, h) = (m, r);
                 break;
             }
-        }
-        run(n, h.coarsened(), &mut done);
-        // For the envelopes: the time pair on half the elements (usually made already) and
-        // the mesh pair before (a quarter of the elements, cheap).
-        run(n / 2, h.coarsened(), &mut done);
-        if n.is_multiple_of(4) && n / 4 >= 2 {
-            run(n / 4, h, &mut done);
         }
         let time = time_estimate(&done, n, h).expect("the time pair was run");
         let mesh = mesh_estimate(&done, n, h).expect("the mesh pair was run");
@@ -616,9 +592,63 @@ pub fn select(
             runs,
             probes_wall_time_s: wall_time_total_s - chosen.outcome.wall_time_s,
             wall_time_total_s,
+            elapsed_s: started.elapsed().as_secs_f64(),
         },
         model: chosen.model,
         outcome: chosen.outcome,
+    }
+}
+
+/// Run the models of `wanted` that were not made yet, in parallel (one simulation per core),
+/// and add them to `done` in the order asked, one line each to `log`.
+fn run_missing(
+    p: &Problem,
+    wanted: &[(usize, Resolution)],
+    done: &mut Vec<Done>,
+    log: &mut dyn FnMut(&str),
+) {
+    let mut todo: Vec<(usize, Resolution)> = Vec::new();
+    for &(e, r) in wanted {
+        if made(done, e, r).is_none() && !todo.iter().any(|&(f, q)| f == e && q.same(r)) {
+            todo.push((e, r));
+        }
+    }
+    let new: Vec<Done> = todo
+        .par_iter()
+        .map(|&(elements, res)| {
+            let model = Model::new(&accuracy_problem(p, elements, res));
+            let muscles = Box::new(crate::gait::Muscles {
+                gait: model.gait.clone(),
+            });
+            let outcome = crate::sim::run(&model, muscles, &mut |_| {}, &mut |_| {});
+            let v = if outcome.error.is_none() {
+                speed_ratio(&model, &outcome)
+            } else {
+                f64::NAN
+            };
+            Done {
+                elements,
+                res,
+                v,
+                model,
+                outcome,
+            }
+        })
+        .collect();
+    for d in new {
+        log(&format!(
+            "accuracy: {} elements, {}: v_s/v_m {:.5}, {} steps, {:.2} s{}",
+            d.elements,
+            d.res,
+            d.v,
+            d.outcome.steps.accepted,
+            d.outcome.wall_time_s,
+            d.outcome
+                .error
+                .as_ref()
+                .map_or(String::new(), |e| format!(" (failed: {e})"))
+        ));
+        done.push(d);
     }
 }
 

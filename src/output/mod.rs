@@ -155,6 +155,10 @@ pub struct AccuracyReport {
     pub probes_wall_time_s: f64,
     /// Wall time of all runs of the selection, the chosen one included (s).
     pub wall_time_total_s: f64,
+    /// Elapsed time of the whole selection (s): its runs go in parallel, one per core, so
+    /// this is less than `wall_time_total_s` on several cores.
+    #[serde(default)]
+    pub elapsed_s: f64,
 }
 
 /// One run of the accuracy selection.

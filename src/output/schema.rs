@@ -207,6 +207,7 @@ pub const SUMMARY: &[Field] = &[
     only("accuracy.runs[].status", "", ACCURACY, "\"ok\" or the failure"),
     only("accuracy.probes_wall_time_s", "s", ACCURACY, "wall time of the probes: every selection run except the chosen one"),
     only("accuracy.wall_time_total_s", "s", ACCURACY, "wall time of all selection runs, the chosen one included"),
+    only("accuracy.elapsed_s", "s", ACCURACY, "elapsed time of the whole selection, whose runs go in parallel (one per core)"),
     only("ensemble.runs", "", ENSEMBLE, "K, the perturbed runs (besides the run the rest of the file describes, which is not perturbed)"),
     only("ensemble.finished", "", ENSEMBLE, "perturbed runs that finished"),
     only("ensemble.seed", "", ENSEMBLE, "the ensemble's seed (--ensemble-seed)"),
