@@ -17,7 +17,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 /// Diagnostics of the library (`log` crate) on stderr, at debug level when `SLITHER_DEBUG` is
-/// set (every Newton iteration), else warnings only.
+/// set (every Newton iteration), at trace level when it is `trace`, else warnings only.
 struct StderrLog;
 
 impl log::Log for StderrLog {
@@ -38,10 +38,10 @@ impl log::Log for StderrLog {
 pub fn configure_from_env() -> Result<(), ExitCode> {
     static LOGGER: StderrLog = StderrLog;
     if log::set_logger(&LOGGER).is_ok() {
-        log::set_max_level(if std::env::var_os("SLITHER_DEBUG").is_some() {
-            log::LevelFilter::Debug
-        } else {
-            log::LevelFilter::Warn
+        log::set_max_level(match std::env::var("SLITHER_DEBUG").as_deref() {
+            Ok("trace") => log::LevelFilter::Trace,
+            Ok(_) => log::LevelFilter::Debug,
+            Err(_) => log::LevelFilter::Warn,
         });
     }
     let var = |name: &str| std::env::var(name).ok();

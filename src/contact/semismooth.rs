@@ -132,6 +132,8 @@ struct Scratch {
     force0: Vec<[f64; 2]>,
     row: Vec<f64>,
     modes_before: Vec<Mode>,
+    /// The trace's line of cone-edge ratios (`SLITHER_DEBUG=trace` only).
+    edge: String,
     /// The merits of the last accepted iterates (at most `[solver] semi_smooth_merit_memory`).
     recent: VecDeque<f64>,
     /// The bending and twist Hessian kept within the step (`[solver] hessian_reuse`).
@@ -310,6 +312,7 @@ impl SemiSmooth {
                     "  semi-smooth statuses it {it}: {}",
                     status_line(&self.mode)
                 );
+                log::trace!("  semi-smooth edge it {it}: {}", self.scratch.edge);
             }
             let t0 = Instant::now();
             let (f0, kept) = obj.assemble_reusing(
@@ -460,6 +463,7 @@ impl SemiSmooth {
     /// instead of 6.94 iterations per step).
     fn branches(&mut self, m: &Model, g: &Ground, q: &[f64], scale: f64, within: bool) -> f64 {
         let mut sum = 0.0;
+        self.scratch.edge.clear();
         for c in 0..self.conic.ct.nodes.len() {
             let rho = self.scratch.rho[c];
             let b = self.branch(m, g, c, q, rho);
@@ -471,6 +475,17 @@ impl SemiSmooth {
                 }
             }
             self.mode[c] = mode;
+            if log::log_enabled!(log::Level::Trace) {
+                // How close each stuck contact is to its cone's edge, `|w| / N`: a digit per
+                // tenth, `X` from 0.999.
+                let r = b.w[0].hypot(b.w[1]) / b.n_hat.max(1e-300);
+                self.scratch.edge.push(match mode {
+                    Mode::Free => '.',
+                    Mode::Slide => '~',
+                    Mode::Stick if r >= 0.999 => 'X',
+                    Mode::Stick => char::from(b'0' + (10.0 * r).floor().min(9.0) as u8),
+                });
+            }
             sum += (b.phi_n * b.phi_n + b.phi_t[0] * b.phi_t[0] + b.phi_t[1] * b.phi_t[1])
                 / (scale * scale);
             if mode == Mode::Slide {
