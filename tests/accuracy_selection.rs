@@ -351,3 +351,81 @@ fn envelope_bounds_the_s_start_errors_where_the_last_pairs_alone_do_not() {
         "{checked} {last_pairs_missed}"
     );
 }
+
+/// A selection keeps its finished runs in a journal, and a later one with the same key reads
+/// them back instead of running them again: the same choice, estimates and values, and only
+/// the chosen model runs again (for its frames). A tighter target reuses every run it shares
+/// with the first; another key reuses none.
+#[test]
+fn a_selection_resumes_from_its_journal() {
+    use slither::design::selection::{select_with, Journal};
+    let dir = std::env::temp_dir().join(format!("slither-journal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("accuracy_runs.jsonl");
+    let _ = std::fs::remove_file(&path);
+    let p = scene();
+    let key = Journal::key("scene()", b"this test");
+    let run = |target: f64, key: &str, lines: &mut Vec<String>| {
+        let mut j = Journal::open(&path, key);
+        select_with(&p, target, 320, Some(&mut j), &mut |l| {
+            lines.push(l.to_string())
+        })
+    };
+    let count = |lines: &[String], what: &str| lines.iter().filter(|l| l.contains(what)).count();
+    let mut first = Vec::new();
+    let a = run(0.02, &key, &mut first);
+    assert_eq!(count(&first, "read back"), 0, "{first:#?}");
+    let made = a.report.runs.len();
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap().lines().count(),
+        made,
+        "one journal line per run"
+    );
+    let mut second = Vec::new();
+    let b = run(0.02, &key, &mut second);
+    // Every run read back, the chosen one run again.
+    assert_eq!(count(&second, "(read back from"), made, "{second:#?}");
+    assert_eq!(count(&second, "running it again"), 1, "{second:#?}");
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap().lines().count(),
+        made,
+        "nothing appended"
+    );
+    let (ra, rb) = (&a.report, &b.report);
+    assert_eq!((ra.elements, ra.dt), (rb.elements, rb.dt));
+    assert_eq!(ra.estimated_error, rb.estimated_error);
+    assert_eq!(ra.v_s_over_v_m_extrapolated, rb.v_s_over_v_m_extrapolated);
+    let v = |r: &slither::output::AccuracyReport| {
+        r.runs.iter().map(|x| x.v_s_over_v_m).collect::<Vec<_>>()
+    };
+    assert_eq!(v(ra), v(rb));
+    // The chosen model's run again gives the same motion.
+    assert_eq!(a.outcome.steps.accepted, b.outcome.steps.accepted);
+    let last =
+        |s: &slither::design::selection::Selection| s.outcome.observed.last().unwrap().x.clone();
+    assert_eq!(last(&a), last(&b));
+    // A tighter target: the runs it shares are read back, the rest made and appended.
+    let mut third = Vec::new();
+    let c = run(0.01, &key, &mut third);
+    let shared = c
+        .report
+        .runs
+        .iter()
+        .filter(|x| {
+            ra.runs
+                .iter()
+                .any(|y| y.elements == x.elements && y.dt == x.dt)
+        })
+        .count();
+    assert!(shared >= 2, "{third:#?}");
+    assert_eq!(count(&third, "(read back from"), shared, "{third:#?}");
+    // Another key (another file or build) reuses nothing.
+    let mut fourth = Vec::new();
+    run(
+        0.02,
+        &Journal::key("another file", b"this test"),
+        &mut fourth,
+    );
+    assert_eq!(count(&fourth, "read back"), 0, "{fourth:#?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

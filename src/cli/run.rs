@@ -137,7 +137,29 @@ pub fn run(args: &Args) -> ExitCode {
                 eprintln!("{line}")
             }
         };
-        let sel = slither::chart::accuracy::select(&p, target, max_elements, &mut log);
+        // Finished selection runs are kept in DIR/accuracy_runs.jsonl and reused by a rerun
+        // of the same file with the same build.
+        let key = accuracy_journal_key(path);
+        let mut journal = key.map(|k| {
+            slither::chart::accuracy::Journal::open(
+                &out.join(slither::chart::accuracy::JOURNAL_FILE),
+                &k,
+            )
+        });
+        if let Some(j) = journal.as_ref().filter(|j| !j.is_empty()) {
+            log(&format!(
+                "accuracy: {} finished runs of this file in {}",
+                j.len(),
+                out.join(slither::chart::accuracy::JOURNAL_FILE).display()
+            ));
+        }
+        let sel = slither::chart::accuracy::select_with(
+            &p,
+            target,
+            max_elements,
+            journal.as_mut(),
+            &mut log,
+        );
         model = sel.model;
         let r = sel.report;
         if !quiet {
@@ -410,4 +432,12 @@ pub fn rerun_into(
             Err(ExitCode::from(1))
         }
     }
+}
+
+/// The key of the accuracy journal's runs of the problem file at `path` by this build (`None`
+/// when the file or the executable cannot be read: the selection then keeps no journal).
+fn accuracy_journal_key(path: &std::path::Path) -> Option<String> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let exe = std::fs::read(std::env::current_exe().ok()?).ok()?;
+    Some(slither::chart::accuracy::Journal::key(&text, &exe))
 }

@@ -66,6 +66,10 @@ use crate::output::{AccuracyReport, AccuracyRun};
 use crate::problem::{IntegratorKind, Problem};
 use crate::sim::Outcome;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 /// The time resolution of a model: fixed implicit Euler steps or adaptive BDF2's tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -372,12 +376,114 @@ pub fn accuracy_problem(p: &Problem, elements: usize, r: Resolution) -> Problem 
     q
 }
 
+/// A selection run: its result, and its model and outcome when it ran in this call (a run
+/// read back from a [`Journal`] has neither).
 struct Done {
     elements: usize,
     res: Resolution,
     v: f64,
-    model: Model,
-    outcome: Outcome,
+    steps: usize,
+    wall_time_s: f64,
+    status: String,
+    ran: Option<(Model, Outcome)>,
+}
+
+/// One finished selection run as a line of the journal.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct JournalRun {
+    key: String,
+    elements: usize,
+    dt: Option<f64>,
+    error_tolerance: Option<f64>,
+    /// `None` for a failed run (NaN).
+    v_s_over_v_m: Option<f64>,
+    steps: usize,
+    wall_time_s: f64,
+    status: String,
+}
+
+/// The selection's journal (`DIR/accuracy_runs.jsonl`, one JSON line per finished run): a
+/// selection that stops part way keeps its finished runs, and a later one with the same key
+/// (the problem file and the build that ran it) reuses them, for any target.
+pub struct Journal {
+    path: PathBuf,
+    key: String,
+    runs: Vec<JournalRun>,
+}
+
+/// The journal's file name in a run directory.
+pub const JOURNAL_FILE: &str = "accuracy_runs.jsonl";
+
+impl Journal {
+    /// The journal at `path` for runs of `key`: its lines of that key (lines of other keys
+    /// stay in the file and are not used; unreadable lines are skipped).
+    pub fn open(path: &Path, key: &str) -> Self {
+        let runs = std::fs::read_to_string(path)
+            .map(|text| {
+                text.lines()
+                    .filter_map(|l| serde_json::from_str::<JournalRun>(l).ok())
+                    .filter(|r| r.key == key)
+                    .collect()
+            })
+            .unwrap_or_default();
+        Journal {
+            path: path.to_path_buf(),
+            key: key.to_string(),
+            runs,
+        }
+    }
+
+    /// The key of a problem file's runs by one build: FNV-1a hashes of the file's text and
+    /// of the build's identity (the command line passes its executable's bytes), so a
+    /// changed file or a rebuilt program never reuses a run.
+    pub fn key(problem_text: &str, build: &[u8]) -> String {
+        format!(
+            "{:016x}-{:016x}",
+            crate::design::fnv1a(problem_text.as_bytes()),
+            crate::design::fnv1a(build)
+        )
+    }
+
+    /// The runs of this key read back.
+    pub fn len(&self) -> usize {
+        self.runs.len()
+    }
+
+    /// Whether no run of this key was read back.
+    pub fn is_empty(&self) -> bool {
+        self.runs.is_empty()
+    }
+
+    fn find(&self, elements: usize, res: Resolution) -> Option<&JournalRun> {
+        self.runs.iter().find(|r| {
+            r.elements == elements
+                && Resolution::from_parts(r.dt, r.error_tolerance).is_some_and(|x| x.same(res))
+        })
+    }
+
+    /// Append a finished run (a warning, not a failure, when the file cannot be written).
+    fn append(&mut self, d: &Done) {
+        let run = JournalRun {
+            key: self.key.clone(),
+            elements: d.elements,
+            dt: d.res.dt(),
+            error_tolerance: d.res.tolerance(),
+            v_s_over_v_m: d.v.is_finite().then_some(d.v),
+            steps: d.steps,
+            wall_time_s: d.wall_time_s,
+            status: d.status.clone(),
+        };
+        let line = serde_json::to_string(&run).expect("a journal line serialises");
+        let written = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&self.path)
+            .and_then(|mut f| writeln!(f, "{line}"));
+        if let Err(e) = written {
+            log::warn!("{}: cannot append a run: {e}", self.path.display());
+        }
+        self.runs.push(run);
+    }
 }
 
 /// The value of a run already made (`None` when it was not).
@@ -447,10 +553,23 @@ pub fn select(
     max_elements: usize,
     log: &mut dyn FnMut(&str),
 ) -> Selection {
+    select_with(p, target, max_elements, None, log)
+}
+
+/// [`select`] with a [`Journal`]: runs it holds are read back instead of made again, and every
+/// run made is appended to it as it finishes. The chosen model, when read back, runs again for
+/// its frames (its recorded result is the one reported).
+pub fn select_with(
+    p: &Problem,
+    target: f64,
+    max_elements: usize,
+    mut journal: Option<&mut Journal>,
+    log: &mut dyn FnMut(&str),
+) -> Selection {
     let started = std::time::Instant::now();
     let mut done: Vec<Done> = Vec::new();
     let mut run = |wanted: &[(usize, Resolution)], done: &mut Vec<Done>| {
-        run_missing(p, wanted, done, log);
+        run_missing(p, wanted, done, journal.as_deref_mut(), log);
     };
     let n0 = p.rod.elements;
     let res0 = Resolution::of(p);
@@ -553,13 +672,9 @@ pub fn select(
             dt: d.res.dt(),
             error_tolerance: d.res.tolerance(),
             v_s_over_v_m: d.v,
-            steps: d.outcome.steps.accepted,
-            wall_time_s: d.outcome.wall_time_s,
-            status: d
-                .outcome
-                .error
-                .as_ref()
-                .map_or("ok".into(), |e| e.to_string()),
+            steps: d.steps,
+            wall_time_s: d.wall_time_s,
+            status: d.status.clone(),
         })
         .collect();
     let wall_time_total_s: f64 = runs.iter().map(|r| r.wall_time_s).sum();
@@ -568,6 +683,17 @@ pub fn select(
         .position(|d| d.elements == n_c && d.res.same(res_c))
         .expect("the chosen model was run");
     let chosen = done.swap_remove(k);
+    let chosen_wall = chosen.wall_time_s;
+    let (model, outcome) = match chosen.ran {
+        Some(mo) => mo,
+        None => {
+            log(&format!(
+                "accuracy: {} elements, {}: read back from the journal; running it again for its frames",
+                chosen.elements, chosen.res
+            ));
+            simulate(p, chosen.elements, chosen.res)
+        }
+    };
     // The chosen value plus the signed corrections toward the limits of time and mesh
     // refinement; its uncertainty the half-widths of the two intervals of limits.
     let v_extrapolated = chosen.v + time.correction + mesh.correction;
@@ -590,63 +716,106 @@ pub fn select(
             v_s_over_v_m_extrapolated: v_extrapolated,
             v_s_over_v_m_extrapolated_uncertainty: uncertainty,
             runs,
-            probes_wall_time_s: wall_time_total_s - chosen.outcome.wall_time_s,
+            probes_wall_time_s: wall_time_total_s - chosen_wall,
             wall_time_total_s,
             elapsed_s: started.elapsed().as_secs_f64(),
         },
-        model: chosen.model,
-        outcome: chosen.outcome,
+        model,
+        outcome,
     }
 }
 
+/// The model of `p` at (`elements`, `res`), run.
+fn simulate(p: &Problem, elements: usize, res: Resolution) -> (Model, Outcome) {
+    let model = Model::new(&accuracy_problem(p, elements, res));
+    let muscles = Box::new(crate::gait::Muscles {
+        gait: model.gait.clone(),
+    });
+    let outcome = crate::sim::run(&model, muscles, &mut |_| {}, &mut |_| {});
+    (model, outcome)
+}
+
 /// Run the models of `wanted` that were not made yet, in parallel (one simulation per core),
-/// and add them to `done` in the order asked, one line each to `log`.
+/// or read them back from the journal, and add them to `done` in the order asked, one line
+/// each to `log`. Each run made is appended to the journal as it finishes.
 fn run_missing(
     p: &Problem,
     wanted: &[(usize, Resolution)],
     done: &mut Vec<Done>,
+    mut journal: Option<&mut Journal>,
     log: &mut dyn FnMut(&str),
 ) {
     let mut todo: Vec<(usize, Resolution)> = Vec::new();
+    let mut read_back: Vec<Done> = Vec::new();
     for &(e, r) in wanted {
-        if made(done, e, r).is_none() && !todo.iter().any(|&(f, q)| f == e && q.same(r)) {
-            todo.push((e, r));
+        if made(done, e, r).is_some() || todo.iter().any(|&(f, q)| f == e && q.same(r)) {
+            continue;
+        }
+        if read_back.iter().any(|d| d.elements == e && d.res.same(r)) {
+            continue;
+        }
+        match journal.as_deref().and_then(|j| j.find(e, r)) {
+            Some(j) => read_back.push(Done {
+                elements: e,
+                res: r,
+                v: j.v_s_over_v_m.unwrap_or(f64::NAN),
+                steps: j.steps,
+                wall_time_s: j.wall_time_s,
+                status: j.status.clone(),
+                ran: None,
+            }),
+            None => todo.push((e, r)),
         }
     }
+    let shared = Mutex::new(journal.as_deref_mut());
     let new: Vec<Done> = todo
         .par_iter()
         .map(|&(elements, res)| {
-            let model = Model::new(&accuracy_problem(p, elements, res));
-            let muscles = Box::new(crate::gait::Muscles {
-                gait: model.gait.clone(),
-            });
-            let outcome = crate::sim::run(&model, muscles, &mut |_| {}, &mut |_| {});
+            let (model, outcome) = simulate(p, elements, res);
             let v = if outcome.error.is_none() {
                 speed_ratio(&model, &outcome)
             } else {
                 f64::NAN
             };
-            Done {
+            let d = Done {
                 elements,
                 res,
                 v,
-                model,
-                outcome,
+                steps: outcome.steps.accepted,
+                wall_time_s: outcome.wall_time_s,
+                status: outcome
+                    .error
+                    .as_ref()
+                    .map_or("ok".into(), |e| e.to_string()),
+                ran: Some((model, outcome)),
+            };
+            if let Some(j) = shared.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
+                j.append(&d);
             }
+            d
         })
         .collect();
-    for d in new {
+    let origin = journal
+        .as_deref()
+        .map(|j| format!(" (read back from {})", j.path.display()))
+        .unwrap_or_default();
+    for (d, from) in read_back
+        .into_iter()
+        .map(|d| (d, origin.as_str()))
+        .chain(new.into_iter().map(|d| (d, "")))
+    {
         log(&format!(
-            "accuracy: {} elements, {}: v_s/v_m {:.5}, {} steps, {:.2} s{}",
+            "accuracy: {} elements, {}: v_s/v_m {:.5}, {} steps, {:.2} s{}{from}",
             d.elements,
             d.res,
             d.v,
-            d.outcome.steps.accepted,
-            d.outcome.wall_time_s,
-            d.outcome
-                .error
-                .as_ref()
-                .map_or(String::new(), |e| format!(" (failed: {e})"))
+            d.steps,
+            d.wall_time_s,
+            if d.status == "ok" {
+                String::new()
+            } else {
+                format!(" (failed: {})", d.status)
+            }
         ));
         done.push(d);
     }
