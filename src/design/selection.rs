@@ -767,6 +767,16 @@ fn run_missing(
             None => todo.push((e, r)),
         }
     }
+    if !todo.is_empty() {
+        // Announce the batch: its runs report only when all of them have finished.
+        log(&format!(
+            "accuracy: running {}",
+            todo.iter()
+                .map(|(e, r)| format!("{e} elements, {r}"))
+                .collect::<Vec<_>>()
+                .join("; ")
+        ));
+    }
     let shared = Mutex::new(journal.as_deref_mut());
     let new: Vec<Done> = todo
         .par_iter()
