@@ -429,3 +429,26 @@ fn a_selection_resumes_from_its_journal() {
     assert_eq!(count(&fourth, "read back"), 0, "{fourth:#?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A selection run's record goes to the journal and back unchanged, a failed run's NaN
+/// (written as JSON `null`) included, so a failed run read back stays failed.
+#[test]
+fn a_journal_record_reads_back_as_written() {
+    use slither::output::AccuracyRun;
+    for (v, status) in [(0.3125, "ok"), (f64::NAN, "step failed")] {
+        let run = AccuracyRun {
+            elements: 40,
+            dt: Some(2e-3),
+            error_tolerance: None,
+            v_s_over_v_m: v,
+            steps: 500,
+            wall_time_s: 0.25,
+            status: status.into(),
+        };
+        let text = serde_json::to_string(&run).unwrap();
+        let back: AccuracyRun = serde_json::from_str(&text).unwrap();
+        assert_eq!(serde_json::to_string(&back).unwrap(), text);
+        assert_eq!(back.v_s_over_v_m.is_nan(), v.is_nan(), "{text}");
+        assert_eq!((back.dt, back.error_tolerance), (run.dt, None), "{text}");
+    }
+}

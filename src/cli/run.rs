@@ -139,18 +139,14 @@ pub fn run(args: &Args) -> ExitCode {
         };
         // Finished selection runs are kept in DIR/accuracy_runs.jsonl and reused by a rerun
         // of the same file with the same build.
-        let key = accuracy_journal_key(path);
-        let mut journal = key.map(|k| {
-            slither::chart::accuracy::Journal::open(
-                &out.join(slither::chart::accuracy::JOURNAL_FILE),
-                &k,
-            )
-        });
+        let journal_path = out.join(slither::chart::accuracy::JOURNAL_FILE);
+        let mut journal = accuracy_journal_key(path)
+            .map(|k| slither::chart::accuracy::Journal::open(&journal_path, &k));
         if let Some(j) = journal.as_ref().filter(|j| !j.is_empty()) {
             log(&format!(
                 "accuracy: {} finished runs of this file in {}",
                 j.len(),
-                out.join(slither::chart::accuracy::JOURNAL_FILE).display()
+                journal_path.display()
             ));
         }
         let sel = slither::chart::accuracy::select_with(

@@ -463,6 +463,7 @@ impl SemiSmooth {
     /// instead of 6.94 iterations per step).
     fn branches(&mut self, m: &Model, g: &Ground, q: &[f64], scale: f64, within: bool) -> f64 {
         let mut sum = 0.0;
+        let trace = log::log_enabled!(log::Level::Trace);
         self.scratch.edge.clear();
         for c in 0..self.conic.ct.nodes.len() {
             let rho = self.scratch.rho[c];
@@ -475,7 +476,7 @@ impl SemiSmooth {
                 }
             }
             self.mode[c] = mode;
-            if log::log_enabled!(log::Level::Trace) {
+            if trace {
                 // How close each stuck contact is to its cone's edge, `|w| / N`: a digit per
                 // tenth, `X` from 0.999.
                 let r = b.w[0].hypot(b.w[1]) / b.n_hat.max(1e-300);

@@ -376,30 +376,20 @@ pub fn accuracy_problem(p: &Problem, elements: usize, r: Resolution) -> Problem 
     q
 }
 
-/// A selection run: its result, and its model and outcome when it ran in this call (a run
+/// A selection run: its record, and its model and outcome when it ran in this call (a run
 /// read back from a [`Journal`] has neither).
 struct Done {
-    elements: usize,
     res: Resolution,
-    v: f64,
-    steps: usize,
-    wall_time_s: f64,
-    status: String,
+    run: AccuracyRun,
     ran: Option<(Model, Outcome)>,
 }
 
-/// One finished selection run as a line of the journal.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+/// One finished selection run as a line of the journal: its key and its record.
+#[derive(Debug, Serialize, Deserialize)]
 struct JournalRun {
     key: String,
-    elements: usize,
-    dt: Option<f64>,
-    error_tolerance: Option<f64>,
-    /// `None` for a failed run (NaN).
-    v_s_over_v_m: Option<f64>,
-    steps: usize,
-    wall_time_s: f64,
-    status: String,
+    #[serde(flatten)]
+    run: AccuracyRun,
 }
 
 /// The selection's journal (`DIR/accuracy_runs.jsonl`, one JSON line per finished run): a
@@ -408,7 +398,8 @@ struct JournalRun {
 pub struct Journal {
     path: PathBuf,
     key: String,
-    runs: Vec<JournalRun>,
+    /// The runs of this key.
+    runs: Vec<AccuracyRun>,
 }
 
 /// The journal's file name in a run directory.
@@ -423,6 +414,7 @@ impl Journal {
                 text.lines()
                     .filter_map(|l| serde_json::from_str::<JournalRun>(l).ok())
                     .filter(|r| r.key == key)
+                    .map(|r| r.run)
                     .collect()
             })
             .unwrap_or_default();
@@ -454,7 +446,7 @@ impl Journal {
         self.runs.is_empty()
     }
 
-    fn find(&self, elements: usize, res: Resolution) -> Option<&JournalRun> {
+    fn find(&self, elements: usize, res: Resolution) -> Option<&AccuracyRun> {
         self.runs.iter().find(|r| {
             r.elements == elements
                 && Resolution::from_parts(r.dt, r.error_tolerance).is_some_and(|x| x.same(res))
@@ -462,35 +454,29 @@ impl Journal {
     }
 
     /// Append a finished run (a warning, not a failure, when the file cannot be written).
-    fn append(&mut self, d: &Done) {
-        let run = JournalRun {
+    fn append(&mut self, run: &AccuracyRun) {
+        let line = JournalRun {
             key: self.key.clone(),
-            elements: d.elements,
-            dt: d.res.dt(),
-            error_tolerance: d.res.tolerance(),
-            v_s_over_v_m: d.v.is_finite().then_some(d.v),
-            steps: d.steps,
-            wall_time_s: d.wall_time_s,
-            status: d.status.clone(),
+            run: run.clone(),
         };
-        let line = serde_json::to_string(&run).expect("a journal line serialises");
+        let text = serde_json::to_string(&line).expect("a journal line serialises");
         let written = std::fs::OpenOptions::new()
             .create(true)
             .append(true)
             .open(&self.path)
-            .and_then(|mut f| writeln!(f, "{line}"));
+            .and_then(|mut f| writeln!(f, "{text}"));
         if let Err(e) = written {
             log::warn!("{}: cannot append a run: {e}", self.path.display());
         }
-        self.runs.push(run);
+        self.runs.push(line.run);
     }
 }
 
 /// The value of a run already made (`None` when it was not).
 fn made(done: &[Done], elements: usize, res: Resolution) -> Option<f64> {
     done.iter()
-        .find(|d| d.elements == elements && d.res.same(res))
-        .map(|d| d.v)
+        .find(|d| d.run.elements == elements && d.res.same(res))
+        .map(|d| d.run.v_s_over_v_m)
 }
 
 /// Signed relative difference of two runs' values, `(b - a) / |b|`.
@@ -665,38 +651,27 @@ pub fn select_with(
     let (n_c, res_c) = (n, h);
     let time = time_estimate(&done, n_c, res_c).expect("the time pair was run");
     let mesh = mesh_estimate(&done, n_c, res_c).expect("the mesh pair was run");
-    let runs: Vec<AccuracyRun> = done
-        .iter()
-        .map(|d| AccuracyRun {
-            elements: d.elements,
-            dt: d.res.dt(),
-            error_tolerance: d.res.tolerance(),
-            v_s_over_v_m: d.v,
-            steps: d.steps,
-            wall_time_s: d.wall_time_s,
-            status: d.status.clone(),
-        })
-        .collect();
+    let runs: Vec<AccuracyRun> = done.iter().map(|d| d.run.clone()).collect();
     let wall_time_total_s: f64 = runs.iter().map(|r| r.wall_time_s).sum();
     let k = done
         .iter()
-        .position(|d| d.elements == n_c && d.res.same(res_c))
+        .position(|d| d.run.elements == n_c && d.res.same(res_c))
         .expect("the chosen model was run");
     let chosen = done.swap_remove(k);
-    let chosen_wall = chosen.wall_time_s;
+    let chosen_wall = chosen.run.wall_time_s;
     let (model, outcome) = match chosen.ran {
         Some(mo) => mo,
         None => {
             log(&format!(
                 "accuracy: {} elements, {}: read back from the journal; running it again for its frames",
-                chosen.elements, chosen.res
+                chosen.run.elements, chosen.res
             ));
-            simulate(p, chosen.elements, chosen.res)
+            simulate(p, chosen.run.elements, chosen.res)
         }
     };
     // The chosen value plus the signed corrections toward the limits of time and mesh
     // refinement; its uncertainty the half-widths of the two intervals of limits.
-    let v_extrapolated = chosen.v + time.correction + mesh.correction;
+    let v_extrapolated = chosen.run.v_s_over_v_m + time.correction + mesh.correction;
     let uncertainty = time.spread + mesh.spread;
     let estimated = time.fine + mesh.fine;
     Selection {
@@ -748,20 +723,17 @@ fn run_missing(
     let mut todo: Vec<(usize, Resolution)> = Vec::new();
     let mut read_back: Vec<Done> = Vec::new();
     for &(e, r) in wanted {
-        if made(done, e, r).is_some() || todo.iter().any(|&(f, q)| f == e && q.same(r)) {
-            continue;
-        }
-        if read_back.iter().any(|d| d.elements == e && d.res.same(r)) {
+        let listed = |d: &Done| d.run.elements == e && d.res.same(r);
+        if made(done, e, r).is_some()
+            || todo.iter().any(|&(f, q)| f == e && q.same(r))
+            || read_back.iter().any(listed)
+        {
             continue;
         }
         match journal.as_deref().and_then(|j| j.find(e, r)) {
-            Some(j) => read_back.push(Done {
-                elements: e,
+            Some(run) => read_back.push(Done {
                 res: r,
-                v: j.v_s_over_v_m.unwrap_or(f64::NAN),
-                steps: j.steps,
-                wall_time_s: j.wall_time_s,
-                status: j.status.clone(),
+                run: run.clone(),
                 ran: None,
             }),
             None => todo.push((e, r)),
@@ -788,19 +760,23 @@ fn run_missing(
                 f64::NAN
             };
             let d = Done {
-                elements,
                 res,
-                v,
-                steps: outcome.steps.accepted,
-                wall_time_s: outcome.wall_time_s,
-                status: outcome
-                    .error
-                    .as_ref()
-                    .map_or("ok".into(), |e| e.to_string()),
+                run: AccuracyRun {
+                    elements,
+                    dt: res.dt(),
+                    error_tolerance: res.tolerance(),
+                    v_s_over_v_m: v,
+                    steps: outcome.steps.accepted,
+                    wall_time_s: outcome.wall_time_s,
+                    status: outcome
+                        .error
+                        .as_ref()
+                        .map_or("ok".into(), |e| e.to_string()),
+                },
                 ran: Some((model, outcome)),
             };
             if let Some(j) = shared.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
-                j.append(&d);
+                j.append(&d.run);
             }
             d
         })
@@ -814,17 +790,18 @@ fn run_missing(
         .map(|d| (d, origin.as_str()))
         .chain(new.into_iter().map(|d| (d, "")))
     {
+        let r = &d.run;
         log(&format!(
             "accuracy: {} elements, {}: v_s/v_m {:.5}, {} steps, {:.2} s{}{from}",
-            d.elements,
+            r.elements,
             d.res,
-            d.v,
-            d.steps,
-            d.wall_time_s,
-            if d.status == "ok" {
+            r.v_s_over_v_m,
+            r.steps,
+            r.wall_time_s,
+            if r.status == "ok" {
                 String::new()
             } else {
-                format!(" (failed: {})", d.status)
+                format!(" (failed: {})", r.status)
             }
         ));
         done.push(d);

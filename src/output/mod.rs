@@ -24,7 +24,7 @@ use crate::model::Model;
 use crate::rod::vec3::f;
 use crate::sim::{Frame, Outcome};
 use npyz::WriterBuilder;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::Path;
 
@@ -161,18 +161,20 @@ pub struct AccuracyReport {
     pub elapsed_s: f64,
 }
 
-/// One run of the accuracy selection.
-#[derive(Clone, Debug, Serialize)]
+/// One run of the accuracy selection (also a line of the selection's journal, which reads it
+/// back).
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct AccuracyRun {
     /// Elements.
     pub elements: usize,
     /// Fixed step (s), implicit Euler.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt: Option<f64>,
     /// Error tolerance, adaptive BDF2.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_tolerance: Option<f64>,
-    /// `v_s/v_m` (NaN when the run failed).
+    /// `v_s/v_m` (NaN when the run failed; JSON writes it as `null`).
+    #[serde(deserialize_with = "null_as_nan")]
     pub v_s_over_v_m: f64,
     /// Accepted steps.
     pub steps: usize,
@@ -180,6 +182,11 @@ pub struct AccuracyRun {
     pub wall_time_s: f64,
     /// "ok" or the failure.
     pub status: String,
+}
+
+/// A number that JSON wrote as `null` (serde_json writes NaN so) read back as NaN.
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 impl Summary {
