@@ -102,6 +102,9 @@ const W1: usize = W + 1;
 pub struct LinSolver {
     rows: Vec<[f64; W1]>,
     inv_diag: Vec<f64>,
+    /// Coordinates whose row and column of `L` are zero off the diagonal (held ones): the
+    /// solves skip their multiply-adds.
+    decoupled: Vec<bool>,
     /// Right-hand side padded with `W` leading zeros.
     rhs: Vec<f64>,
     factored: bool,
@@ -115,6 +118,7 @@ impl LinSolver {
         LinSolver {
             rows: vec![[0.0; W1]; n + W],
             inv_diag: vec![0.0; n],
+            decoupled: vec![false; n],
             rhs: vec![0.0; n + W],
             factored: false,
         }
@@ -154,14 +158,24 @@ impl LinSolver {
             }
             let s = d.sqrt();
             let inv = 1.0 / s;
+            let row_k_plain = self.rows[k][..W].iter().all(|&x| x == 0.0);
             self.rows[k][W] = s;
             self.inv_diag[k] = inv;
             // Column k of L below the diagonal: L[k+1+t][k] = rows[k+1+t][W-1-t].
             let below: &mut [[f64; W1]; W] = (&mut self.rows[k + 1..k + 1 + W]).try_into().unwrap();
             let mut col = [0.0; W];
+            let mut coupled = false;
             for t in 0..W {
                 below[t][W - 1 - t] *= inv;
                 col[t] = below[t][W - 1 - t];
+                coupled |= col[t] != 0.0;
+            }
+            // A held coordinate's column is zero below the diagonal (`Assembly::fix`): nothing
+            // to update (a third of the columns on the S-start, whose touching heights and
+            // sticking positions are held).
+            self.decoupled[k] = !coupled && row_k_plain;
+            if !coupled {
+                continue;
             }
             // A[i][j] -= L[i][k] L[j][k], k < j <= i <= k + W: row i = k+1+t, columns
             // j = k+1+u (u <= t) at W - (t - u).
@@ -187,6 +201,10 @@ impl LinSolver {
         // The previous row's unknown enters last, so each row waits on it for one
         // multiply-add only.
         for j in 0..n {
+            if self.decoupled[j] {
+                y[j + W] *= self.inv_diag[j];
+                continue;
+            }
             let row = &self.rows[j];
             let win: &[f64; W] = (&y[j..j + W]).try_into().unwrap();
             let mut acc = [0.0; 2];
@@ -200,6 +218,9 @@ impl LinSolver {
         for j in (0..n).rev() {
             let xj = y[j + W] * self.inv_diag[j];
             y[j + W] = xj;
+            if self.decoupled[j] {
+                continue;
+            }
             let row = &self.rows[j];
             let win: &mut [f64; W] = (&mut y[j..j + W]).try_into().unwrap();
             for t in 0..W {
@@ -265,6 +286,38 @@ mod tests {
                 );
                 let ax: f64 = (0..n).map(|j| asm.h(k, j) * x[j]).sum();
                 assert!((ax - asm.grad[k]).abs() < 1e-12, "n {n}, row {k}: residual");
+            }
+        }
+    }
+
+    /// Held coordinates (`Assembly::fix`: the skipped columns and rows) solve like faer too,
+    /// the same solver refactorised with another held set included (the skips are per
+    /// factorisation), and a held coordinate's solution is its right-hand side.
+    #[test]
+    fn held_coordinates_solve_like_faer() {
+        let n = 203;
+        let mut ours: Option<LinSolver> = None;
+        for (held, seed) in [
+            (vec![0, 1, 2, 50, 51, 202], 31),
+            (vec![3, 7, 8, 9, 100], 37),
+        ] {
+            let mut asm = band(n, 2.0 * W as f64, seed);
+            for &k in &held {
+                asm.fix(k);
+                asm.grad[k] = 0.5 + k as f64;
+            }
+            let lin = ours.get_or_insert_with(|| LinSolver::new(&asm));
+            let mut faer = FaerLlt::new(&asm);
+            lin.factor(&asm).unwrap();
+            faer.factor(&asm).unwrap();
+            let (mut x, mut y) = (asm.grad.clone(), asm.grad.clone());
+            lin.solve(&mut x);
+            faer.solve(&mut y);
+            for k in 0..n {
+                assert!((x[k] - y[k]).abs() < 1e-13, "held {held:?}, x[{k}]");
+            }
+            for &k in &held {
+                assert_eq!(x[k], asm.grad[k], "held coordinate {k}");
             }
         }
     }

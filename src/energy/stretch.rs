@@ -33,27 +33,21 @@ impl Term for Stretch {
             if project {
                 c = c.max(0.0);
             }
+            let g = k * (len - l0);
             let mut h = [[0.0; 3]; 3];
+            let mut neg = [[0.0; 3]; 3];
             for r in 0..3 {
+                asm.grad[a + r] -= g * t[r];
+                asm.grad[b + r] += g * t[r];
                 for s in 0..3 {
                     let id = if r == s { 1.0 } else { 0.0 };
                     h[r][s] = k * (t[r] * t[s] + c * (id - t[r] * t[s]));
+                    neg[r][s] = -h[r][s];
                 }
             }
-            for r in 0..3 {
-                let g = k * (len - l0) * t[r];
-                asm.grad[a + r] -= g;
-                asm.grad[b + r] += g;
-            }
-            for r in 0..3 {
-                for s in 0..3 {
-                    if r <= s {
-                        asm.add_h(a + r, a + s, h[r][s]);
-                        asm.add_h(b + r, b + s, h[r][s]);
-                    }
-                    asm.add_h(a + r, b + s, -h[r][s]);
-                }
-            }
+            asm.add_block3(a, a, &h);
+            asm.add_block3(b, b, &h);
+            asm.add_block3(a, b, &neg);
         }
         e
     }
