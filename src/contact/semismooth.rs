@@ -543,9 +543,10 @@ impl SemiSmooth {
     /// assembled gradient (saved at the contacts for the reactions), and its largest entry
     /// (both relative to `scale`; angles' torques over `a`).
     fn balance_residual(&mut self, m: &Model, nw: &Newton, scale: f64) -> (f64, f64) {
-        let a = m.diameter;
+        // Reciprocals: two divisions per coordinate were a third of this function's time.
+        let (per_a, per_scale) = (1.0 / m.diameter, 1.0 / scale);
         let grad = &nw.asm.grad;
-        let r = |k: usize, v: f64| v / if dof::is_edge(k) { a } else { 1.0 } / scale;
+        let r = |k: usize, v: f64| v * if dof::is_edge(k) { per_a } else { 1.0 } * per_scale;
         let mut sum = 0.0;
         let mut worst: f64 = 0.0;
         for k in 0..m.ndof {
