@@ -386,7 +386,7 @@ keys! {
         "Normal forces are settled when they change by less than this times the mean weight per contact (active set: their change predicted over the last Newton step).";
     SOLVER_CONTACT_COUPLING = "solver.contact_coupling", "", Flag(true), Text("true or false"), "",
         "Active set: the sliding contacts' normal forces inside the Newton system (quadratic convergence); false lags them one iterate.";
-    SOLVER_HESSIAN_REUSE = "solver.hessian_reuse", "fraction of an element length (rad for angles)", Real(1e-2), closed(0.0, 0.1), "",
+    SOLVER_HESSIAN_REUSE = "solver.hessian_reuse", "fraction of an element length (rad for angles)", Real(0.1), closed(0.0, 0.1), "",
         "Active set and semi-smooth contact: Newton keeps the bending and twist Hessian of an earlier iterate of the step while no position has moved more than this times the shortest element and no angle more than this (in rad), and assembles only their gradient (exact) at the iterates between; 0 assembles it at every iterate.";
     SOLVER_CONTACT_TOLERANCE = "solver.contact_tolerance", "fraction of a", Real(1e-9), open_closed(0.0, 1e-3), "",
         "A contact touches when its gap is below this, and sticks when its slip over the step is below it.";
