@@ -13,8 +13,8 @@
 #    timing only the time stepping after an in-process warm-up that compiles numba's kernels;
 #    then slither at the file's dt 2e-3 and at 1e-3, 5e-4 (4x smaller) and 1.25e-4 (16x
 #    smaller, for its converged value), adaptive BDF2 on both scenes, and the converged
-#    S-start (problems/s_start.toml with BDF2 and the semi-smooth contact, at 5e-3 s with the
-#    solver's defaults and at 6e-3 s with hessian_reuse 0.1). All in one window.
+#    S-start (problems/s_start.toml with BDF2 at 5e-3 and 6e-3 s and the semi-smooth contact).
+#    All in one window.
 # 4. The table: wall seconds per simulated second, the ratio PyElastica / slither, and each
 #    row's v_s/v_m error against its own code's converged value: the finest run of that code
 #    (PyElastica dt 1e-5, slither dt 1.25e-4), whose own error is bounded by its change from
@@ -120,18 +120,15 @@ for name in pyelastica_s_start s_start; do
         --no-plots --quiet
 done
 # The converged S-start: problems/s_start.toml at N elements with BDF2 at fixed steps and the
-# semi-smooth contact Newton, twice: at 5e-3 s with the solver's defaults, and at 6e-3 s keeping
-# the bending and twist Hessian while the body moves up to 0.1 of an element ([solver]
-# hessian_reuse = 0.1, the largest allowed; default 0.01), the cheapest setting measured at
-# 200 elements (9,669 Newton iterations, 930 Hessian assemblies, against 10,710 and 2,278).
-# Both are within 0.6 % of the converged 0.3189 (guide, "Speed against accuracy").
-for c in "5e-3 default" "6e-3 0.1"; do
-    read -r cdt creuse <<<"$c"
-    echo "== slither, converged S-start: problems/s_start.toml, BDF2 at $cdt s, hessian_reuse $creuse"
+# semi-smooth contact Newton, at 5e-3 s and at 6e-3 s, the cheapest step measured at 200
+# elements (9,669 Newton iterations against 10,806 at 5e-3 s; 7.2e-3 s takes 9,866, 8.5e-3 s
+# 9,279 with a conic fallback). Both are within 0.6 % of the converged 0.3189 (guide, "Speed
+# against accuracy").
+for cdt in 5e-3 6e-3; do
+    echo "== slither, converged S-start: problems/s_start.toml, BDF2 at $cdt s, semi-smooth contact"
     f="$out/s_start_converged_$cdt.toml"
-    solver='integrator = "bdf2"\ncontact = "semi-smooth"'
-    [ "$creuse" = default ] || solver="$solver\nhessian_reuse = $creuse"
-    sed -e "s/^dt = .*/dt = $cdt/" -e "s/^integrator = .*/$solver/" "$out/s_start.toml" > "$f"
+    sed -e "s/^dt = .*/dt = $cdt/" -e 's/^integrator = .*/integrator = "bdf2"\ncontact = "semi-smooth"/' \
+        "$out/s_start.toml" > "$f"
     grep -q "^dt = $cdt" "$f"
     grep -q '^contact = "semi-smooth"' "$f"
     "$slither" run "$f" --out "$out/s_start_converged_$cdt" --no-plots --quiet
@@ -226,12 +223,12 @@ print(f"Bundled S-start (problems/s_start.toml at {elements} elements) by adapti
 # The converged value: mean of 15 runs at 400 elements, implicit Euler and BDF2 at small steps
 # (range 0.3173 to 0.3213; record converged-s-start).
 conv, conv_lo, conv_hi = 0.3189, 0.3173, 0.3213
-for cdt, reuse in (("5e-3", "default 0.01"), ("6e-3", "0.1")):
+for cdt in ("5e-3", "6e-3"):
     c = json.load(open(os.path.join(out, f"s_start_converged_{cdt}", "summary.json")))
     c_rate = c["wall_time_s"] / c["t_final"]
     c_err = (c["v_s_over_v_m"] - conv) / conv
     print(f"Converged S-start (problems/s_start.toml at {elements} elements, BDF2 at {cdt} s, "
-          f"hessian_reuse {reuse}, semi-smooth contact): {c['steps']} steps, "
+          f"semi-smooth contact): {c['steps']} steps, "
           f"{c['stats']['newton_iterations']} Newton iterations, {c['wall_time_s']:.2f} s for "
           f"{c['t_final']:.3f} s = {c_rate:.3f} s per simulated s, v_s/v_m "
           f"{c['v_s_over_v_m']:.4f}, {100 * c_err:+.2f} % from the converged {conv} "
