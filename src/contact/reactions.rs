@@ -110,6 +110,12 @@ impl Reactions {
         }
     }
 
+    /// The Hessian row captured at coordinate `r` (0, 1, 2: `x, y, z`) of contact `c` by the
+    /// last [`Reactions::capture`] (columns `k - W ..= k + W` of that coordinate `k`).
+    pub fn row(&self, c: usize, r: usize) -> &Row {
+        &self.rows[c][r]
+    }
+
     /// Predicted change of every touching contact's reactions (statuses `mode`) over the step `dq`, into
     /// `change`; returns the largest normal-force change (N).
     pub fn predict(&mut self, ct: &Contacts, mode: &[Mode], dq: &[f64]) -> f64 {

@@ -145,7 +145,6 @@ struct Scratch {
     dq: Vec<f64>,
     lambda0: Vec<f64>,
     force0: Vec<[f64; 2]>,
-    row: Vec<f64>,
     modes_before: Vec<Mode>,
     /// The trace's line of cone-edge ratios (`SLITHER_DEBUG=trace` only).
     edge: String,
@@ -473,7 +472,6 @@ impl SemiSmooth {
         s.grad.resize(nc, [0.0; 3]);
         s.lambda_new.resize(nc, 0.0);
         s.force_new.resize(nc, [0.0; 2]);
-        s.row.resize(2 * W + 1, 0.0);
         s.modes_before.resize(nc, Mode::Free);
     }
 
@@ -638,17 +636,26 @@ impl SemiSmooth {
                 }
             }
         }
-        // Free rows see the held coordinates' moves: g_i += H_ik d_k.
+        // Free rows see the held coordinates' moves: g_i += H_ik d_k. Only the contacts'
+        // coordinates have targets, and their rows are the ones just captured.
         let n = m.ndof;
-        for k in 0..n {
-            if !s.held[k] || s.target[k] == 0.0 {
-                continue;
-            }
-            nw.asm.row(k, &mut s.row);
-            for (r, v) in s.row.iter().enumerate() {
-                let i = (k + r).wrapping_sub(W);
-                if i < n && !s.held[i] {
-                    nw.asm.grad[i] += v * s.target[k];
+        for c in 0..ct.nodes.len() {
+            let k0 = dof::node(ct.nodes[c]);
+            let held = match self.mode[c] {
+                Mode::Free => 0..0,
+                Mode::Stick => 0..3,
+                Mode::Slide => 2..3,
+            };
+            for r in held {
+                let (k, d) = (k0 + r, s.target[k0 + r]);
+                if d == 0.0 {
+                    continue;
+                }
+                for (t, v) in s.reactions.row(c, r).iter().enumerate() {
+                    let i = (k + t).wrapping_sub(W);
+                    if i < n && !s.held[i] {
+                        nw.asm.grad[i] += v * d;
+                    }
                 }
             }
         }
