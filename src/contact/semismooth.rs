@@ -41,9 +41,11 @@
 //! the largest relative force-balance residual), which keeps the convergence quadratic; far
 //! from the solution (`r > 0.1`) after the first two iterates, to `1e-2 r` only, an inexact
 //! Newton direction in the sense of Eisenstat and Walker: on the S-start at 200 elements
-//! (BDF2, 5e-3 s) 14.98 instead of 15.13 iterations per step and 14 % less wall time, and with
-//! implicit Euler at 5e-4 s 3.32 instead of 3.31. From the first iterate on it cost implicit
-//! Euler iterations (3.66, and 3.91 at `0.1 r`): the first direction decides the statuses.
+//! (BDF2, 5e-3 s) 14.98 instead of 15.13 iterations per step in 0.87 of the wall time
+//! (medians of 5 alternating runs); with implicit Euler at 5e-4 s 3.32 instead of 3.31 (first
+//! 1.5 s) at 200 elements and 6.09 instead of 6.06 (whole scene) at 400. From the first
+//! iterate on it cost implicit Euler iterations (3.66, and 3.91 at `0.1 r`, at 200 elements):
+//! the first direction decides the statuses.
 //!
 //! Globalisation: the merit `theta = 1/2 |F|^2` (forces relative to the mean weight per
 //! contact, torques over `a`), evaluated with each assembly; a full step is taken and its
