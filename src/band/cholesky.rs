@@ -107,8 +107,8 @@ pub struct LinSolver {
     rows: Vec<[f64; W1]>,
     /// `1 / D[i]`.
     inv_diag: Vec<f64>,
-    /// Coordinates whose row and column of `L` are zero off the diagonal (held ones): the
-    /// solves skip their multiply-adds.
+    /// Rows of `L` that are zero off the diagonal (held coordinates, `Assembly::fix`, and the
+    /// first): the solves skip their multiply-adds, which use row `j` only.
     decoupled: Vec<bool>,
     /// Right-hand side padded with `W` leading zeros.
     rhs: Vec<f64>,
@@ -162,7 +162,7 @@ impl LinSolver {
                 return Err(NotPositiveDefinite);
             }
             let inv = 1.0 / d;
-            let row_k_plain = self.rows[k][..W].iter().all(|&x| x == 0.0);
+            self.decoupled[k] = self.rows[k][..W].iter().all(|&x| x == 0.0);
             self.inv_diag[k] = inv;
             // Column k below the diagonal: `a = L[k+1+t][k] D[k]` (as reduced so far) at
             // rows[k+1+t][W-1-t], replaced by `L[k+1+t][k] = a / D[k]`.
@@ -179,7 +179,6 @@ impl LinSolver {
             // A held coordinate's column is zero below the diagonal (`Assembly::fix`): nothing
             // to update (a third of the columns on the S-start, whose touching heights and
             // sticking positions are held).
-            self.decoupled[k] = !coupled && row_k_plain;
             if !coupled {
                 continue;
             }
@@ -264,6 +263,17 @@ mod tests {
         asm
     }
 
+    /// `asm`'s system solved with `ours` (factorised here) and with faer: both solutions.
+    fn solve_both(ours: &mut LinSolver, asm: &Assembly) -> (Vec<f64>, Vec<f64>) {
+        let mut faer = FaerLlt::new(asm);
+        ours.factor(asm).unwrap();
+        faer.factor(asm).unwrap();
+        let (mut x, mut y) = (asm.grad.clone(), asm.grad.clone());
+        ours.solve(&mut x);
+        faer.solve(&mut y);
+        (x, y)
+    }
+
     /// The band factorisation solves like faer's sparse Cholesky and leaves a residual at
     /// rounding level, for sizes below, at and above the bandwidth.
     #[test]
@@ -278,13 +288,7 @@ mod tests {
             (203, 17),
         ] {
             let asm = band(n, 2.0 * W as f64, 0x9E37_79B9_7F4A_7C15 ^ seed);
-            let mut ours = LinSolver::new(&asm);
-            let mut faer = FaerLlt::new(&asm);
-            ours.factor(&asm).unwrap();
-            faer.factor(&asm).unwrap();
-            let (mut x, mut y) = (asm.grad.clone(), asm.grad.clone());
-            ours.solve(&mut x);
-            faer.solve(&mut y);
+            let (x, y) = solve_both(&mut LinSolver::new(&asm), &asm);
             for k in 0..n {
                 assert!(
                     (x[k] - y[k]).abs() < 1e-13,
@@ -314,13 +318,7 @@ mod tests {
                 asm.fix(k);
                 asm.grad[k] = 0.5 + k as f64;
             }
-            let lin = ours.get_or_insert_with(|| LinSolver::new(&asm));
-            let mut faer = FaerLlt::new(&asm);
-            lin.factor(&asm).unwrap();
-            faer.factor(&asm).unwrap();
-            let (mut x, mut y) = (asm.grad.clone(), asm.grad.clone());
-            lin.solve(&mut x);
-            faer.solve(&mut y);
+            let (x, y) = solve_both(ours.get_or_insert_with(|| LinSolver::new(&asm)), &asm);
             for k in 0..n {
                 assert!((x[k] - y[k]).abs() < 1e-13, "held {held:?}, x[{k}]");
             }

@@ -98,14 +98,8 @@ impl Reactions {
     pub fn capture(&mut self, ct: &Contacts, mode: &[Mode], asm: &Assembly) {
         for c in 0..ct.nodes.len() {
             let k = dof::node(ct.nodes[c]);
-            match mode[c] {
-                Mode::Free => {}
-                Mode::Stick => {
-                    for r in 0..3 {
-                        asm.row(k + r, &mut self.rows[c][r]);
-                    }
-                }
-                Mode::Slide => asm.row(k + 2, &mut self.rows[c][2]),
+            for r in mode[c].held() {
+                asm.row(k + r, &mut self.rows[c][r]);
             }
         }
     }
@@ -123,12 +117,7 @@ impl Reactions {
         for c in 0..ct.nodes.len() {
             let k = dof::node(ct.nodes[c]);
             self.change[c] = [0.0; 3];
-            let rows = match mode[c] {
-                Mode::Free => 0..0,
-                Mode::Stick => 0..3,
-                Mode::Slide => 2..3,
-            };
-            for r in rows {
+            for r in mode[c].held() {
                 self.change[c][r] = row_dot(&self.rows[c][r], k + r, dq);
             }
             worst = worst.max(self.change[c][2].abs());

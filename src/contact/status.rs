@@ -17,6 +17,18 @@ pub enum Mode {
     Slide,
 }
 
+impl Mode {
+    /// The contact node's coordinates (0, 1, 2: `x, y, z`) held by this status: none when
+    /// free, all three when sticking, the height when sliding.
+    pub fn held(self) -> std::ops::Range<usize> {
+        match self {
+            Mode::Free => 0..0,
+            Mode::Stick => 0..3,
+            Mode::Slide => 2..3,
+        }
+    }
+}
+
 /// Slip, relative to the rod diameter, given to a contact that starts sliding from a stick,
 /// along the direction its friction force drives (so the dissipation is differentiable).
 /// Ten times the sticking threshold `[solver] contact_tolerance` (1e-9). It must stay below
