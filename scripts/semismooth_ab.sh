@@ -7,7 +7,8 @@
 # per run, the semi-smooth retries and the steps by their Newton iteration count too. Keeps
 # the output as a dated record docs/results/RECORD/<date>.md (records semismooth-start: the
 # extrapolated start against the build before it; semismooth-retries: the retries of a
-# failed step against the build before them).
+# failed step against the build before them; semismooth-residual: the residual summed once
+# per coordinate and the start on the ground against the build before them).
 #
 #   CONTACT_SCALING_OLD=/path/to/old/contact_scaling scripts/semismooth_ab.sh RECORD
 #   # about 5 minutes; without CONTACT_SCALING_OLD only this build runs
