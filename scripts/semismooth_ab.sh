@@ -8,7 +8,8 @@
 # the output as a dated record docs/results/RECORD/<date>.md (records semismooth-start: the
 # extrapolated start against the build before it; semismooth-retries: the retries of a
 # failed step against the build before them; semismooth-residual: the residual summed once
-# per coordinate and the start on the ground against the build before them).
+# per coordinate and the start on the ground against the build before them;
+# semismooth-forcing: those and GMRES's fixed tolerance near the solution, the same).
 #
 #   CONTACT_SCALING_OLD=/path/to/old/contact_scaling scripts/semismooth_ab.sh RECORD
 #   # about 5 minutes; without CONTACT_SCALING_OLD only this build runs
