@@ -114,7 +114,7 @@ impl Scheme for Bdf2 {
                     let eps = m.solver.contact_tolerance * m.diameter;
                     for i in m.real.clone() {
                         let k = crate::rod::dof::node(i) + 2;
-                        let on_floor = s.q[k] - floor <= eps;
+                        let on_floor = m.on_ground(&s.q, i);
                         if !m.fixed[k]
                             && (qhat[k] < floor - eps || (on_floor && qhat[k] > floor + eps))
                         {

@@ -481,21 +481,18 @@ impl<'m> Integrator<'m> {
             // q_n + h (v_n + h (v_n - v_{n-1}) / h_{n-1}): the velocity extrapolated linearly,
             // by half on the ground (ON_GROUND_EXTRAPOLATION).
             let r = h / self.h_older;
-            let on_ground = |k: usize| {
-                m.ground.is_some()
-                    && !dof::is_edge(k)
-                    && self.q_prev[k - k % 4 + 2] - 0.5 * m.diameter
-                        <= m.solver.contact_tolerance * m.diameter
+            let (q_prev, v_prev, v_older) = (&self.q_prev, &self.v_prev, &self.v_older);
+            let mut extrapolate = |k: usize, r: f64| {
+                if !m.fixed[k] {
+                    s.q[k] = q_prev[k] + h * (v_prev[k] + r * (v_prev[k] - v_older[k]));
+                }
             };
             for k in 0..m.ndof {
-                if !m.fixed[k] {
-                    let rk = if on_ground(k) {
-                        ON_GROUND_EXTRAPOLATION * r
-                    } else {
-                        r
-                    };
-                    let v = self.v_prev[k] + rk * (self.v_prev[k] - self.v_older[k]);
-                    s.q[k] = self.q_prev[k] + h * v;
+                extrapolate(k, r);
+            }
+            for i in m.real.clone().filter(|&i| m.on_ground(q_prev, i)) {
+                for k in dof::node(i)..dof::node(i) + 3 {
+                    extrapolate(k, ON_GROUND_EXTRAPOLATION * r);
                 }
             }
         }

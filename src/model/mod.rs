@@ -300,6 +300,14 @@ impl Model {
         normal > self.contact_threshold()
     }
 
+    /// Whether node `i` lies on the ground in `q`: its centre within `[solver]
+    /// contact_tolerance` (times `a`) of its resting height. False without a ground.
+    pub fn on_ground(&self, q: &[f64], i: usize) -> bool {
+        self.ground.is_some()
+            && q[dof::node(i) + 2] - 0.5 * self.diameter
+                <= self.solver.contact_tolerance * self.diameter
+    }
+
     /// Dimensionless groups.
     pub fn dimensionless(&self) -> Dimensionless {
         let g = f::norm(self.gravity);
