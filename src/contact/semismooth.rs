@@ -161,6 +161,7 @@ struct Scratch {
     dq: Vec<f64>,
     lambda0: Vec<f64>,
     force0: Vec<[f64; 2]>,
+    /// The statuses of the last iterate (a change marks the residual history).
     modes_before: Vec<Mode>,
     /// The trace's line of cone-edge ratios (`SLITHER_DEBUG=trace` only).
     edge: String,
@@ -270,7 +271,9 @@ impl SemiSmooth {
         while it < cap {
             it += 1;
             self.spent = it;
+            self.scratch.modes_before.copy_from_slice(&self.mode);
             let theta_c = self.branches(m, ground, q, scale, it > 1);
+            let switched = it > 1 && self.mode != self.scratch.modes_before;
             if log::log_enabled!(log::Level::Debug) {
                 log::debug!(
                     "  semi-smooth statuses it {it}: {}",
@@ -329,6 +332,10 @@ impl SemiSmooth {
                     nw.stats.assembly_s += t0.elapsed().as_secs_f64();
                     continue;
                 }
+            }
+            if switched {
+                // A status change between the last iterate and this one: no Newton pair.
+                self.conic.stats.residuals.push(f64::NAN);
             }
             self.conic.stats.residuals.push((2.0 * theta).sqrt());
             let recent = &mut self.scratch.recent;
