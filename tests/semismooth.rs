@@ -164,6 +164,37 @@ fn stick_converges_superlinearly() {
     assert_superlinear("stick", &p, 10);
 }
 
+/// Stick beside free nodes: a rod on high friction set pitching (one half lifts off, the other
+/// presses into the ground and holds): on the steps where every touching contact sticks while
+/// other nodes fly, the stuck contacts' reactions follow the free body's elasticity, so their
+/// friction variables change from iterate to iterate (in the test above every position
+/// coordinate touches and the residual is exactly zero after one iterate). Mutations tried
+/// and not caught here, nor by the test above: sticking contacts' friction variables updated
+/// with half their predicted change (290 of 296 pairs superlinear), and the free coordinates
+/// coupled to half the held coordinates' moves (216 of 216; it fails the landing test, 13 of
+/// 16). A sticking contact's branch holds its position at the step's start exactly, and after
+/// the first iterate that target move is zero, so neither reaches these steps' later pairs.
+#[test]
+fn stick_beside_free_nodes_converges_superlinearly() {
+    let m = scene(
+        "velocity = [0.1, 0.0, 0.0]\nangular_velocity = [0.0, 3.0, 0.0]",
+        [5.5, 7.0, 10.0],
+        0.0,
+        2e-3,
+        0.4,
+        "",
+    );
+    let steps = record(&m, false);
+    assert_eq!(fallbacks("stick beside free", &steps), 0);
+    let sticking = |r: &&StepRecord| {
+        let (t, mv) = (&r.touch.1, &r.moving.1);
+        let touching = t.iter().filter(|&&x| x).count();
+        touching >= 2 && touching < t.len() && t.iter().zip(mv).all(|(&t, &v)| !t || !v)
+    };
+    let p = pairs(steps.iter().filter(sticking));
+    assert_superlinear("stick beside free", &p, 10);
+}
+
 /// Slide: a rod pushed forward and spinning slides on every contact, each in its own
 /// direction.
 #[test]
