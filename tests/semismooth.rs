@@ -9,6 +9,8 @@ use slither::model::Model;
 use slither::state::State;
 
 const MU: [f64; 3] = [0.11, 0.14, 0.20];
+/// Friction high enough that the stick tests' contacts hold.
+const HIGH_MU: [f64; 3] = [5.5, 7.0, 10.0];
 /// The round-off floor of the residual on these scenes: converged steps end at 1e-11 to
 /// 1e-10 (or at exactly 0). The pairs' range of `r_k` starts a decade above it.
 const FLOOR: f64 = 1e-10;
@@ -131,6 +133,14 @@ fn assert_superlinear(regime: &str, p: &[(f64, f64)], min_pairs: usize) {
     );
 }
 
+/// The number of touching contacts after the step when at least two touch and none of them
+/// moves (every touching contact sticks).
+fn touching_stick(r: &StepRecord) -> Option<usize> {
+    let (t, mv) = (&r.touch.1, &r.moving.1);
+    let n = t.iter().filter(|&&x| x).count();
+    (n >= 2 && t.iter().zip(mv).all(|(&t, &v)| !t || !v)).then_some(n)
+}
+
 /// Steps that fell back to the conic program (reported; the pairs leave them out).
 fn fallbacks(regime: &str, steps: &[StepRecord]) -> usize {
     let fb = steps.iter().filter(|s| s.fallback).count();
@@ -148,7 +158,7 @@ fn fallbacks(regime: &str, steps: &[StepRecord]) -> usize {
 fn stick_converges_superlinearly() {
     let m = scene(
         "",
-        [5.5, 7.0, 10.0],
+        HIGH_MU,
         0.0,
         2e-3,
         0.3,
@@ -156,11 +166,7 @@ fn stick_converges_superlinearly() {
     );
     let steps = record(&m, true);
     assert_eq!(fallbacks("stick", &steps), 0);
-    let sticking = |r: &&StepRecord| {
-        let (t, mv) = (&r.touch.1, &r.moving.1);
-        t.iter().filter(|&&x| x).count() >= 2 && t.iter().zip(mv).all(|(&t, &v)| !t || !v)
-    };
-    let p = pairs(steps.iter().filter(sticking));
+    let p = pairs(steps.iter().filter(|r| touching_stick(r).is_some()));
     assert_superlinear("stick", &p, 10);
 }
 
@@ -176,22 +182,10 @@ fn stick_converges_superlinearly() {
 /// the first iterate that target move is zero, so neither reaches these steps' later pairs.
 #[test]
 fn stick_beside_free_nodes_converges_superlinearly() {
-    let m = scene(
-        "velocity = [0.1, 0.0, 0.0]\nangular_velocity = [0.0, 3.0, 0.0]",
-        [5.5, 7.0, 10.0],
-        0.0,
-        2e-3,
-        0.4,
-        "",
-    );
-    let steps = record(&m, false);
+    let steps = record(&pitching(HIGH_MU), false);
     assert_eq!(fallbacks("stick beside free", &steps), 0);
-    let sticking = |r: &&StepRecord| {
-        let (t, mv) = (&r.touch.1, &r.moving.1);
-        let touching = t.iter().filter(|&&x| x).count();
-        touching >= 2 && touching < t.len() && t.iter().zip(mv).all(|(&t, &v)| !t || !v)
-    };
-    let p = pairs(steps.iter().filter(sticking));
+    let beside_free = |r: &&StepRecord| touching_stick(r).is_some_and(|n| n < r.touch.1.len());
+    let p = pairs(steps.iter().filter(beside_free));
     assert_superlinear("stick beside free", &p, 10);
 }
 
@@ -214,18 +208,22 @@ fn slide_converges_superlinearly() {
     assert_superlinear("slide", &p, 10);
 }
 
-/// Lift-off and landing: a rod lying on the ground, set pitching (one half lifts off, the
-/// other presses into the ground), flies and lands again.
-fn drop_steps() -> Vec<StepRecord> {
-    let m = scene(
+/// A rod lying on the ground with friction `mu`, set pitching (one half lifts off, the other
+/// presses into the ground), over 0.4 s.
+fn pitching(mu: [f64; 3]) -> Model {
+    scene(
         "velocity = [0.1, 0.0, 0.0]\nangular_velocity = [0.0, 3.0, 0.0]",
-        MU,
+        mu,
         0.0,
         2e-3,
         0.4,
         "",
-    );
-    let steps = record(&m, false);
+    )
+}
+
+/// Lift-off and landing: the pitching rod flies and lands again.
+fn drop_steps() -> Vec<StepRecord> {
+    let steps = record(&pitching(MU), false);
     fallbacks("drop", &steps);
     steps
 }
