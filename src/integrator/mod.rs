@@ -482,17 +482,17 @@ impl<'m> Integrator<'m> {
             // by half on the ground (ON_GROUND_EXTRAPOLATION).
             let r = h / self.h_older;
             let (q_prev, v_prev, v_older) = (&self.q_prev, &self.v_prev, &self.v_older);
-            let mut extrapolate = |k: usize, r: f64| {
+            let mut start_at = |k: usize, r: f64| {
                 if !m.fixed[k] {
                     s.q[k] = q_prev[k] + h * (v_prev[k] + r * (v_prev[k] - v_older[k]));
                 }
             };
             for k in 0..m.ndof {
-                extrapolate(k, r);
+                start_at(k, r);
             }
             for i in m.real.clone().filter(|&i| m.on_ground(q_prev, i)) {
                 for k in dof::node(i)..dof::node(i) + 3 {
-                    extrapolate(k, ON_GROUND_EXTRAPOLATION * r);
+                    start_at(k, ON_GROUND_EXTRAPOLATION * r);
                 }
             }
         }
