@@ -9,6 +9,13 @@
 //! ([`Assembly::add_h`], [`Assembly::grad`]), Newton holds coordinates ([`Assembly::fix`]) and
 //! factorises it ([`cholesky::LinSolver`]), the conic program reads it as a sparse matrix.
 //! Nothing here knows what the coordinates mean beyond the bandwidth.
+//!
+//! A term that couples coordinates far apart (the self-contact of two parts of the body,
+//! [`crate::energy::self_contact`]) adds its Hessian as a low-rank part `U U^T` beside the
+//! band: columns [`LowRank`] of at most 12 entries ([`Assembly::add_low_rank`]). The band
+//! factorisation solves with the whole matrix by the Sherman-Morrison-Woodbury identity
+//! ([`cholesky::LinSolver`]), [`Assembly::mul`] multiplies by it, and [`Assembly::fix`] holds a
+//! coordinate in it too. Without such terms the low-rank part is empty and costs nothing.
 
 pub mod cholesky;
 
@@ -27,7 +34,29 @@ pub struct Assembly {
     pub row_idx: Vec<usize>,
     /// Values of the upper triangle.
     pub values: Vec<f64>,
+    /// Columns of the low-rank part `U U^T` of the Hessian (outside the band's pattern).
+    pub low_rank: Vec<LowRank>,
     w: usize,
+}
+
+/// Entries per [`LowRank`] column: the coordinates of two edges' four nodes.
+pub const LOW_RANK_ENTRIES: usize = 12;
+
+/// One column `u` of the low-rank part `U U^T` of a Hessian: `val[r]` at coordinate `idx[r]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LowRank {
+    /// Coordinates.
+    pub idx: [usize; LOW_RANK_ENTRIES],
+    /// Entries.
+    pub val: [f64; LOW_RANK_ENTRIES],
+}
+
+impl LowRank {
+    /// `u . x`.
+    #[inline]
+    pub fn dot(&self, x: &[f64]) -> f64 {
+        self.idx.iter().zip(&self.val).map(|(&k, v)| v * x[k]).sum()
+    }
 }
 
 impl Assembly {
@@ -49,6 +78,7 @@ impl Assembly {
             col_ptr,
             row_idx,
             values,
+            low_rank: Vec::new(),
             w,
         }
     }
@@ -64,6 +94,36 @@ impl Assembly {
     pub fn clear(&mut self) {
         self.grad.fill(0.0);
         self.values.fill(0.0);
+        self.low_rank.clear();
+    }
+
+    /// Add the column `u` (entries `val` at coordinates `idx`) to the low-rank part `U U^T`.
+    pub fn add_low_rank(&mut self, idx: [usize; LOW_RANK_ENTRIES], val: [f64; LOW_RANK_ENTRIES]) {
+        self.low_rank.push(LowRank { idx, val });
+    }
+
+    /// The low-rank part's share of the moves `target` of the coordinates `held` (about to be
+    /// held by [`Assembly::fix`]) in the gradient of the others: `g_i += (U U^T d)_i` for every
+    /// coordinate `i` not held, `d` the targets of the held ones. The band's share is the
+    /// caller's, from the rows it captured.
+    pub fn low_rank_held_moves(&mut self, held: &[bool], target: &[f64]) {
+        for u in &self.low_rank {
+            let s: f64 = u
+                .idx
+                .iter()
+                .zip(&u.val)
+                .filter(|(&k, _)| held[k])
+                .map(|(&k, v)| v * target[k])
+                .sum();
+            if s == 0.0 {
+                continue;
+            }
+            for (&k, v) in u.idx.iter().zip(&u.val) {
+                if !held[k] {
+                    self.grad[k] += v * s;
+                }
+            }
+        }
     }
 
     #[inline]
@@ -98,7 +158,7 @@ impl Assembly {
             }
         }
     }
-    /// Symmetric entry `(i, j)`.
+    /// Symmetric entry `(i, j)` of the band (the low-rank part not included).
     pub fn h(&self, i: usize, j: usize) -> f64 {
         if i.abs_diff(j) > self.w {
             0.0
@@ -109,6 +169,13 @@ impl Assembly {
     /// Hold coordinate `k` fixed: zero its gradient, row and column, and put 1 on the diagonal.
     pub fn fix(&mut self, k: usize) {
         self.grad[k] = 0.0;
+        for u in &mut self.low_rank {
+            for (&i, v) in u.idx.iter().zip(u.val.iter_mut()) {
+                if i == k {
+                    *v = 0.0;
+                }
+            }
+        }
         let n = self.n();
         // Column k's upper part is contiguous (rows k - w ..= k); the rest of row k lies one
         // entry in each later column.
@@ -139,7 +206,7 @@ impl Assembly {
             };
         }
     }
-    /// `y = H x` for the symmetric matrix.
+    /// `y = H x` for the symmetric matrix (band and low-rank part).
     pub fn mul(&self, x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
         for j in 0..self.n() {
@@ -150,6 +217,12 @@ impl Assembly {
                 if i != j {
                     y[j] += v * x[i];
                 }
+            }
+        }
+        for u in &self.low_rank {
+            let s = u.dot(x);
+            for (&k, v) in u.idx.iter().zip(&u.val) {
+                y[k] += v * s;
             }
         }
     }

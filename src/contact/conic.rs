@@ -185,6 +185,7 @@ impl Conic {
                 r.max_normal_change <= m.solver.normal_force_tolerance * ct.weight_scale(m);
             let negligible = -slope <= NEGLIGIBLE_DECREASE * f0.abs();
             let small = dx <= m.tolerance * a && dth <= m.tolerance;
+            nw.step_cap = obj.max_step(q, &nw.dq);
             let alpha = nw.backtrack(m, q, f0, slope, small || negligible, &merit);
             nw.stats.line_search_s += t3.elapsed().as_secs_f64();
             let Some(alpha) = alpha else {
@@ -312,7 +313,11 @@ impl Contacts {
     ) -> Result<ConicStep, ConicError> {
         let n = asm.n();
         let nc = self.nodes.len();
-        let nv = n + 4 * nc;
+        // The Hessian's low-rank part `U U^T` (self-contact) as one variable per column,
+        // `w_l = u_l . dq`, with the cost `w_l^2 / 2`: the band stays the band.
+        let nl = asm.low_rank.len();
+        let nv = n + 4 * nc + nl;
+        let aux = |l: usize| n + 4 * nc + l;
         let var = |c: usize, k: usize| n + 4 * c + k; // u, w, y, sigma
                                                       // Scaling (the interior-point tolerances are absolute): displacements in units of
                                                       // `ls`, the larger of this step's largest node displacement and `g h^2`; slip variables
@@ -344,7 +349,13 @@ impl Contacts {
                 pv[idx] *= ks * d[asm.row_idx[idx]] * d[j];
             }
         }
-        let p = CscMatrix::new(nv, nv, colptr, asm.row_idx.clone(), pv);
+        let mut rows = asm.row_idx.clone();
+        for l in 0..nl {
+            rows.push(aux(l));
+            pv.push(ks);
+            colptr.push(nnz + l + 1);
+        }
+        let p = CscMatrix::new(nv, nv, colptr, rows, pv);
         let mut lin = vec![0.0; nv];
         for k in 0..n {
             lin[k] = asm.grad[k] * ks * d[k];
@@ -398,6 +409,17 @@ impl Contacts {
                 b.push(-f::dot(d0, dir) / ls);
                 row += 1;
             }
+        }
+        // Zero cone: the low-rank variables' definitions, `u_l . D x - w_l = 0`.
+        for (l, u) in asm.low_rank.iter().enumerate() {
+            for (&k, &v) in u.idx.iter().zip(&u.val) {
+                if v != 0.0 {
+                    push(row, k, v * d[k], &mut ri, &mut ci, &mut vv);
+                }
+            }
+            push(row, aux(l), -1.0, &mut ri, &mut ci, &mut vv);
+            b.push(0.0);
+            row += 1;
         }
         let n_zero = row;
         // Nonnegative: gaps, then u, w >= 0.

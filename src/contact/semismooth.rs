@@ -84,7 +84,7 @@ use super::reactions::{Reactions, UNCOUPLED};
 use super::status::Mode;
 use super::{Conic, ContactFailure, ContactModel, ContactStats, Contacts};
 use crate::model::Model;
-use crate::newton::{Failure, HessianCache, Newton, Path, Potential};
+use crate::newton::{Failure, HessianCache, Newton, Objective, Path, Potential};
 use crate::rod::dof::{self, HALF_BANDWIDTH as W};
 use std::collections::VecDeque;
 use std::time::Instant;
@@ -382,17 +382,19 @@ impl SemiSmooth {
             if project || krylov == UNCOUPLED {
                 self.conic.stats.residuals.push(-1.0);
             }
+            // The longest step (at most 1) that keeps the self-contact's pairs apart.
+            let cap = obj.max_step(q, &nw.dq).min(1.0);
             self.save(q, nw);
-            self.step_from_saved(m, q, 1.0);
+            self.step_from_saved(m, q, cap);
             let tol_f = set.normal_force_tolerance * scale;
-            if small && settled && self.branches_settled(m, ground, q, tol_f) {
+            if cap == 1.0 && small && settled && self.branches_settled(m, ground, q, tol_f) {
                 nw.stats.line_search_s += t3.elapsed().as_secs_f64();
                 log::debug!("  semi-smooth converged at it {it}");
                 return Ok(it);
             }
             pending = Some(Pending {
                 theta0: theta,
-                alpha: 1.0,
+                alpha: cap,
             });
             nw.stats.line_search_s += t3.elapsed().as_secs_f64();
         }
@@ -540,6 +542,8 @@ impl SemiSmooth {
                 }
             }
         }
+        // The same for the low-rank part (self-contact pairs far along the body).
+        nw.asm.low_rank_held_moves(&s.held, &s.target);
         for k in 0..n {
             if s.held[k] {
                 nw.asm.fix(k);

@@ -10,6 +10,10 @@
 //!   `f64` for the value, gradient and Hessian of a node's stencil;
 //! * [`gravity`]: `-sum_i m_i g . x_i`.
 //!
+//! Beside the terms, [`self_contact`]: the barrier that keeps two parts of the body apart,
+//! a function of pairs of edges anywhere on the body (not a band term: its Hessian is a
+//! low-rank part of the assembly), added by the step's potential itself.
+//!
 //! Bending and twist of node `i` are functions of its stencil's 8 intrinsic coordinates
 //! `(e^{i-1}, e^i, theta^{i-1}, theta^i)` and of the frozen reference frames of its two edges.
 //! The pieces of that path, one file each:
@@ -34,6 +38,7 @@ pub mod node;
 #[cfg(any(test, feature = "reference"))]
 pub mod reference;
 pub mod reftwist;
+pub mod self_contact;
 pub mod stencil;
 pub mod stretch;
 

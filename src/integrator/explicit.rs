@@ -110,6 +110,9 @@ pub struct Explicit<'m> {
     pub stats: Stats,
     /// Stencil gradients computed in closed form and by dual numbers (stale frames).
     pub stencil_paths: [usize; 2],
+    /// The self-contact's broad phase and distances (this integrator applies no barrier: it
+    /// stops when a pair comes within the activation gap).
+    self_contact: Option<crate::energy::self_contact::SelfContact>,
 }
 
 /// Energy bookkeeping of a run.
@@ -157,6 +160,7 @@ impl<'m> Explicit<'m> {
             monitor: None,
             stats: Stats::default(),
             stencil_paths: [0; 2],
+            self_contact: crate::energy::self_contact::SelfContact::of(model),
         })
     }
 
@@ -361,7 +365,18 @@ impl<'m> Explicit<'m> {
             None
         };
         match reason {
-            None => Ok(()),
+            None => {
+                if let Some(sc) = &self.self_contact {
+                    let d = sc.measure(&s.q).closest;
+                    if d < m.diameter + sc.activation() {
+                        return Err(StepError::SelfContact {
+                            t: s.t,
+                            distance_over_a: d / m.diameter,
+                        });
+                    }
+                }
+                Ok(())
+            }
             Some(reason) => {
                 copy_state(s, self.prev.as_ref().expect("saved state"));
                 self.have_grad = false;

@@ -62,6 +62,7 @@ pub mod statics;
 
 use crate::band::Assembly;
 use crate::contact::{ContactFailure, ContactModel, ContactStats};
+use crate::energy::self_contact::SelfContact;
 use crate::energy::{self, Ctx, Term};
 use crate::model::Model;
 use crate::newton::{self, Inertia, Newton, Potential};
@@ -93,6 +94,9 @@ pub struct Stats {
     /// `k` iterations (for diagnostics; not in `summary.json`).
     #[serde(skip)]
     pub iteration_histogram: Vec<usize>,
+    /// Self-contact over the accepted steps (`summary.json` writes it as its own block).
+    #[serde(skip)]
+    pub self_contact: crate::energy::self_contact::Stats,
 }
 
 impl Stats {
@@ -270,6 +274,15 @@ pub enum StepError {
         /// What was detected.
         reason: String,
     },
+    /// Two parts of the body came within the self-contact's activation gap under the
+    /// explicit integrator, which has no self-contact. The state is that of the step's end.
+    #[error("at t = {t} s two parts of the body came {distance_over_a:.4} a apart (centrelines), within the self-contact's activation gap: the explicit integrator has no self-contact; run \"implicit\" or \"bdf2\", or set self_contact.enabled = false to accept a body that passes through itself")]
+    SelfContact {
+        /// Time at the end of the step (s).
+        t: f64,
+        /// The closest centreline distance over `a`.
+        distance_over_a: f64,
+    },
 }
 
 /// Energies of a state (J).
@@ -384,6 +397,10 @@ pub struct Integrator<'m> {
     normal_start: Vec<f64>,
     normal_end: Vec<f64>,
     events: Vec<bool>,
+    /// The self-contact barrier, when the model has it on.
+    pub self_contact: Option<SelfContact>,
+    /// The start's move from the last solution, `q - q_n` (scratch).
+    start_move: Vec<f64>,
 }
 
 impl<'m> Integrator<'m> {
@@ -420,6 +437,8 @@ impl<'m> Integrator<'m> {
             normal_start: vec![0.0; model.real.len()],
             normal_end: vec![0.0; model.real.len()],
             events: vec![false; model.real.len()],
+            self_contact: SelfContact::of(model),
+            start_move: vec![0.0; n],
         }
     }
 
@@ -500,6 +519,19 @@ impl<'m> Integrator<'m> {
             let origin = self.scheme.slip_origin(&self.q_prev);
             c.begin_step(m, &self.q_prev, origin, &self.v_prev, h, &mut s.q);
         }
+        if let Some(sc) = &self.self_contact {
+            // The start drawn back toward the last solution where the way there could cross a
+            // pair (both ends lie above the ground, so every point between does).
+            for k in 0..m.ndof {
+                self.start_move[k] = s.q[k] - self.q_prev[k];
+            }
+            let alpha = sc.max_step(&self.q_prev, &self.start_move);
+            if alpha < 1.0 {
+                for k in 0..m.ndof {
+                    s.q[k] = self.q_prev[k] + alpha * self.start_move[k];
+                }
+            }
+        }
         let mut obj = Potential {
             model: m,
             terms: &self.terms,
@@ -513,6 +545,7 @@ impl<'m> Integrator<'m> {
                 euler: self.scheme.euler_coordinates(),
                 euler_weight: 1.0 / (h * h),
             }),
+            self_contact: self.self_contact.as_ref(),
         };
         let q = &mut s.q;
         Ok(match self.contact.as_mut() {
@@ -527,6 +560,9 @@ impl<'m> Integrator<'m> {
     /// the scheme's history.
     fn commit(&mut self, s: &mut State, h: f64) {
         let m = self.model;
+        if let Some(sc) = &self.self_contact {
+            self.stats.self_contact.count(&sc.measure(&s.q), m.diameter);
+        }
         if let Some(c) = self.contact.as_mut() {
             c.accept(m, &s.q);
         }

@@ -38,6 +38,7 @@ impl Equilibrium<'_> {
             m0: &self.loads.m0,
             gravity: self.loads.gravity(self.model),
             inertia: None,
+            self_contact: None,
         }
     }
 }

@@ -12,7 +12,7 @@ mod gait;
 
 pub use gait::Gait;
 
-use crate::problem::{Clamp, Mode, Problem};
+use crate::problem::{Clamp, Mode, Problem, Shape};
 use crate::rod::{dof, frames, vec3::f};
 use std::f64::consts::PI;
 use std::ops::Range;
@@ -95,6 +95,17 @@ pub struct Model {
     pub ground: Option<Ground>,
     /// Muscle activation.
     pub gait: Gait,
+    /// Self-contact, if on.
+    pub self_contact: Option<SelfContactParams>,
+}
+
+/// Self-contact parameters ([`crate::energy::self_contact`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SelfContactParams {
+    /// Activation gap over `a`.
+    pub activation: f64,
+    /// Barrier stiffness `kappa g_hat` over `B / a^2`.
+    pub stiffness: f64,
 }
 
 /// A node carries contact when its normal force exceeds this fraction of its share of the
@@ -184,7 +195,26 @@ impl Model {
         }
         let t = f::scale(hdir, -1.0);
         let a1 = frames::initial_director(t);
-        let a1_0 = vec![a1; nodes - 1];
+        let mut a1_0 = vec![a1; nodes - 1];
+        if p.initial.shape == Shape::Coil {
+            // A helix from the tail (bottom) up to the head: arc length u = L - s from the
+            // tail, angle 2 pi u / c, rise p u / c, c = sqrt((2 pi R)^2 + p^2) per turn.
+            let (rad, pitch) = (p.initial.coil_radius, p.initial.coil_pitch);
+            let c = (2.0 * PI * rad).hypot(pitch);
+            for i in 0..nodes {
+                let u = r.length - (first_s + i as f64 * l0);
+                let phi = 2.0 * PI * u / c;
+                let x = [rad * phi.cos(), rad * phi.sin(), z + pitch * u / c];
+                q0[dof::node(i)..dof::node(i) + 3].copy_from_slice(&x);
+                xs[i] = x;
+            }
+            // Reference directors transported along the edges from the head's (no twist).
+            let tangent = |j: usize| f::unit(f::sub(xs[j + 1], xs[j]));
+            a1_0[0] = frames::initial_director(tangent(0));
+            for j in 1..nodes - 1 {
+                a1_0[j] = f::unit(f::transport(tangent(j - 1), tangent(j), a1_0[j - 1]));
+            }
+        }
         // Initial velocity: uniform plus rigid rotation about the centroid of the real nodes.
         let centroid = {
             let mut c = [0.0; 3];
@@ -261,6 +291,10 @@ impl Model {
                 mu_s: g.mu_sideways,
             }),
             gait: Gait::new(&p.gait, r.length, a),
+            self_contact: p.self_contact.enabled.then(|| SelfContactParams {
+                activation: p.self_contact.activation,
+                stiffness: p.self_contact.stiffness,
+            }),
         }
     }
 

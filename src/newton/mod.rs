@@ -24,6 +24,7 @@
 pub use crate::band::cholesky as linsolve;
 
 use crate::band::Assembly;
+use crate::energy::self_contact::SelfContact;
 use crate::energy::{self, Ctx, Term};
 use crate::model::Model;
 use crate::rod::dof;
@@ -135,6 +136,11 @@ pub trait Objective {
     fn assemble(&self, q: &[f64], asm: &mut Assembly, project: bool) -> f64;
     /// Called after every accepted iterate (static equilibrium re-bases its frames here).
     fn accepted(&mut self, _q: &[f64]) {}
+    /// The largest step length in `(0, 1]` along `dq` from `q` that keeps the objective's
+    /// domain (the self-contact's pairs apart): where Newton's line search starts.
+    fn max_step(&self, _q: &[f64], _dq: &[f64]) -> f64 {
+        1.0
+    }
 }
 
 /// The inertial part of an incremental potential: `w/2 |q - qhat|_M^2`, with the weight
@@ -169,6 +175,8 @@ pub struct Potential<'a> {
     pub gravity: [f64; 3],
     /// Inertia (dynamic steps).
     pub inertia: Option<Inertia<'a>>,
+    /// Self-contact barrier, if on.
+    pub self_contact: Option<&'a SelfContact>,
 }
 
 impl Potential<'_> {
@@ -186,6 +194,9 @@ impl Potential<'_> {
 impl Objective for Potential<'_> {
     fn value(&self, q: &[f64]) -> f64 {
         let mut f = energy::total(self.terms, &self.ctx(), q, None, false);
+        if let Some(sc) = self.self_contact {
+            f += sc.value(q);
+        }
         if let Some(inertia) = self.inertia {
             let w = 0.5 * inertia.weight;
             for k in 0..q.len() {
@@ -201,8 +212,15 @@ impl Objective for Potential<'_> {
 
     fn assemble(&self, q: &[f64], asm: &mut Assembly, project: bool) -> f64 {
         asm.clear();
-        let f = energy::total(self.terms, &self.ctx(), q, Some(asm), project);
+        let mut f = energy::total(self.terms, &self.ctx(), q, Some(asm), project);
+        if let Some(sc) = self.self_contact {
+            f += sc.assemble(q, asm);
+        }
         self.add_inertia(q, asm, f)
+    }
+
+    fn max_step(&self, q: &[f64], dq: &[f64]) -> f64 {
+        self.self_contact.map_or(1.0, |sc| sc.max_step(q, dq))
     }
 }
 
@@ -283,6 +301,9 @@ impl Potential<'_> {
                 (false, _) => t.eval(&ctx, q, Some(asm), project),
             };
         }
+        if let Some(sc) = self.self_contact {
+            f += sc.assemble(q, asm);
+        }
         if !keep {
             cache.at.copy_from_slice(q);
             cache.project = project;
@@ -332,6 +353,9 @@ pub struct Newton {
     pub trial: Vec<f64>,
     /// Statistics so far.
     pub stats: Stats,
+    /// Where the next [`Newton::backtrack`] starts (then reset to 1): the caller's
+    /// [`Objective::max_step`] along `dq`.
+    pub step_cap: f64,
 }
 
 impl Newton {
@@ -345,6 +369,7 @@ impl Newton {
             dq: vec![0.0; n],
             trial: vec![0.0; n],
             stats: Stats::default(),
+            step_cap: 1.0,
         }
     }
 
@@ -409,7 +434,8 @@ impl Newton {
     }
 
     /// Backtracking (Armijo) line search along `dq` from `q` on `merit`, with value `f0` and
-    /// slope `slope` at `q`; `take_full`: accept the full step without evaluating the merit.
+    /// slope `slope` at `q`, from the step length [`Newton::step_cap`] (1 unless the caller
+    /// capped it); `take_full`: accept that first step without evaluating the merit.
     /// The accepted point is left in `trial`; returns its step length, or `None`.
     pub fn backtrack(
         &mut self,
@@ -421,7 +447,7 @@ impl Newton {
         merit: &dyn Fn(&[f64]) -> f64,
     ) -> Option<f64> {
         let s = &m.solver;
-        let mut alpha = 1.0;
+        let mut alpha = std::mem::replace(&mut self.step_cap, 1.0).min(1.0);
         let noise = s.line_search_noise * f0.abs().max(1e-300);
         for _ in 0..s.max_backtracks {
             for k in 0..q.len() {
@@ -498,6 +524,7 @@ impl Newton {
             let slope: f64 = self.asm.grad.iter().zip(&self.dq).map(|(g, d)| g * d).sum();
             let (dx, dth) = self.correction_norms();
             let small = dx <= m.tolerance * m.diameter && dth <= m.tolerance;
+            self.step_cap = obj.max_step(q, &self.dq);
             let alpha = {
                 let o: &dyn Objective = obj;
                 self.backtrack(m, q, f0, slope, small, &|x| o.value(x))

@@ -281,8 +281,8 @@ keys! {
     ROD_NATURAL_TWIST = "rod.natural_twist", "rad/m", Real(0.0), Finite, "",
         "Natural twist rate.";
     // [initial]
-    INITIAL_SHAPE = "initial.shape", "", Word("straight"), Text("\"straight\""), "",
-        "Initial shape: straight along the heading, head (`s = 0`) at `x = L`, tail at the origin, centreline at `z = a/2 + height`.";
+    INITIAL_SHAPE = "initial.shape", "", Word("straight"), Text("\"straight\" or \"coil\""), "",
+        "Initial shape: \"straight\" along the heading, head (`s = 0`) at `x = L`, tail at the origin, centreline at `z = a/2 + height`; \"coil\": a helix about the vertical axis through the origin, tail at the bottom (centreline at `z = a/2 + height`) winding up to the head.";
     INITIAL_VELOCITY = "initial.velocity", "m/s", Reals3([0.0, 0.0, 0.0]), Text("an array of 3 finite numbers (m/s)"), "",
         "Uniform initial velocity.";
     INITIAL_ANGULAR_VELOCITY = "initial.angular_velocity", "rad/s", Reals3([0.0, 0.0, 0.0]), Text("an array of 3 finite numbers (rad/s)"), "",
@@ -291,6 +291,10 @@ keys! {
         "Rotation of the straight rod about z; 0 puts the head toward +x.";
     INITIAL_HEIGHT = "initial.height", "m", Real(0.0), NonNegative, "",
         "Extra height of the centreline above `a/2`.";
+    INITIAL_COIL_RADIUS = "initial.coil_radius", "m", Real(0.05), Positive, "with shape = \"coil\": > rod.diameter",
+        "Radius of the coil's helix.";
+    INITIAL_COIL_PITCH = "initial.coil_pitch", "m", Real(0.025), Positive, "with shape = \"coil\": > rod.diameter",
+        "Rise of the coil's helix per turn (the turns start `coil_pitch - a` apart).";
     // [gravity]
     GRAVITY_G = "gravity.g", "m/s^2", Real(9.81), NonNegative, "",
         "Gravitational acceleration along -z; 0 disables gravity.";
@@ -325,6 +329,13 @@ keys! {
         "Coulomb coefficient resisting sideways sliding.";
     GROUND_INCLINE_DEG = "ground.incline_deg", "degrees", Real(0.0), open(-90.0, 90.0), "",
         "Incline: gravity is tilted about y so that the slope rises along +x.";
+    // [self_contact]
+    SELF_CONTACT_ENABLED = "self_contact.enabled", "", Flag(true), Text("true or false"), "",
+        "Whether two parts of the body more than `2a` apart along it keep their centrelines at least `a` apart (a barrier in every implicit step; the explicit integrator stops when a pair comes within the activation gap). A body passing through itself is a wrong answer: turn it off only to compare.";
+    SELF_CONTACT_ACTIVATION = "self_contact.activation", "fraction of rod.diameter", Real(0.01), open_closed(0.0, 0.01), "",
+        "Gap beyond contact (centreline distance minus `a`) below which the barrier acts.";
+    SELF_CONTACT_STIFFNESS = "self_contact.stiffness", "B / a^2", Real(1.0), closed(1e-6, 1e6), "",
+        "Barrier stiffness: `kappa g_hat` in units of `B / a^2`; a pair carries this force at a gap of about 0.53 times the activation gap, ten times it at about 0.12 times.";
     // [gait]
     GAIT_KIND = "gait.kind", "", Word("none"), Text("\"none\", \"s-start\", \"sidewinding\" or \"serpenoid\""), "",
         "Muscle pattern: one travelling triplet of Gaussian couples (s-start), triplets launched every `period` (sidewinding), or an in-plane travelling sine (serpenoid).";
@@ -586,6 +597,7 @@ mod tests {
             ("time", vec!["dt = 0.01".into(), "duration = 0.1".into()]),
             ("output", vec![]),
             ("ground", vec![]),
+            ("self_contact", vec![]),
             ("gait", vec![]),
             ("accuracy", vec![]),
             ("solver", vec![]),

@@ -41,6 +41,9 @@ pub struct Problem {
     pub solver: SolverSpec,
     /// The ground; absent: no ground, no contact.
     pub ground: Option<GroundSpec>,
+    /// Self-contact (on by default).
+    #[serde(default)]
+    pub self_contact: SelfContactSpec,
     /// Muscle activation (gait). Default: none.
     #[serde(default)]
     pub gait: GaitSpec,
@@ -120,6 +123,40 @@ fn d_incline() -> f64 {
     keys::GROUND_INCLINE_DEG.real()
 }
 
+/// `[self_contact]`: two parts of the body cannot pass through each other
+/// ([`crate::energy::self_contact`]). Defaults and ranges: [`keys`] (`SELF_CONTACT_*`).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SelfContactSpec {
+    /// On or off ([`keys::SELF_CONTACT_ENABLED`]).
+    #[serde(default = "d_sc_enabled")]
+    pub enabled: bool,
+    /// Activation gap over `a` ([`keys::SELF_CONTACT_ACTIVATION`]).
+    #[serde(default = "d_sc_activation")]
+    pub activation: f64,
+    /// Barrier stiffness in `B / a^2` ([`keys::SELF_CONTACT_STIFFNESS`]).
+    #[serde(default = "d_sc_stiffness")]
+    pub stiffness: f64,
+}
+fn d_sc_enabled() -> bool {
+    keys::SELF_CONTACT_ENABLED.flag()
+}
+fn d_sc_activation() -> f64 {
+    keys::SELF_CONTACT_ACTIVATION.real()
+}
+fn d_sc_stiffness() -> f64 {
+    keys::SELF_CONTACT_STIFFNESS.real()
+}
+impl Default for SelfContactSpec {
+    fn default() -> Self {
+        SelfContactSpec {
+            enabled: d_sc_enabled(),
+            activation: d_sc_activation(),
+            stiffness: d_sc_stiffness(),
+        }
+    }
+}
+
 /// Which end of the rod is clamped (position and material frame held).
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
@@ -181,6 +218,9 @@ pub enum Shape {
     /// Straight along the heading; head (s = 0) at x = L, tail at the origin.
     #[default]
     Straight,
+    /// A coil: a helix about the vertical axis through the origin, from the tail at the
+    /// bottom up to the head, of radius `coil_radius` rising `coil_pitch` per turn.
+    Coil,
 }
 
 /// `[initial]`: initial configuration and velocity. Units, defaults and ranges: [`keys`]
@@ -206,6 +246,18 @@ pub struct InitialSpec {
     /// Extra height of the centreline above `a/2` (m) ([`keys::INITIAL_HEIGHT`]).
     #[serde(default = "d_height")]
     pub height: f64,
+    /// Coil: radius of the helix (m) ([`keys::INITIAL_COIL_RADIUS`]).
+    #[serde(default = "d_coil_radius")]
+    pub coil_radius: f64,
+    /// Coil: rise per turn (m) ([`keys::INITIAL_COIL_PITCH`]).
+    #[serde(default = "d_coil_pitch")]
+    pub coil_pitch: f64,
+}
+fn d_coil_radius() -> f64 {
+    keys::INITIAL_COIL_RADIUS.real()
+}
+fn d_coil_pitch() -> f64 {
+    keys::INITIAL_COIL_PITCH.real()
 }
 fn d_velocity() -> [f64; 3] {
     keys::INITIAL_VELOCITY.reals3()
@@ -222,6 +274,8 @@ fn d_height() -> f64 {
 impl Default for InitialSpec {
     fn default() -> Self {
         Self {
+            coil_radius: d_coil_radius(),
+            coil_pitch: d_coil_pitch(),
             shape: Shape::Straight,
             velocity: d_velocity(),
             angular_velocity: d_angular_velocity(),
@@ -630,6 +684,19 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     c.key_finite(&INITIAL_ANGULAR_VELOCITY, &i.angular_velocity)?;
     c.key(&INITIAL_HEADING_DEG, i.heading_deg)?;
     c.key(&INITIAL_HEIGHT, i.height)?;
+    c.key(&INITIAL_COIL_RADIUS, i.coil_radius)?;
+    c.key(&INITIAL_COIL_PITCH, i.coil_pitch)?;
+    if i.shape == Shape::Coil {
+        if r.clamp != Clamp::None {
+            return Err(c.fail("initial", "shape", "\"coil\"".into(), "\"straight\" when rod.clamp is \"head\" or \"tail\" (a coil has free ends)"));
+        }
+        if !(i.coil_pitch > r.diameter) {
+            return Err(c.fail("initial", "coil_pitch", num(i.coil_pitch), &format!("> rod.diameter = {} (m): the turns must start apart", num(r.diameter))));
+        }
+        if !(i.coil_radius > r.diameter) {
+            return Err(c.fail("initial", "coil_radius", num(i.coil_radius), &format!("> rod.diameter = {} (m)", num(r.diameter))));
+        }
+    }
     c.key(&GRAVITY_G, p.gravity.g)?;
     let t = &p.time;
     match t.mode {
@@ -697,6 +764,8 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             ));
         }
     }
+    c.key(&SELF_CONTACT_ACTIVATION, p.self_contact.activation)?;
+    c.key(&SELF_CONTACT_STIFFNESS, p.self_contact.stiffness)?;
     let g = &p.gait;
     c.key(&GAIT_STRESS, g.stress)?;
     c.key(&GAIT_SIGMA, g.sigma)?;
@@ -752,6 +821,17 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             "integrator",
             "\"bdf2\"".into(),
             "\"implicit\" in static mode (BDF2 only steps in time)",
+        ));
+    }
+    if p.self_contact.enabled
+        && p.ground.is_some()
+        && p.solver.contact == ContactKind::ActiveSet
+    {
+        return Err(c.fail(
+            "solver",
+            "contact",
+            "\"active-set\"".into(),
+            "\"semi-smooth\" or \"conic\" while self_contact.enabled = true (the active set has no self-contact)",
         ));
     }
     if let Err((k, value)) = p.solver.check_settings() {

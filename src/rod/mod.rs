@@ -9,6 +9,7 @@
 
 pub mod dof;
 pub mod frames;
+pub mod segments;
 pub mod vec3;
 
 pub use vec3::V3;
