@@ -306,7 +306,11 @@ impl SemiSmooth {
             let theta = 0.5 * (theta_q + theta_c).max(0.0);
             if let Some(p) = pending.take() {
                 let noise = 1e-20 * (m.ndof + 3 * nc) as f64;
-                let reference = if since_best < memory {
+                // Monotone while self-contact pairs act: the pair distance has kinks (edges
+                // that turn parallel move their closest points from one end to the other), on
+                // which full steps can cycle.
+                let monotone = !nw.asm.low_rank.is_empty();
+                let reference = if since_best < memory && !monotone {
                     self.scratch.recent.iter().fold(p.theta0, |a, &b| a.max(b))
                 } else {
                     p.theta0
@@ -353,7 +357,10 @@ impl SemiSmooth {
             self.hold_targets(m, nw, q);
             let t1 = Instant::now();
             nw.stats.assembly_s += (t1 - t0).as_secs_f64();
-            if project {
+            // While self-contact pairs act, an indefinite Hessian is shifted rather than
+            // projected stencil by stencil: on the flailing cell W 127, G 100 (50 elements)
+            // 15,487 instead of 22,867 iterations, the same answer.
+            if project || !nw.asm.low_rank.is_empty() {
                 nw.factor_shifted(m, it)?;
             } else if nw.factor().is_err() {
                 // Indefinite: redo this iterate with the projected Hessian.
@@ -384,6 +391,9 @@ impl SemiSmooth {
             }
             // The longest step (at most 1) that keeps the self-contact's pairs apart.
             let cap = obj.max_step(q, &nw.dq).min(1.0);
+            if cap < 1.0 {
+                log::debug!("  semi-smooth it {it}: step capped at {cap:.3e} (self-contact)");
+            }
             self.save(q, nw);
             self.step_from_saved(m, q, cap);
             let tol_f = set.normal_force_tolerance * scale;

@@ -39,9 +39,9 @@
 //! ([`crate::rod::segments::SortAndSweep`]); every pair left out is farther than
 //! `a + g_hat + r` apart there, so the candidates stay complete while no node has moved more
 //! than `r / 2` from the reference. Every evaluation checks that (one pass over the nodes) and
-//! rebuilds the candidates where it fails (`r` at least `a`, and more than twice the largest
-//! node move of the step being checked). A scene that never comes close evaluates no pair and
-//! rebuilds about every `a / 2` of motion.
+//! rebuilds the candidates where it fails (`r` at least `a / 2`, and more than twice the
+//! largest node move of the step being checked). A scene that never comes close evaluates no
+//! pair and rebuilds about every `a / 4` of motion.
 
 use crate::band::{Assembly, LOW_RANK_ENTRIES};
 use crate::model::Model;
@@ -53,6 +53,10 @@ use std::ops::Range;
 
 /// Most conservative-advancement rounds per pair in [`SelfContact::max_step`].
 const ADVANCE_ROUNDS: usize = 100;
+/// The broad phase's margin `r` over `a` (module doc): below `1 - activation`, so that two
+/// parts just `2a` apart along a straight body are no candidates, and large enough that the
+/// candidates last for a quarter of a diameter of motion.
+const MARGIN: f64 = 0.5;
 /// The gap that conservative advancement keeps, as a fraction of a pair's gap at the start.
 const ADVANCE_FLOOR: f64 = 0.1;
 
@@ -196,7 +200,7 @@ impl SelfContact {
                 .map(|i| f::norm(node_x(dq, i)))
                 .fold(0.0, f64::max)
         });
-        let margin = self.a.max(2.5 * step);
+        let margin = (MARGIN * self.a).max(2.5 * step);
         let pad = 0.5 * (self.a + self.g_hat + margin);
         let c = &mut *c;
         c.x_ref.resize(nodes.end, [0.0; 3]);
@@ -234,11 +238,24 @@ impl SelfContact {
         }
     }
 
+    /// Whether the pair `(i, j)` is certainly beyond the activation gap at `q`: the distance of
+    /// the edges' midpoints less their half-lengths (a bound below the distance) exceeds
+    /// `a + g_hat`. Cheaper than the closest points for the candidates that are far.
+    fn surely_apart(&self, q: &[f64], i: usize, j: usize) -> bool {
+        let (a0, a1, b0, b1) = (node_x(q, i), node_x(q, i + 1), node_x(q, j), node_x(q, j + 1));
+        let mid = f::sub(f::add(a0, a1), f::add(b0, b1));
+        let reach = f::norm(f::sub(a1, a0)) + f::norm(f::sub(b1, b0)) + 2.0 * (self.a + self.g_hat);
+        f::dot(mid, mid) > reach * reach
+    }
+
     /// Barrier energy at `q` (J; infinite when a pair touches or overlaps).
     pub fn value(&self, q: &[f64]) -> f64 {
         self.with_pairs(q, None, |pairs| {
             let mut e = 0.0;
             for &(i, j) in pairs {
+                if self.surely_apart(q, i, j) {
+                    continue;
+                }
                 let p = self.pair(q, i, j);
                 if p.gap < self.g_hat {
                     e += self.barrier(p.gap).0;
@@ -266,12 +283,107 @@ impl SelfContact {
         (idx, val)
     }
 
-    /// Add the barrier's gradient and its (Gauss-Newton, low-rank) Hessian at `q` to `asm`;
+    /// The exact Hessian of a pair's distance over its four nodes' twelve coordinates (order
+    /// `x_i, x_{i+1}, x_j, x_{j+1}`). With `delta = A(s, t) x` and `F = |delta|`, the closest
+    /// points' parameters that lie inside `(0, 1)` (the free ones, `z`) move with `x`, so the
+    /// Hessian is the Schur complement `F_xx - F_xz F_zz^-1 F_zx` of the Hessian of `F` over
+    /// `(x, z)`; a parameter at an end of its edge stays there. Where the two edges are
+    /// parallel (`F_zz` singular) `s` is held as well.
+    pub fn distance_hessian(&self, q: &[f64], p: &PairState) -> [[f64; 12]; 12] {
+        let (i, j) = p.edges;
+        let c = &p.closest;
+        let d = c.dist;
+        let n = f::scale(c.delta, 1.0 / d);
+        let e1 = f::sub(node_x(q, i + 1), node_x(q, i));
+        let e2 = f::sub(node_x(q, j + 1), node_x(q, j));
+        // P v / d with P = I - n n^T.
+        let proj = |v: [f64; 3]| f::scale(f::sub(v, f::scale(n, f::dot(n, v))), 1.0 / d);
+        let w = [1.0 - c.s, c.s, -(1.0 - c.t), -c.t];
+        let mut h = [[0.0; 12]; 12];
+        for a in 0..4 {
+            for b in 0..4 {
+                for r in 0..3 {
+                    for k in 0..3 {
+                        let pij = if r == k { 1.0 } else { 0.0 } - n[r] * n[k];
+                        h[3 * a + r][3 * b + k] = w[a] * w[b] * pij / d;
+                    }
+                }
+            }
+        }
+        // Mixed rows F_xz: for s, (dA/ds)^T n + A^T P e1 / d; for t, (dA/dt)^T n - A^T P e2 / d.
+        let pe1 = proj(e1);
+        let pe2 = proj(e2);
+        let mut fxz = [[0.0; 12]; 2];
+        for a in 0..4 {
+            for r in 0..3 {
+                fxz[0][3 * a + r] = w[a] * pe1[r];
+                fxz[1][3 * a + r] = -w[a] * pe2[r];
+            }
+        }
+        for r in 0..3 {
+            fxz[0][r] -= n[r];
+            fxz[0][3 + r] += n[r];
+            fxz[1][6 + r] += n[r];
+            fxz[1][9 + r] -= n[r];
+        }
+        let fss = f::dot(e1, pe1);
+        let ftt = f::dot(e2, pe2);
+        let fst = -f::dot(e1, pe2);
+        let inside = |x: f64| x > 0.0 && x < 1.0;
+        let (mut free_s, free_t) = (inside(c.s), inside(c.t));
+        if free_s && free_t && fss * ftt - fst * fst <= 1e-10 * fss * ftt {
+            free_s = false;
+        }
+        let mut sub = |g: &[f64; 12], k: &[f64; 12], coef: f64| {
+            for r in 0..12 {
+                for col in 0..12 {
+                    h[r][col] -= coef * g[r] * k[col];
+                }
+            }
+        };
+        match (free_s, free_t) {
+            (true, true) => {
+                let det = fss * ftt - fst * fst;
+                let (iss, itt, ist) = (ftt / det, fss / det, -fst / det);
+                sub(&fxz[0], &fxz[0], iss);
+                sub(&fxz[1], &fxz[1], itt);
+                sub(&fxz[0], &fxz[1], ist);
+                sub(&fxz[1], &fxz[0], ist);
+            }
+            (true, false) => sub(&fxz[0], &fxz[0], 1.0 / fss),
+            (false, true) => sub(&fxz[1], &fxz[1], 1.0 / ftt),
+            (false, false) => {}
+        }
+        h
+    }
+
+    /// The pair's barrier Hessian `b'' grad d grad d^T + b' grad^2 d`, projected to positive
+    /// semi-definite, as low-rank columns `sqrt(lambda) v` of its positive eigenpairs.
+    fn add_pair_hessian(&self, q: &[f64], p: &PairState, db: f64, ddb: f64, asm: &mut Assembly) {
+        let (idx, g) = Self::distance_gradient(p);
+        let hd = self.distance_hessian(q, p);
+        let k = nalgebra::SMatrix::<f64, 12, 12>::from_fn(|r, c| ddb * g[r] * g[c] + db * hd[r][c]);
+        let k = 0.5 * (k + k.transpose());
+        let eig = k.symmetric_eigen();
+        let top = eig.eigenvalues.max();
+        for (l, lam) in eig.eigenvalues.iter().enumerate() {
+            if *lam > 1e-12 * top {
+                let v = eig.eigenvectors.column(l);
+                let root = lam.sqrt();
+                asm.add_low_rank(idx, std::array::from_fn(|r| root * v[r]));
+            }
+        }
+    }
+
+    /// Add the barrier's gradient and its Hessian (projected, low-rank) at `q` to `asm`;
     /// returns its value.
     pub fn assemble(&self, q: &[f64], asm: &mut Assembly) -> f64 {
         self.with_pairs(q, None, |pairs| {
             let mut e = 0.0;
             for &(i, j) in pairs {
+                if self.surely_apart(q, i, j) {
+                    continue;
+                }
                 let p = self.pair(q, i, j);
                 if p.gap >= self.g_hat {
                     continue;
@@ -282,15 +394,11 @@ impl SelfContact {
                     asm.grad[dof::node(i)] = f64::NAN;
                     continue;
                 }
-                let (idx, mut val) = Self::distance_gradient(&p);
+                let (idx, val) = Self::distance_gradient(&p);
                 for (&k, v) in idx.iter().zip(&val) {
                     asm.grad[k] += db * v;
                 }
-                let root = ddb.max(0.0).sqrt();
-                for v in val.iter_mut() {
-                    *v *= root;
-                }
-                asm.add_low_rank(idx, val);
+                self.add_pair_hessian(q, &p, db, ddb, asm);
             }
             e
         })
@@ -495,8 +603,7 @@ mod tests {
     }
 
     /// The barrier's gradient is that of its value (central differences), with pairs across
-    /// the activation gap; `b'` and `b''` are those of `b`; the low-rank Hessian is
-    /// `b'' grad d grad d^T` with `grad d` the distance's difference quotient.
+    /// the activation gap; `b'` and `b''` are those of `b`.
     #[test]
     fn barrier_derivatives_match_finite_differences() {
         for (gap, seed) in [(1.6e-4, 3u64), (1e-4, 5), (4e-5, 7), (6e-6, 11)] {
@@ -520,19 +627,72 @@ mod tests {
                 assert!(((bp - bm) / (2.0 * hstep) - db).abs() <= 1e-6 * db.abs());
                 assert!(((dbp - dbm) / (2.0 * hstep) - ddb).abs() <= 1e-6 * ddb.abs());
             }
-            // Each column is sqrt(b'') grad d of one active pair.
-            let pairs = sc.forces(&q);
-            assert_eq!(pairs.len(), asm.low_rank.len());
-            for ((p, _), u) in pairs.iter().zip(&asm.low_rank) {
-                let (i, j) = p.edges;
-                let ddb = sc.barrier(p.gap).2;
-                let mut dist = |x: &[f64]| sc.pair(x, i, j).closest.dist;
-                let grad = fd::gradient(&mut dist, &q, 1e-9);
-                for (&k, &v) in u.idx.iter().zip(&u.val) {
-                    let want = ddb.sqrt() * grad[k];
-                    assert!((v - want).abs() <= 1e-5 * ddb.sqrt(), "gap {gap}: {v} vs {want}");
+            // The low-rank part is positive semi-definite (it is the projection of
+            // b'' grad d grad d^T + b' grad^2 d, whose parts the tests here check).
+            let mut v = vec![0.0; m.ndof];
+            for (k, x) in v.iter_mut().enumerate() {
+                *x = ((k * 7919) % 13) as f64 - 6.0;
+            }
+            let form: f64 = asm.low_rank.iter().map(|u| u.dot(&v).powi(2)).sum();
+            assert!(form > 0.0);
+        }
+    }
+
+    /// The exact Hessian of a pair's distance is the Jacobian of its gradient (central
+    /// differences), for crossing edges (both closest points inside), an end against an edge
+    /// and two ends; and the projected barrier Hessian is positive semi-definite.
+    #[test]
+    fn distance_hessian_matches_finite_differences() {
+        let (m, _) = folded(1e-4, 0.0, 1);
+        let sc = SelfContact::of(&m).unwrap();
+        let a = m.diameter;
+        let mut q = m.q0.clone();
+        let mut set = |q: &mut Vec<f64>, i: usize, x: [f64; 3]| {
+            q[dof::node(i)..dof::node(i) + 3].copy_from_slice(&x);
+        };
+        let cases: [[[f64; 3]; 4]; 4] = [
+            // Crossing, skew.
+            [[0.0, 0.0, 0.0], [0.01, 0.001, 0.0005], [0.004, -0.005, 1.01 * a], [0.006, 0.005, 1.02 * a]],
+            // The second edge's end above the first edge's inside.
+            [[0.0, 0.0, 0.0], [0.01, 0.0, 0.001], [0.005, 0.0, 1.01 * a], [0.007, 0.008, 1.3 * a]],
+            // End to end.
+            [[0.0, 0.0, 0.0], [0.01, 0.002, 0.0], [0.0105, 0.003, 1.01 * a], [0.02, 0.009, 1.4 * a]],
+            // Nearly parallel, offset along.
+            [[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [0.004, 0.0003, 1.01 * a], [0.014, 0.0, 1.0101 * a]],
+        ];
+        let (i, j) = (2usize, 20usize);
+        for (n, pts) in cases.iter().enumerate() {
+            set(&mut q, i, pts[0]);
+            set(&mut q, i + 1, pts[1]);
+            set(&mut q, j, pts[2]);
+            set(&mut q, j + 1, pts[3]);
+            let p = sc.pair(&q, i, j);
+            let h = sc.distance_hessian(&q, &p);
+            let (idx, _) = SelfContact::distance_gradient(&p);
+            let x0: Vec<f64> = idx.iter().map(|&k| q[k]).collect();
+            let mut grad = |x: &[f64]| {
+                let mut y = q.clone();
+                for (&k, v) in idx.iter().zip(x) {
+                    y[k] = *v;
+                }
+                SelfContact::distance_gradient(&sc.pair(&y, i, j)).1.to_vec()
+            };
+            let jac = fd::jacobian(&mut grad, &x0, 1e-8);
+            let scale = h.iter().flatten().fold(0.0f64, |a, b| a.max(b.abs()));
+            for r in 0..12 {
+                for c in 0..12 {
+                    assert!(
+                        (h[r][c] - jac[r][c]).abs() <= 1e-5 * scale,
+                        "case {n}: ({r}, {c}) {} vs {}",
+                        h[r][c],
+                        jac[r][c]
+                    );
                 }
             }
+            let mut asm = Assembly::new(m.ndof);
+            let (_, db, ddb) = sc.barrier(0.5 * sc.activation());
+            sc.add_pair_hessian(&q, &p, db, ddb, &mut asm);
+            assert!(!asm.low_rank.is_empty());
         }
     }
 
