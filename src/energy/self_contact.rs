@@ -122,20 +122,33 @@ fn node_x(q: &[f64], i: usize) -> [f64; 3] {
 impl SelfContact {
     /// The self-contact of `m`, or `None` where the problem turned it off.
     pub fn of(m: &Model) -> Option<Self> {
-        let p = m.self_contact.as_ref()?;
+        m.self_contact.as_ref().map(|p| Self::with(m, p))
+    }
+
+    /// The self-contact's geometry of `m` (eligible pairs, distances), on or off: for measuring
+    /// how close parts came ([`closest_of_frame`]).
+    pub fn geometry(m: &Model) -> Self {
+        let p = crate::model::SelfContactParams {
+            activation: crate::problem::keys::SELF_CONTACT_ACTIVATION.real(),
+            stiffness: crate::problem::keys::SELF_CONTACT_STIFFNESS.real(),
+        };
+        Self::with(m, m.self_contact.as_ref().unwrap_or(&p))
+    }
+
+    fn with(m: &Model, p: &crate::model::SelfContactParams) -> Self {
         let mut arc = vec![0.0; m.nodes];
         for j in 0..m.nodes - 1 {
             arc[j + 1] = arc[j] + m.rest_len[j];
         }
         let g_hat = p.activation * m.diameter;
-        Some(SelfContact {
+        SelfContact {
             a: m.diameter,
             g_hat,
             kappa: p.stiffness * m.bend / (m.diameter * m.diameter) / g_hat,
             edges: m.real_edges(),
             arc,
             cache: RefCell::new(Cache::default()),
-        })
+        }
     }
 
     /// Activation gap `g_hat` (m).
@@ -518,6 +531,16 @@ impl SelfContact {
             reach *= 2.0;
         }
     }
+}
+
+/// Closest centreline distance between eligible parts (m) of a recorded frame: `x`, the real
+/// nodes (head first); infinite when no pair is eligible.
+pub fn closest_of_frame(sc: &SelfContact, m: &Model, x: &[[f64; 3]]) -> f64 {
+    let mut q = m.q0.clone();
+    for (i, xi) in m.real.clone().zip(x) {
+        q[dof::node(i)..dof::node(i) + 3].copy_from_slice(xi);
+    }
+    sc.closest_distance(&q)
 }
 
 /// Cumulative self-contact statistics of a run (`summary.json`, block `self_contact`).

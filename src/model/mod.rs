@@ -214,6 +214,16 @@ impl Model {
             for j in 1..nodes - 1 {
                 a1_0[j] = f::unit(f::transport(tangent(j - 1), tangent(j), a1_0[j - 1]));
             }
+            // The material frame with d1 horizontal (d2 along the helix's binormal, near
+            // vertical): twist angles from the transported directors, so that the coil's own
+            // curvature lies about d2 all along (natural curvature [0, -k] and natural twist
+            // t, with k and t the helix's curvature and torsion, make it stress-free).
+            for j in 0..nodes - 1 {
+                let t = tangent(j);
+                let d1 = frames::initial_director(t);
+                let a2 = f::cross(t, a1_0[j]);
+                q0[dof::edge(j)] = f::dot(a2, d1).atan2(f::dot(a1_0[j], d1));
+            }
         }
         // Initial velocity: uniform plus rigid rotation about the centroid of the real nodes.
         let centroid = {

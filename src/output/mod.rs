@@ -66,6 +66,8 @@ pub struct Summary {
     pub stats: crate::integrator::Stats,
     /// Largest penetration below `z = a/2` (m).
     pub max_penetration: f64,
+    /// Self-contact: how close parts of the body came and what the barrier carried.
+    pub self_contact: SelfContactSummary,
     /// Displacement of the centroid from the first to the last frame (m).
     pub centroid_displacement: [f64; 3],
     /// Largest slip speed of a node in contact over every accepted step (m/s): contact as in
@@ -97,6 +99,45 @@ pub struct Summary {
     /// observable over them ([`ensemble`], run by `crate::design::ensemble`); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ensemble: Option<ensemble::Ensemble>,
+}
+
+/// The `self_contact` block of `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct SelfContactSummary {
+    /// Whether the run had self-contact (`[self_contact] enabled`).
+    pub enabled: bool,
+    /// Closest centreline distance between parts of the body more than `2a` apart along it,
+    /// over `a`: over every accepted step (the broad phase's candidates, exact below
+    /// `1 + activation`) and every recorded frame (exact); `null` when no pair is eligible.
+    pub closest_over_a: Option<f64>,
+    /// Accepted steps that ended with a pair within the activation gap.
+    pub active_steps: usize,
+    /// Largest force of one pair at the end of a step (N).
+    pub max_force: f64,
+    /// Most pairs within the activation gap at once.
+    pub max_pairs: usize,
+}
+
+impl SelfContactSummary {
+    /// From a run's statistics and its recorded frames.
+    pub fn new(m: &Model, o: &Outcome) -> Self {
+        let st = &o.stats.self_contact;
+        let geometry = crate::energy::self_contact::SelfContact::geometry(m);
+        let frames = o
+            .frames
+            .iter()
+            .map(|fr| crate::energy::self_contact::closest_of_frame(&geometry, m, &fr.x))
+            .fold(f64::INFINITY, f64::min)
+            / m.diameter;
+        let closest = st.closest_over_a.map_or(frames, |c| c.min(frames));
+        SelfContactSummary {
+            enabled: m.self_contact.is_some(),
+            closest_over_a: closest.is_finite().then_some(closest),
+            active_steps: st.active_steps,
+            max_force: st.max_force,
+            max_pairs: st.max_pairs,
+        }
+    }
 }
 
 /// How `slither run --accuracy` chose its model (see `crate::design::selection`).
@@ -210,6 +251,7 @@ impl Summary {
             dimensionless: m.dimensionless(),
             stats: o.stats.clone(),
             max_penetration: o.max_penetration,
+            self_contact: SelfContactSummary::new(m, o),
             centroid_displacement: centroid_displacement(&o.frames),
             slip_speed_max: o.slip_speed_max,
             normal_force_final: o.frames.last().map_or(0.0, |f| f.normal.iter().sum()),
@@ -391,7 +433,8 @@ fn put(
 }
 
 /// Write `trajectory.npz` with `t` (F), `x` (F x nodes x 3), `theta` (F x edges),
-/// `v` (F x nodes x 3), `s` (nodes), the one-element arrays of [`movie::movie_scalars`]
+/// `v` (F x nodes x 3), `s` (nodes), `closest_distance` (F: the closest centreline distance
+/// between parts of the body more than `2a` apart along it, m), the one-element arrays of [`movie::movie_scalars`]
 /// (`diameter`, `gait_period`, `gait_speed`, `stuck_speed`) and any extra per-frame arrays
 /// `(name, per-node values)`.
 pub fn write_trajectory(
@@ -450,6 +493,16 @@ pub fn write_trajectory(
                 }
             })
         }),
+    )?;
+    // Closest centreline distance between eligible parts of the body (m), per frame.
+    let geometry = crate::energy::self_contact::SelfContact::geometry(m);
+    put(
+        &mut npz,
+        "closest_distance",
+        &[nf],
+        frames
+            .iter()
+            .map(|fr| crate::energy::self_contact::closest_of_frame(&geometry, m, &fr.x)),
     )?;
     for (name, v) in movie::movie_scalars(m) {
         put(&mut npz, name, &[1], [v])?;
