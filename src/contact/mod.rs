@@ -359,7 +359,7 @@ impl Contacts {
             let dx = f::sub([q[k], q[k + 1], q[k + 2]], self.x_start[c]);
             let vf = f::dot(dx, self.forward[c]);
             let vs = f::dot(dx, self.side[c]);
-            let mu = if vf > 0.0 { g.mu_f } else { g.mu_b };
+            let mu = g.mu_along(vf);
             d += self.normal[c] * ((mu * vf).powi(2) + (g.mu_s * vs).powi(2)).sqrt();
         }
         d // h D = h N mu |v| = N mu |dx|

@@ -213,7 +213,7 @@ impl SemiSmooth {
         for c in 0..ct.nodes.len() {
             self.lambda[c] = ct.normal[c];
             let s = ct.slip(c, q);
-            let mu = if s[0] > 0.0 { g.mu_f } else { g.mu_b };
+            let mu = g.mu_along(s[0]);
             let u = [mu * s[0], g.mu_s * s[1]];
             let r = u[0].hypot(u[1]);
             let n = ct.normal[c];

@@ -78,7 +78,7 @@ impl Contacts {
         // The dissipation's subgradient at zero slip balancing the rest of the objective.
         let sf = -(grad[0] * fw[0] + grad[1] * fw[1]);
         let ss = -(grad[0] * sd[0] + grad[1] * sd[1]);
-        let mu = if sf >= 0.0 { g.mu_f } else { g.mu_b };
+        let mu = g.mu_along(sf);
         let r = (sf / mu).hypot(ss / g.mu_s);
         let mag = sf.hypot(ss);
         // The dissipation's gradient N J u (J = diag(mu, mu_s), u = J v / |J v|) equals the
@@ -114,7 +114,7 @@ impl Contacts {
         q: &[f64],
     ) -> ([f64; 2], [f64; 3]) {
         let [vf, vs] = self.slip(c, q);
-        let mu = if vf > 0.0 { g.mu_f } else { g.mu_b };
+        let mu = g.mu_along(vf);
         let (pa, pb) = (mu * vf, g.mu_s * vs);
         let r = pa.hypot(pb);
         if r == 0.0 {

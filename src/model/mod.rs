@@ -28,6 +28,20 @@ pub struct Ground {
     pub mu_s: f64,
 }
 
+impl Ground {
+    /// The friction law's coefficient for a slip (or a friction force, in the dissipation's
+    /// convention) with forward component `forward`: `mu_f` when it is forward (`> 0`),
+    /// `mu_b` otherwise. The one place that decides it (MODEL 3).
+    #[inline]
+    pub fn mu_along(&self, forward: f64) -> f64 {
+        if forward > 0.0 {
+            self.mu_f
+        } else {
+            self.mu_b
+        }
+    }
+}
+
 /// Everything that does not change during a run.
 #[derive(Clone, Debug)]
 pub struct Model {

@@ -19,13 +19,13 @@ pub(super) fn norm(v: [f64; 2]) -> f64 {
 
 /// Scaled friction variables `p` of a force `G` in `(forward, side)` components.
 fn scaled(g: &Ground, gf: [f64; 2]) -> [f64; 2] {
-    let mu = if gf[0] > 0.0 { g.mu_f } else { g.mu_b };
+    let mu = g.mu_along(gf[0]);
     [gf[0] / mu, gf[1] / g.mu_s]
 }
 
 /// Scaled slip `u` of a slip `s` in `(forward, side)` components.
 fn scaled_slip(g: &Ground, s: [f64; 2]) -> [f64; 2] {
-    let mu = if s[0] > 0.0 { g.mu_f } else { g.mu_b };
+    let mu = g.mu_along(s[0]);
     [mu * s[0], g.mu_s * s[1]]
 }
 
@@ -127,7 +127,7 @@ impl SemiSmooth {
             if mode == Mode::Slide {
                 let wn = norm(b.w);
                 let cc = b.n_hat / wn;
-                let mu_w = if b.w[0] > 0.0 { g.mu_f } else { g.mu_b };
+                let mu_w = g.mu_along(b.w[0]);
                 self.scratch.slide[c] = SlideLin {
                     dir: [b.w[0] / wn, b.w[1] / wn],
                     k: cc * rho / (1.0 - cc),
