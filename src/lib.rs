@@ -4,15 +4,19 @@
 //! al. 2010) on the ground. Every step solves the variational implicit Euler problem
 //!
 //! ```text
-//! q_{n+1} = argmin_q 1/(2h^2) (q - qhat)^T M (q - qhat) + E(q, t_{n+1}) + h D(v; N)
+//! q_{n+1} = argmin_q 1/(2h^2) (q - qhat)^T M (q - qhat) + E(q, t_{n+1}) + B(q) + h D(v; N)
 //!           subject to z_i - a/2 >= 0,          qhat = q_n + h v_n,  v_{n+1} = (q_{n+1} - q_n)/h
 //! ```
 //!
-//! by Newton's method on a band Cholesky (checked against faer's sparse one), with
-//! anisotropic Coulomb friction `D` as a second-order-cone program (Clarabel) or, when the
-//! contact modes are settled, as an active-set Newton iteration checked against the Coulomb
-//! conditions.
-//!
+//! (BDF2 changes only `qhat` and the weight) by Newton's method on a band Cholesky (checked
+//! against faer's sparse one). `B` is the self-contact barrier that keeps parts of the body
+//! more than `2a` apart along it at a centreline distance above `a`
+//! ([`energy::self_contact`]; its Hessian is a low-rank part beside the band, solved by
+//! Woodbury). Ground contact with anisotropic Coulomb friction `D` is solved by default by a
+//! semi-smooth Newton on the Alart-Curnier function ([`contact::semismooth`]), with the
+//! second-order-cone program (Clarabel, [`contact::conic`]) as its fallback and certificate;
+//! the older active-set iteration ([`contact::active`]) remains selectable for comparison.
+
 //! Module map, in layers: a module uses only modules of its own or lower layers, so the
 //! top-level modules import each other without cycles.
 //!
@@ -30,8 +34,9 @@
 //!    [`gait::Actuation`]).
 //! 4. [`newton`]: Newton's method on an objective (assembly, factorisation by [`band`], line
 //!    search, statistics, typed failures), and the incremental potential of a step.
-//! 5. [`contact`]: contact models behind [`contact::ContactModel`] (conic program by Clarabel,
-//!    active set), solving a step's problem with Newton's building blocks.
+//! 5. [`contact`]: ground-contact models behind [`contact::ContactModel`] (the semi-smooth
+//!    Newton by default; the conic program by Clarabel as its fallback; the active set),
+//!    solving a step's problem with Newton's building blocks.
 //! 6. [`integrator`]: time steppers behind [`integrator::Stepper`]: the implicit stepper with
 //!    a time integration [`integrator::Scheme`] (implicit Euler), static equilibrium, and the
 //!    explicit velocity Verlet reference.

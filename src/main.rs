@@ -1,6 +1,8 @@
 //! The `slither` command line: the clap definition and the dispatch. Each subcommand's
 //! arguments and body live in its own module under `cli/`; the shared pieces (logger, output
-//! lock, accuracy messages) in `cli/mod.rs`.
+//! lock, accuracy messages) in `cli/mod.rs`. The physics is the library's (`slither`): each
+//! implicit step a Newton solve of the incremental potential with the self-contact barrier,
+//! ground contact and friction by the semi-smooth Newton (the conic program as its fallback).
 mod cli;
 
 use clap::{Parser, Subcommand};
@@ -10,7 +12,7 @@ use std::process::ExitCode;
 #[command(
     name = "slither",
     version,
-    about = "Snake locomotion: discrete elastic rods, implicit Euler, conic friction"
+    about = "Snake locomotion: discrete elastic rods, implicit steps, Coulomb friction by a semi-smooth Newton, self-contact"
 )]
 struct Cli {
     #[command(subcommand)]

@@ -1,5 +1,9 @@
-//! Ground contact with anisotropic Coulomb friction as one second-order-cone program per
-//! Newton iterate, solved by Clarabel (MODEL section 3).
+//! Ground contact with anisotropic Coulomb friction (MODEL section 3). The default model is
+//! the semi-smooth Newton ([`semismooth`], `[solver] contact = "semi-smooth"`); the conic
+//! program described below is its fallback and certificate, and a model of its own
+//! (`"conic"`); the active set ([`active`]) is the older default, kept for comparison (it has no
+//! self-contact). Self-contact (the body against itself) is not a contact model: it is a
+//! barrier in the step's potential ([`crate::energy::self_contact`]) that every model sees.
 //!
 //! Contact candidates are the real nodes, with the exact gap `z_i - a/2 >= 0` against the
 //! plane `z = 0` (an incline tilts gravity, not the plane, so gaps stay linear and exact: a
@@ -20,8 +24,8 @@
 //! forces, converged together with Newton), so at convergence the contact forces satisfy
 //! exact Coulomb complementarity: stiction inside the cone, sliding on its boundary.
 //!
-//! The program of one iterate is formulated in [`conic`]. The integrator solves most steps
-//! without it: [`active`] keeps every contact's status (free, sticking, sliding) and solves
+//! The program of one iterate is formulated in [`conic`]. The semi-smooth Newton solves most
+//! steps without it. The older [`active`] keeps every contact's status (free, sticking, sliding) and solves
 //! the then smooth step problem by Newton, changing statuses that violate the Coulomb
 //! conditions and verifying them at convergence; the conic program runs only when that fails
 //! (and its solution resets the statuses).

@@ -543,6 +543,26 @@ pub fn closest_of_frame(sc: &SelfContact, m: &Model, x: &[[f64; 3]]) -> f64 {
     sc.closest_distance(&q)
 }
 
+/// The real nodes (head first) of a recorded frame that belong to an edge of an eligible
+/// pair within the activation gap (or overlapping: a body that passes through itself).
+pub fn touching_of_frame(sc: &SelfContact, m: &Model, x: &[[f64; 3]]) -> Vec<bool> {
+    let mut q = m.q0.clone();
+    for (i, xi) in m.real.clone().zip(x) {
+        q[dof::node(i)..dof::node(i) + 3].copy_from_slice(xi);
+    }
+    let mut touching = vec![false; m.nodes];
+    sc.with_pairs(&q, None, |pairs| {
+        for &(i, j) in pairs {
+            if sc.pair(&q, i, j).gap < sc.g_hat {
+                for k in [i, i + 1, j, j + 1] {
+                    touching[k] = true;
+                }
+            }
+        }
+    });
+    m.real.clone().map(|i| touching[i]).collect()
+}
+
 /// Cumulative self-contact statistics of a run (`summary.json`, block `self_contact`).
 #[derive(Clone, Copy, Debug, serde::Serialize, PartialEq)]
 pub struct Stats {

@@ -434,7 +434,8 @@ fn put(
 
 /// Write `trajectory.npz` with `t` (F), `x` (F x nodes x 3), `theta` (F x edges),
 /// `v` (F x nodes x 3), `s` (nodes), `closest_distance` (F: the closest centreline distance
-/// between parts of the body more than `2a` apart along it, m), the one-element arrays of [`movie::movie_scalars`]
+/// between parts of the body more than `2a` apart along it, m), `self_contact` (F x nodes: 1
+/// where a node touches another part of the body, within the activation gap), the one-element arrays of [`movie::movie_scalars`]
 /// (`diameter`, `gait_period`, `gait_speed`, `stuck_speed`) and any extra per-frame arrays
 /// `(name, per-node values)`.
 pub fn write_trajectory(
@@ -503,6 +504,17 @@ pub fn write_trajectory(
         frames
             .iter()
             .map(|fr| crate::energy::self_contact::closest_of_frame(&geometry, m, &fr.x)),
+    )?;
+    // Nodes touching another part of the body (1) or not (0), per frame.
+    put(
+        &mut npz,
+        "self_contact",
+        &[nf, nn],
+        frames.iter().flat_map(|fr| {
+            crate::energy::self_contact::touching_of_frame(&geometry, m, &fr.x)
+                .into_iter()
+                .map(|b| if b { 1.0 } else { 0.0 })
+        }),
     )?;
     for (name, v) in movie::movie_scalars(m) {
         put(&mut npz, name, &[1], [v])?;

@@ -95,6 +95,13 @@ pub fn clip_from_run(
             .iter()
             .map(|row| row.iter().map(|&v| state(v, stuck)).collect())
             .collect(),
+        self_contact: {
+            let sc = crate::energy::self_contact::SelfContact::geometry(m);
+            frames
+                .iter()
+                .map(|f| crate::energy::self_contact::touching_of_frame(&sc, m, &f.x))
+                .collect()
+        },
         lambda: lambda_at_nodes(&fl.s, &fl.s_window, &fl.lambda),
         diameter: m.diameter,
         length: m.length,
@@ -237,6 +244,13 @@ pub fn clip_from_dir(dir: &Path) -> Result<Clip, String> {
             .chunks(nn)
             .map(|row| row.iter().map(|&v| state(v, stuck)).collect())
             .collect(),
+        // Older runs have no self-contact flags.
+        self_contact: match get("self_contact")? {
+            Some((shape, v)) if shape == [nf as u64, nn as u64] => {
+                v.chunks(nn).map(|r| r.iter().map(|&b| b > 0.5).collect()).collect()
+            }
+            _ => Vec::new(),
+        },
         t,
         lambda,
         diameter,

@@ -134,6 +134,31 @@ pub fn tracks(path: &Path, clip: &Clip) -> Result<(), PlotError> {
                 prev = Some(q);
             }
         }
+        // Self-contact: every node-frame touching another part of the body, in its colour.
+        let purple = RGBColor(
+            super::movie::SELF_CONTACT[0],
+            super::movie::SELF_CONTACT[1],
+            super::movie::SELF_CONTACT[2],
+        );
+        let touching: Vec<Circle<(f64, f64), i32>> = clip
+            .x
+            .iter()
+            .zip(&clip.self_contact)
+            .flat_map(|(xk, sk)| {
+                xk.iter()
+                    .zip(sk)
+                    .filter(|(p, &on)| on && finite(p))
+                    .map(|(p, _)| Circle::new((p[0], p[1]), (dot / 2).max(1), purple.filled()))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        if !touching.is_empty() {
+            chart
+                .draw_series(touching)
+                .map_err(draw_err)?
+                .label("touching another part of the body")
+                .legend(move |(x, y)| Circle::new((x + 12, y), 4, purple.filled()));
+        }
         // The body at six instants.
         let m = 6.min(nf);
         for j in 0..m {

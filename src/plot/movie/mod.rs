@@ -57,6 +57,8 @@ pub struct Clip {
     pub x: Vec<Vec<[f64; 3]>>,
     /// Contact state, frames x nodes.
     pub contact: Vec<Vec<ContactState>>,
+    /// Nodes touching another part of the body (self-contact), frames x nodes; may be empty.
+    pub self_contact: Vec<Vec<bool>>,
     /// Local link density at the nodes (turns/m), frames x nodes (NaN where undefined); may
     /// be empty.
     pub lambda: Vec<Vec<f64>>,
@@ -169,6 +171,8 @@ pub const STUCK: [u8; 3] = [31, 119, 180];
 pub const SLIDING: [u8; 3] = [255, 127, 14];
 /// In-the-air colour.
 pub const AIR: [u8; 3] = [44, 160, 44];
+/// Colour of a node touching another part of the body (self-contact; Tableau purple).
+pub const SELF_CONTACT: [u8; 3] = [148, 103, 189];
 
 /// Height (px) of the text band at the top and of the legend band at the bottom.
 const TOP_BAND: u32 = 44;
@@ -462,6 +466,9 @@ impl<'a> Plan<'a> {
         let c = self.clip;
         let rgb = |c: plotters::style::RGBColor| [c.0, c.1, c.2];
         match self.opts.colour {
+            Colouring::Contact if c.self_contact.get(k).and_then(|r| r.get(i)) == Some(&true) => {
+                SELF_CONTACT
+            }
             Colouring::Contact => match c.contact[k][i] {
                 ContactState::Stuck => STUCK,
                 ContactState::Sliding => SLIDING,

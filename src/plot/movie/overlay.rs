@@ -2,7 +2,7 @@
 //! `v_s` so far and the regime in the top band; the colour legend and the scale in the bottom
 //! band; in the 3D view a 0.5 L ruler on the ground.
 
-use super::{Colouring, Plan, View, AIR, BOTTOM_BAND, SLIDING, STUCK, TOP_BAND};
+use super::{Colouring, Plan, View, AIR, BOTTOM_BAND, SELF_CONTACT, SLIDING, STUCK, TOP_BAND};
 use crate::plot::{colormap, draw_err, PlotError, FONT};
 use plotters::prelude::*;
 
@@ -71,7 +71,12 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
     };
     match plan.opts.colour {
         Colouring::Contact => {
-            for (c, s) in [(STUCK, "stuck"), (SLIDING, "sliding"), (AIR, "in the air")] {
+            for (c, s) in [
+                (STUCK, "stuck"),
+                (SLIDING, "sliding"),
+                (AIR, "in the air"),
+                (SELF_CONTACT, "on itself"),
+            ] {
                 swatch(&root, x, rgb(c))?;
                 x += 18 + label(&root, x + 18, s)? + 14;
             }
