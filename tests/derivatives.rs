@@ -268,6 +268,7 @@ fn incremental_potential_matches_finite_differences() {
                 euler: &euler,
                 euler_weight: 1e6,
             }),
+            self_contact: None,
         };
         let mut asm = Assembly::new(m.ndof);
         let f = obj.assemble(&q, &mut asm, false);

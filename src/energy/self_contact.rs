@@ -690,7 +690,7 @@ mod tests {
         let sc = SelfContact::of(&m).unwrap();
         let a = m.diameter;
         let mut q = m.q0.clone();
-        let mut set = |q: &mut Vec<f64>, i: usize, x: [f64; 3]| {
+        let set = |q: &mut Vec<f64>, i: usize, x: [f64; 3]| {
             q[dof::node(i)..dof::node(i) + 3].copy_from_slice(&x);
         };
         let cases: [[[f64; 3]; 4]; 4] = [

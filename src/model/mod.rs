@@ -315,7 +315,7 @@ impl Model {
                 mu_s: g.mu_sideways,
             }),
             gait: Gait::new(&p.gait, r.length, a),
-            self_contact: p.self_contact.enabled.then(|| SelfContactParams {
+            self_contact: p.self_contact.enabled.then_some(SelfContactParams {
                 activation: p.self_contact.activation,
                 stiffness: p.self_contact.stiffness,
             }),
