@@ -246,6 +246,7 @@ fn coil_dropped_on_the_ground_rests_stacked() {
     }
     assert!(contact > 0.1 * weight, "self-contact carries {contact} N of {weight} N");
     let residual = contact + internal - weight;
+    eprintln!("top turn: contact {contact:.6} N, internal {internal:.6} N, weight {weight:.6} N");
     assert!(
         residual.abs() <= 1e-3 * weight,
         "contact {contact} N + internal {internal} N - weight {weight} N = {residual} N"
