@@ -31,6 +31,11 @@
 //! | moment x 1.05 | circumradius 4.7 % off B/\|m\| | 1.23 a from the analytic curve |
 //! | couple's sign flipped | centre of curvature on the wrong side | 42.7 a |
 //! | axes swapped | the arc leaves its plane (2.3 mm at the first node) | 30.2 a |
+//!
+//! The same three mutations made in `Muscles::rest_strains` in `src/gait/mod.rs` itself
+//! (2026-12-05, temporarily, then reverted: `+ mm[0] / m.bend`, `[mm[1], mm[0]]`, `1.05 * mm`)
+//! fail both `constant_couple_bends_the_rod_into_the_analytic_arc` and
+//! `gaussian_couple_bends_the_rod_over_its_extent` with the numbers of the table.
 mod common;
 use common::{model, MutatedMuscles};
 use slither::gait::{Actuation, Gait, Muscles};

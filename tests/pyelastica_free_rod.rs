@@ -60,8 +60,10 @@
 //! axis, is a rigid rotation of the whole motion: only the rotation check sees it (the spin
 //! rod's rows).
 //!
-//! The same mutations made in `src/gait/mod.rs` itself (temporarily, then reverted) fail the
-//! `*_matches_pyelastica` tests: see the report of issue 50 in the guide's PyElastica chapter.
+//! The same mutations made in `Muscles::rest_strains` in `src/gait/mod.rs` itself (2026-12-05,
+//! temporarily, then reverted) fail all three `*_matches_pyelastica` tests with the numbers
+//! of the table: `+ mm[0] / m.bend` (the out-of-plane couple's sign), `[mm[1], mm[0]]` (axes
+//! swapped), `1.05 * mm` (the moment scaled).
 mod common;
 use common::{model, MutatedMuscles};
 use nalgebra::{Matrix3, Vector3};
