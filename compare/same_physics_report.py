@@ -11,7 +11,8 @@ sides: the centroid's displacement along the initial tail-to-head direction over
 Each code's limit:
 1. per mesh, the value at a vanishing step: PyElastica (Verlet, second order, its steps at
    and below its stability limit) takes its finest step, with the change from the step before
-   as that value's time uncertainty; slither (implicit Euler, first order) takes the
+   as that value's time uncertainty (a mesh run at one step only takes the next coarser
+   mesh's); slither (implicit Euler, first order) takes the
    Richardson value 2 v(dt/2) - v(dt) of its two finest steps, with |v(dt/2) - v(dt)| as the
    uncertainty;
 2. over the mesh, Richardson on the three finest meshes (N/4, N/2, N) with the observed order
@@ -67,8 +68,11 @@ def per_mesh(runs, order):
         ks = sorted((k for k in runs if k[0] == n and runs[k]["stable"]),
                     key=lambda k: float(k[1]))
         if len(ks) < 2:
+            # one step only: its time uncertainty taken as the next coarser mesh's
             if ks:
-                out[n] = (runs[ks[0]]["v"], float("nan"), runs[ks[0]]["v"])
+                prev = [out[m][1] for m in sorted(out) if m < n]
+                out[n] = (runs[ks[0]]["v"], prev[-1] if prev else float("nan"),
+                          runs[ks[0]]["v"])
             continue
         fine, coarse = runs[ks[0]]["v"], runs[ks[1]]["v"]
         ratio = float(ks[1][1]) / float(ks[0][1])
