@@ -52,12 +52,12 @@ DURATION = 1.0
 FRAME_INTERVAL = 0.05
 
 
-def run(case, n_elem, dt):
+def run(case, n_elem, dt, muscles="curvature"):
     c = CASES[case]
     frame_every = int(round(FRAME_INTERVAL / dt))
     gait = pe.Gait(n_elem, centres=c["centres"], scales=c["scales"])
     sim, rod, store, _, pre = pe.build(
-        n_elem, dt, damping="none", record_every=frame_every, muscles="curvature",
+        n_elem, dt, damping="none", record_every=frame_every, muscles=muscles,
         free=True, spin=c["spin"], gait=gait, frame_every=frame_every,
         twist=c.get("twist", 0.0),
     )
@@ -80,6 +80,8 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--dt", type=float, default=1e-5)
     ap.add_argument("--elements", type=int, default=100)
+    ap.add_argument("--muscles", choices=["curvature", "torque"], default="curvature",
+                    help="torque: the element-torque form, for the record (not a fixture)")
     ap.add_argument("--store-every", type=int, default=1,
                     help="store every k-th node only (a finer run at a coarser fixture's nodes)")
     args = ap.parse_args()
@@ -87,8 +89,8 @@ def main():
     if k < 1 or args.elements % k:
         ap.error("--store-every must divide --elements")
 
-    frames, ang, scale = run(args.case, args.elements, args.dt)
-    half, _, _ = run(args.case, args.elements, 0.5 * args.dt)
+    frames, ang, scale = run(args.case, args.elements, args.dt, args.muscles)
+    half, _, _ = run(args.case, args.elements, 0.5 * args.dt, args.muscles)
     step_error = [
         float(np.sqrt(np.mean(np.sum((to_slither(a[1]) - to_slither(b[1])) ** 2, axis=1))))
         / pe.A_DIAM
@@ -98,10 +100,10 @@ def main():
     out = {
         "what": "PyElastica's free, muscle-driven rod (compare/free_rod_fixture.py, case "
                 f"'{args.case}'): no gravity, no ground, no damping; muscles as a "
-                "time-dependent rest curvature. Node positions in slither's axes and order "
-                f"(head first, z up), every {k}th node of {args.elements} elements' "
-                "(stored_nodes of them), metres, rounded to 1e-7 m; frame k at "
-                "t = k * 0.05 s.",
+                "time-dependent rest curvature (unless 'muscles' says otherwise). Node "
+                "positions in slither's axes and order (head first, z up), "
+                f"every {k}th node of {args.elements} elements' (stored_nodes of them), "
+                "metres, rounded to 1e-7 m; frame k at t = k * 0.05 s.",
         "command": "compare/.venv/bin/python compare/free_rod_fixture.py "
                    + " ".join(sys.argv[1:]),
         "pyelastica": importlib.metadata.version("pyelastica"),
@@ -118,6 +120,7 @@ def main():
         "gait": {"Gamma_a3": pe.GAMMA_A3, "sigma": pe.SIGMA, "v_m": pe.V_M,
                  "ramp_time": pe.RAMP * pe.T_PULSE, "centres": list(c["centres"]),
                  "scales": list(c["scales"])},
+        "muscles": args.muscles,
         "spin": c["spin"],
         "natural_twist": c.get("twist", 0.0),
         "angular_momentum_change_final": ang.tolist(),
