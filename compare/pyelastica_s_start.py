@@ -200,6 +200,8 @@ class Recorder(ea.CallBackBaseClass):
         if self.frame_every and current_step % self.frame_every == 0:
             self.store["frames_t"].append(float(time))
             self.store["frames_x"].append(system.position_collection.copy())
+            self.store["frames_v"].append(system.velocity_collection.copy())
+            self.store["frames_d2"].append(system.director_collection[1].copy())
         if current_step % self.every:
             return
         record(system, time, self.store)
@@ -301,7 +303,7 @@ def build(n_elem, dt, damping="legacy", record_every=None, muscles="curvature", 
         sim.add_forcing_to(rod).using(TorqueMuscles, gait=gait)
 
     store = {k: [] for k in ("t", "com", "dir", "hmax", "hmin", "ang", "ang_scale", "x", "x_t",
-                             "frames_t", "frames_x")}
+                             "frames_t", "frames_x", "frames_v", "frames_d2")}
     store["keep_x"] = False
     store["x_at"] = 0.5  # keep the positions near this time (the shape check)
     if record_every:
@@ -320,6 +322,8 @@ def build(n_elem, dt, damping="legacy", record_every=None, muscles="curvature", 
     if frame_every:
         store["frames_t"].append(0.0)
         store["frames_x"].append(rod.position_collection.copy())
+        store["frames_v"].append(rod.velocity_collection.copy())
+        store["frames_d2"].append(rod.director_collection[1].copy())
     if muscles == "curvature":
         pre_step = CurvatureMuscles(gait, rod).set
     else:
@@ -358,8 +362,53 @@ def shape_check(store, centres=CENTRES, n_elem=None, when=0.5):
     return float(t[i]), (yb - 0.5 * (ya + yc)) / A_DIAM
 
 
+SCENES = {
+    # PyElastica's two reference scenes (problems/pyelastica_s_start.toml and
+    # problems/pyelastica_straight.toml): G, sigma / L, centres / L, scale of the couple at b
+    "s-start": (15.0, 0.04, (0.2, 0.3, 0.4), 1.0),
+    "straight": (17.5, 0.06, (0.20, 0.35, 0.50), 0.4),
+}
+
+
+def set_scene(scene, w=None, g=None):
+    """Rebind the scene's module constants: scene's couples, W (through B, with E, the shear
+    modulus and the stretch and shear stiffness scaled alike) and G (through Gamma)."""
+    global W, TAU, SIGMA, CENTRES, OUT_RATIO, B, E_MOD, G_MOD, GAMMA_A3
+    g0, sigma, centres, out_ratio = SCENES[scene]
+    W = 300.0 if w is None else w
+    TAU = g0 if g is None else g
+    SIGMA = sigma * L
+    CENTRES = tuple(c * L for c in centres)
+    OUT_RATIO = out_ratio
+    B = RHO * GRAV * A_DIAM**2 * L**3 / W
+    E_MOD = B / INERTIA
+    G_MOD = E_MOD / 3.0
+    GAMMA_A3 = TAU * B / L
+
+
+def write_frames(path, store):
+    """The recorded frames in slither's axes and order (head first, z up; slither's d1 is
+    PyElastica's d2): t, node positions and velocities, edge directors d1."""
+    def axes(v):  # (3, k) PyElastica, tail first -> (k, 3) slither, head first
+        v = v[:, ::-1]
+        return np.stack([v[0], -v[2], v[1]], axis=1).round(9).tolist()
+
+    with open(path, "w") as f:
+        json.dump({"t": store["frames_t"],
+                   "x": [axes(x) for x in store["frames_x"]],
+                   "v": [axes(v) for v in store["frames_v"]],
+                   "d1": [axes(d) for d in store["frames_d2"]],
+                   "diameter": A_DIAM}, f, separators=(",", ":"))
+
+
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("--scene", choices=sorted(SCENES), default="s-start")
+    ap.add_argument("--W", type=float, default=None, help="scaled weight (default 300)")
+    ap.add_argument("--G", type=float, default=None, help="scaled torque (default the scene's)")
+    ap.add_argument("--frames-out", default=None,
+                    help="write frames (slither's axes) every --frame-interval s to this JSON")
+    ap.add_argument("--frame-interval", type=float, default=0.02)
     ap.add_argument("--dt", type=float, default=2e-5)
     ap.add_argument("--elements", type=int, default=50)
     ap.add_argument("--out", default=None)
@@ -376,11 +425,19 @@ def main():
     args = ap.parse_args()
     if args.spin and not args.free:
         ap.error("--spin needs --free")
+    set_scene(args.scene, args.W, args.G)
+    frame_every = None
+    if args.frames_out:
+        frame_every = int(round(args.frame_interval / args.dt))
+        if abs(frame_every * args.dt - args.frame_interval) > 1e-9 * args.frame_interval:
+            ap.error("--frame-interval must be a whole number of steps")
 
     n_steps = int(round(args.duration / args.dt))
     record_every = max(1, int(round(1e-3 / args.dt)))
     kw = dict(damping=args.damping, muscles=args.muscles, free=args.free, spin=args.spin,
-              ground_stiffness=args.ground_stiffness, static_friction=args.static_friction)
+              ground_stiffness=args.ground_stiffness, static_friction=args.static_friction,
+              gait=Gait(args.elements, gamma_a3=GAMMA_A3, centres=CENTRES,
+                        scales=(1.0, OUT_RATIO, 1.0), sigma=SIGMA))
 
     compile_s = 0.0
     if not args.no_warmup:
@@ -389,7 +446,8 @@ def main():
         step(warm, 2 * record_every, args.dt, pre)
         compile_s = time.perf_counter() - w0
 
-    sim, rod, rec, info, pre = build(args.elements, args.dt, record_every=record_every, **kw)
+    sim, rod, rec, info, pre = build(args.elements, args.dt, record_every=record_every,
+                                     frame_every=frame_every, **kw)
     w0 = time.perf_counter()
     t_end = step(sim, n_steps, args.dt, pre)
     wall = time.perf_counter() - w0
@@ -450,8 +508,12 @@ def main():
             "kinetic_mu_fbs": list(MU_FBS), "record_every_steps": record_every,
         },
     }
+    if args.frames_out:
+        write_frames(args.frames_out, rec)
+    result["scene"] = {"name": args.scene, "W": W, "G": TAU, "sigma_over_L": SIGMA / L,
+                       "centres_over_L": [c / L for c in CENTRES], "scale_b": OUT_RATIO}
     if t_end >= 0.5:
-        when, below = shape_check(rec)
+        when, below = shape_check(rec, centres=CENTRES)
         result["shape_check"] = {
             "t": when,
             "b_minus_mean_of_a_c_over_a": below,
