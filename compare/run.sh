@@ -148,11 +148,11 @@ pe = {key: json.load(open(os.path.join(out, f"pyelastica_{i}.json")))
       for i, key in enumerate(("mid", "max", "fine"))}
 sl_fine = {dt: json.load(open(os.path.join(out, f"slither_dt{dt}", "summary.json")))
            for dt in ("1e-3", "5e-4", "1.25e-4")}
-net = "com_disp_over_T_along_initial_head_over_v_m"
+net = "v_s_over_v_m"  # slither's definition (initial tail-to-head direction)
 # Each code's converged value: its finest run; the change from the next coarser run bounds
 # that run's own error (both codes change monotonically and by less with each refinement on
 # this scene; see compare/README.md).
-pe_conv = {"net": pe["fine"][net], "heading": pe["fine"]["v_s_over_v_m"]}
+pe_conv = {"net": pe["fine"][net], "heading": pe["fine"]["v_head_instantaneous_over_v_m"]}
 pe_last = abs(pe["fine"][net] - pe["mid"][net]) / abs(pe_conv["net"])
 sl_conv = sl_fine["1.25e-4"]["v_s_over_v_m"]
 sl_last = abs(sl_conv - sl_fine["5e-4"]["v_s_over_v_m"]) / abs(sl_conv)
@@ -163,7 +163,7 @@ for name in ("mid", "max", "fine"):
     if not j["stable"]:
         print(f"PyElastica at dt {j['dt']:.3g} blew up (non-finite positions)")
     rows.append((j["code"], j["dt"], j["steps"], j["wall_time_s"], j["simulated_s"],
-                 j["v_s_over_v_m"], j[net], pe_conv["net"]))
+                 j["v_head_instantaneous_over_v_m"], j[net], pe_conv["net"]))
 rows.append(("slither (implicit Euler)", p["time"]["dt"], sl["steps"], sl["wall_time_s"],
              sl["t_final"], float("nan"), sl["v_s_over_v_m"], sl_conv))
 for dt in ("1e-3", "5e-4", "1.25e-4"):

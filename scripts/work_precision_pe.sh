@@ -73,7 +73,7 @@ if [ "$stage" = runs ]; then
     "$venv/bin/python" - "$out" "$csv" "${runs[@]}" <<'EOF'
 import json, os, sys
 out, csv, runs = sys.argv[1], sys.argv[2], sys.argv[3:]
-net = "com_disp_over_T_along_initial_head_over_v_m"
+net = "v_s_over_v_m"  # slither's definition (initial tail-to-head direction)
 res = {}
 for r in runs:
     n, dt = r.split(":")
@@ -81,7 +81,7 @@ for r in runs:
 print("| elements | dt (s) | stable | v_s/v_m (net) | v_s/v_m (heading) | wall s | wall s per simulated s |")
 print("|---|---|---|---|---|---|---|")
 for (n, dt), j in res.items():
-    print(f"| {n} | {dt} | {j['stable']} | {j[net]:.5f} | {j['v_s_over_v_m']:.5f} "
+    print(f"| {n} | {dt} | {j['stable']} | {j[net]:.5f} | {j['v_head_instantaneous_over_v_m']:.5f} "
           f"| {j['wall_time_s']:.2f} | {j['wall_per_sim_second']:.3f} |")
 bad = [k for k, j in res.items() if not j["stable"]]
 if bad:

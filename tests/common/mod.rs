@@ -147,3 +147,27 @@ interval = 0.02
 pub fn s_start_coarse() -> problem::Problem {
     problem::load(Path::new("problems/s_start_coarse.toml")).unwrap()
 }
+
+/// A copy of [`slither::gait::Muscles`]' map (`kappa0 = natural - m / B` over the Voronoi
+/// length) with the couple `[about d1, about d2]` passed through `map` first: the mutation
+/// tests' wrong axes and signs (`tests/pyelastica_free_rod.rs`, `tests/muscle_statics.rs`).
+pub struct MutatedMuscles {
+    /// The gait.
+    pub gait: slither::gait::Gait,
+    /// The mutation.
+    pub map: fn([f64; 2]) -> [f64; 2],
+}
+
+impl slither::gait::Actuation for MutatedMuscles {
+    fn rest_strains(&self, t: f64, m: &Model, kappa0: &mut [[f64; 2]], m0: &mut [f64]) {
+        for i in 1..m.nodes - 1 {
+            let l = m.voronoi[i];
+            let mm = (self.map)(self.gait.couple_at(m.arc_length(i), t));
+            kappa0[i] = [
+                (m.natural_curvature[0] - mm[0] / m.bend) * l,
+                (m.natural_curvature[1] - mm[1] / m.bend) * l,
+            ];
+            m0[i] = m.natural_twist * l;
+        }
+    }
+}
