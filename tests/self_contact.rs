@@ -34,7 +34,11 @@ const A: f64 = 0.02;
 /// the legs' velocities (the arc's ramped between them). `toml_extra` adds tables (the
 /// default has no gravity and no ground).
 fn crossing(toml_extra: &str, za: f64, zb: f64, va: [f64; 3], vb: [f64; 3]) -> Model {
-    let gravity = if toml_extra.contains("[gravity]") { "" } else { "[gravity]\ng = 0.0\n" };
+    let gravity = if toml_extra.contains("[gravity]") {
+        ""
+    } else {
+        "[gravity]\ng = 0.0\n"
+    };
     let toml = format!(
         "[rod]\nlength = 1.11\ndiameter = {A}\nelements = 111\nbending_stiffness = 0.01308\n\
          {gravity}[time]\ndt = 1e-3\nduration = 0.05\n{toml_extra}"
@@ -106,13 +110,17 @@ fn crossing_parts_driven_into_each_other() {
     let mut closest = f64::INFINITY;
     let mut touched = 0;
     for step in 0..50 {
-        st.step(&mut s, 1e-3).unwrap_or_else(|e| panic!("step {step}: {e}"));
+        st.step(&mut s, 1e-3)
+            .unwrap_or_else(|e| panic!("step {step}: {e}"));
         let d = sc.closest_distance(&s.q);
         closest = closest.min(d);
         assert!(d > A, "penetration at step {step}: closest {} a", d / A);
         let p = momentum(&m, &s);
         let dp = f::norm(f::sub(p, p0));
-        assert!(dp <= 1e-10 * scale, "step {step}: momentum changed by {dp:.3e} (scale {scale:.3e})");
+        assert!(
+            dp <= 1e-10 * scale,
+            "step {step}: momentum changed by {dp:.3e} (scale {scale:.3e})"
+        );
         let forces = sc.forces(&s.q);
         touched += usize::from(!forces.is_empty());
         for (pair, fs) in forces {
@@ -125,11 +133,107 @@ fn crossing_parts_driven_into_each_other() {
             );
         }
         let e = energy(&mut st, &s);
-        assert!(e <= e_prev * (1.0 + 1e-9), "step {step}: energy rose from {e_prev} to {e}");
+        assert!(
+            e <= e_prev * (1.0 + 1e-9),
+            "step {step}: energy rose from {e_prev} to {e}"
+        );
         e_prev = e;
     }
     assert!(touched >= 10, "the parts touched at {touched} steps only");
-    assert!(closest < 1.01 * A, "closest {} a: the parts never met", closest / A);
+    assert!(
+        closest < 1.01 * A,
+        "closest {} a: the parts never met",
+        closest / A
+    );
+}
+
+/// The same crossing with BDF2 (the multistep scheme, its start a step of implicit Euler):
+/// no pair closer than `a`, linear momentum conserved to 1e-10 of its scale, and each pair's
+/// forces equal and opposite.
+#[test]
+fn crossing_parts_with_bdf2() {
+    let m = crossing(
+        "[solver]\nintegrator = \"bdf2\"\n",
+        0.6 * A,
+        -0.6 * A,
+        [0.0, 0.0, -0.5],
+        [0.0, 0.0, 0.5],
+    );
+    let sc = SelfContact::of(&m).unwrap();
+    let mut st = stepper(&m);
+    let mut s = State::initial(&m);
+    let scale: f64 = m.real.clone().map(|i| m.mass[dof::node(i)] * 0.5).sum();
+    let p0 = momentum(&m, &s);
+    let mut touched = 0;
+    for step in 0..50 {
+        st.step(&mut s, 1e-3)
+            .unwrap_or_else(|e| panic!("step {step}: {e}"));
+        let d = sc.closest_distance(&s.q);
+        assert!(d > A, "penetration at step {step}: closest {} a", d / A);
+        let dp = f::norm(f::sub(momentum(&m, &s), p0));
+        assert!(
+            dp <= 1e-10 * scale,
+            "step {step}: momentum changed by {dp:.3e}"
+        );
+        for (_, fs) in sc.forces(&s.q) {
+            touched += 1;
+            let on_i = f::add(fs[0], fs[1]);
+            assert!(f::norm(f::add(on_i, f::add(fs[2], fs[3]))) <= 1e-12 * f::norm(on_i));
+        }
+    }
+    assert!(touched >= 10, "the parts touched {touched} times");
+}
+
+/// The explicit reference has no self-contact: driven into each other, the parts stop the
+/// run with a clear error as soon as a pair comes within the activation gap (and a run with
+/// self-contact off goes on through).
+#[test]
+fn explicit_integrator_stops_at_self_contact() {
+    use slither::integrator::explicit::Explicit;
+    use slither::integrator::StepError;
+    let m = crossing("", 0.6 * A, -0.6 * A, [0.0, 0.0, -0.5], [0.0, 0.0, 0.5]);
+    let mut ex = Explicit::new(
+        &m,
+        Box::new(Muscles {
+            gait: m.gait.clone(),
+        }),
+    )
+    .unwrap();
+    let mut s = State::initial(&m);
+    let err = (0..20_000)
+        .find_map(|_| ex.step(&mut s, 2e-6).err())
+        .expect("the explicit run should stop at the contact");
+    match &err {
+        StepError::SelfContact {
+            distance_over_a, ..
+        } => {
+            assert!(*distance_over_a < 1.01 && *distance_over_a > 1.0, "{err}")
+        }
+        other => panic!("another error: {other}"),
+    }
+    assert!(
+        err.to_string().contains("self_contact.enabled = false"),
+        "{err}"
+    );
+    let off = crossing(
+        "[self_contact]\nenabled = false\n",
+        0.6 * A,
+        -0.6 * A,
+        [0.0, 0.0, -0.5],
+        [0.0, 0.0, 0.5],
+    );
+    let mut ex = Explicit::new(
+        &off,
+        Box::new(Muscles {
+            gait: off.gait.clone(),
+        }),
+    )
+    .unwrap();
+    let mut s = State::initial(&off);
+    for step in 0..6000 {
+        ex.step(&mut s, 2e-6)
+            .unwrap_or_else(|e| panic!("step {step}: {e}"));
+    }
 }
 
 /// Frictionless sliding: under gravity, leg A lies across leg B, which lies on the ground
@@ -139,15 +243,23 @@ fn crossing_parts_driven_into_each_other() {
 #[test]
 fn sliding_across_a_part_is_frictionless() {
     let zb = 0.5 * A;
-    let ground = "[gravity]\ng = 9.81\n[ground]\nmu_forward = 0.5\nmu_backward = 0.7\nmu_sideways = 1.0\n";
-    let m = crossing(ground, zb + A * (1.0 + 0.008), zb, [0.2, 0.0, 0.0], [0.0; 3]);
+    let ground =
+        "[gravity]\ng = 9.81\n[ground]\nmu_forward = 0.5\nmu_backward = 0.7\nmu_sideways = 1.0\n";
+    let m = crossing(
+        ground,
+        zb + A * (1.0 + 0.008),
+        zb,
+        [0.2, 0.0, 0.0],
+        [0.0; 3],
+    );
     let sc = SelfContact::of(&m).unwrap();
     let mut st = stepper(&m);
     let mut s = State::initial(&m);
     let x0: f64 = (0..=40).map(|i| s.q[dof::node(i)]).sum::<f64>() / 41.0;
     let (mut axial, mut normal, mut pressed) = (0.0, 0.0, 0);
     for step in 0..40 {
-        st.step(&mut s, 1e-3).unwrap_or_else(|e| panic!("step {step}: {e}"));
+        st.step(&mut s, 1e-3)
+            .unwrap_or_else(|e| panic!("step {step}: {e}"));
         assert!(sc.closest_distance(&s.q) > A, "penetration at step {step}");
         for (pair, fs) in sc.forces(&s.q) {
             pressed += 1;
@@ -159,10 +271,16 @@ fn sliding_across_a_part_is_frictionless() {
             // the closest point is an end, the contact's normal is the line to that end).
             let inside = |x: f64| x > 0.0 && x < 1.0;
             if inside(pair.closest.s) {
-                assert!(f::dot(on_i, e(i)).abs() <= 1e-9 * n, "step {step}: force along edge {i}");
+                assert!(
+                    f::dot(on_i, e(i)).abs() <= 1e-9 * n,
+                    "step {step}: force along edge {i}"
+                );
             }
             if inside(pair.closest.t) {
-                assert!(f::dot(on_i, e(j)).abs() <= 1e-9 * n, "step {step}: force along edge {j}");
+                assert!(
+                    f::dot(on_i, e(j)).abs() <= 1e-9 * n,
+                    "step {step}: force along edge {j}"
+                );
             }
             assert!(f::norm(f::cross(on_i, pair.closest.delta)) <= 1e-9 * n * pair.closest.dist);
             let on_a = if i < 40 { on_i } else { f::add(fs[2], fs[3]) };
@@ -171,11 +289,17 @@ fn sliding_across_a_part_is_frictionless() {
         }
     }
     let x1: f64 = (0..=40).map(|i| s.q[dof::node(i)]).sum::<f64>() / 41.0;
-    assert!(pressed >= 20, "the legs pressed at {pressed} pair-steps only");
+    assert!(
+        pressed >= 20,
+        "the legs pressed at {pressed} pair-steps only"
+    );
     assert!(x1 - x0 > 0.001, "leg A travelled {} m", x1 - x0);
     // Not zero: leg A bends under the load, so the normal tilts (1.7 % of the normal impulse
     // here); what frictionless means is checked pair by pair above.
-    eprintln!("axial impulse / normal impulse on leg A: {:.3e}", axial / normal);
+    eprintln!(
+        "axial impulse / normal impulse on leg A: {:.3e}",
+        axial / normal
+    );
 }
 
 /// A coil of two turns, with the natural curvature and twist of its helix (pitch 1.2 a),
@@ -206,14 +330,22 @@ fn coil_dropped_on_the_ground_rests_stacked() {
     let mut st = stepper(&m);
     let mut s = State::initial(&m);
     let e0 = st.energies(&s).elastic;
-    assert!(e0 < 1e-3, "the coil does not start near its natural shape: elastic energy {e0} J");
+    assert!(
+        e0 < 1e-3,
+        "the coil does not start near its natural shape: elastic energy {e0} J"
+    );
     let steps = (8.0 / 2e-2) as usize;
     for step in 0..steps {
-        st.step(&mut s, 2e-2).unwrap_or_else(|e| panic!("step {step}: {e}"));
+        st.step(&mut s, 2e-2)
+            .unwrap_or_else(|e| panic!("step {step}: {e}"));
         assert!(sc.closest_distance(&s.q) > A, "penetration at step {step}");
     }
     // At rest.
-    let v_max = m.real.clone().map(|i| f::norm(s.node_velocity(i))).fold(0.0, f64::max);
+    let v_max = m
+        .real
+        .clone()
+        .map(|i| f::norm(s.node_velocity(i)))
+        .fold(0.0, f64::max);
     assert!(v_max < 1e-4, "not at rest: largest speed {v_max} m/s");
     // The top turn: the nodes within one turn of the head (which is at the top).
     let turn: Vec<usize> = m.real.clone().filter(|&i| m.arc_length(i) <= c).collect();
@@ -244,7 +376,10 @@ fn coil_dropped_on_the_ground_rests_stacked() {
             }
         }
     }
-    assert!(contact > 0.1 * weight, "self-contact carries {contact} N of {weight} N");
+    assert!(
+        contact > 0.1 * weight,
+        "self-contact carries {contact} N of {weight} N"
+    );
     let residual = contact + internal - weight;
     eprintln!("top turn: contact {contact:.6} N, internal {internal:.6} N, weight {weight:.6} N");
     assert!(
@@ -274,18 +409,29 @@ fn flailing_cells_never_pass_through_themselves() {
             .arg(&out)
             .output()
             .unwrap();
-        assert!(status.status.success(), "{w},{g}: {}", String::from_utf8_lossy(&status.stderr));
+        assert!(
+            status.status.success(),
+            "{w},{g}: {}",
+            String::from_utf8_lossy(&status.stderr)
+        );
         let summary: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
         let closest = summary["self_contact"]["closest_over_a"].as_f64().unwrap();
         assert!(closest >= 1.0 - 1e-3, "{w},{g}: closest {closest} a");
-        assert!(summary["self_contact"]["active_steps"].as_u64().unwrap() > 0, "{w},{g}: no contact");
+        assert!(
+            summary["self_contact"]["active_steps"].as_u64().unwrap() > 0,
+            "{w},{g}: no contact"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 fn tempfile_dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("slither-self-contact-{name}-{}", std::process::id()));
+    let d = std::env::temp_dir().join(format!(
+        "slither-self-contact-{name}-{}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -296,7 +442,11 @@ fn tempfile_dir(name: &str) -> std::path::PathBuf {
 /// the one without. (Exempt from the mutation rule: it guards that nothing leaks.)
 #[test]
 fn bundled_scenes_unchanged_to_the_bit() {
-    for path in ["problems/s_start.toml", "problems/s_start_heavy.toml", "problems/sidewinding.toml"] {
+    for path in [
+        "problems/s_start.toml",
+        "problems/s_start_heavy.toml",
+        "problems/sidewinding.toml",
+    ] {
         let on = problem::load(Path::new(path)).unwrap();
         assert!(on.self_contact.enabled);
         let mut off = on.clone();
@@ -305,7 +455,10 @@ fn bundled_scenes_unchanged_to_the_bit() {
         let (_, b) = common::run_problem(&off);
         assert!(a.error.is_none() && b.error.is_none(), "{path}");
         assert_eq!(a.state.q, b.state.q, "{path}: final state differs");
-        assert_eq!(a.stats.newton_iterations, b.stats.newton_iterations, "{path}");
+        assert_eq!(
+            a.stats.newton_iterations, b.stats.newton_iterations,
+            "{path}"
+        );
         assert_eq!(a.stats.self_contact.active_steps, 0, "{path}");
     }
 }

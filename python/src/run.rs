@@ -249,6 +249,9 @@ impl NativeRun {
             let k = data.first().map_or(0, |r| r.len());
             d.set_item(name, array(py, data.concat(), &[data.len(), k])?)?;
         }
+        let (closest, touching) = output::self_contact_arrays(m, fr);
+        d.set_item("closest_distance", array(py, closest, &[nf])?)?;
+        d.set_item("self_contact", array(py, touching, &[nf, nn])?)?;
         // The one-element arrays the movie renderer reads (`diameter`, `gait_period`, ...),
         // as `trajectory.npz` stores them.
         for (name, v) in output::movie::movie_scalars(m) {

@@ -254,7 +254,8 @@ impl LinSolver {
         self.solve_band(b);
         let wb = &self.woodbury;
         if let Some(chol) = &wb.chol {
-            let t = nalgebra::DVector::from_iterator(wb.cols.len(), wb.cols.iter().map(|u| u.dot(b)));
+            let t =
+                nalgebra::DVector::from_iterator(wb.cols.len(), wb.cols.iter().map(|u| u.dot(b)));
             let c = chol.solve(&t);
             for (z, ci) in wb.z.iter().zip(c.iter()) {
                 for (x, zi) in b.iter_mut().zip(z) {
@@ -410,7 +411,9 @@ mod tests {
             let mut val = [0.0; super::super::LOW_RANK_ENTRIES];
             for r in 0..idx.len() {
                 idx[r] = if r < 6 { 3 * c + r } else { 180 + r };
-                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 val[r] = 3.0 * ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
             }
             asm.add_low_rank(idx, val);
@@ -424,7 +427,12 @@ mod tests {
         let mut ax = vec![0.0; n];
         asm.mul(&x, &mut ax);
         for k in 0..n {
-            assert!((ax[k] - asm.grad[k]).abs() < 1e-11, "row {k}: {} vs {}", ax[k], asm.grad[k]);
+            assert!(
+                (ax[k] - asm.grad[k]).abs() < 1e-11,
+                "row {k}: {} vs {}",
+                ax[k],
+                asm.grad[k]
+            );
         }
         assert!((x[185] - 2.5).abs() < 1e-13);
         // Without the low-rank part the solution differs (the test can fail).

@@ -222,7 +222,8 @@ impl SelfContact {
         }
         c.boxes.clear();
         for j in self.edges.clone() {
-            c.boxes.push(Aabb::around(&[c.x_ref[j], c.x_ref[j + 1]], pad));
+            c.boxes
+                .push(Aabb::around(&[c.x_ref[j], c.x_ref[j + 1]], pad));
         }
         let e0 = self.edges.start;
         let keep = |i: usize, j: usize| self.eligible(i + e0, j + e0);
@@ -235,7 +236,12 @@ impl SelfContact {
     }
 
     /// The candidate pairs at `q` (as [`Self::ensure`] leaves them).
-    fn with_pairs<R>(&self, q: &[f64], dq: Option<&[f64]>, f: impl FnOnce(&[(usize, usize)]) -> R) -> R {
+    fn with_pairs<R>(
+        &self,
+        q: &[f64],
+        dq: Option<&[f64]>,
+        f: impl FnOnce(&[(usize, usize)]) -> R,
+    ) -> R {
         self.ensure(q, dq);
         let c = self.cache.borrow();
         f(&c.pairs)
@@ -243,7 +249,12 @@ impl SelfContact {
 
     /// A pair's state at `q`.
     pub fn pair(&self, q: &[f64], i: usize, j: usize) -> PairState {
-        let c = closest(node_x(q, i), node_x(q, i + 1), node_x(q, j), node_x(q, j + 1));
+        let c = closest(
+            node_x(q, i),
+            node_x(q, i + 1),
+            node_x(q, j),
+            node_x(q, j + 1),
+        );
         PairState {
             edges: (i, j),
             closest: c,
@@ -255,7 +266,12 @@ impl SelfContact {
     /// the edges' midpoints less their half-lengths (a bound below the distance) exceeds
     /// `a + g_hat`. Cheaper than the closest points for the candidates that are far.
     fn surely_apart(&self, q: &[f64], i: usize, j: usize) -> bool {
-        let (a0, a1, b0, b1) = (node_x(q, i), node_x(q, i + 1), node_x(q, j), node_x(q, j + 1));
+        let (a0, a1, b0, b1) = (
+            node_x(q, i),
+            node_x(q, i + 1),
+            node_x(q, j),
+            node_x(q, j + 1),
+        );
         let mid = f::sub(f::add(a0, a1), f::add(b0, b1));
         let reach = f::norm(f::sub(a1, a0)) + f::norm(f::sub(b1, b0)) + 2.0 * (self.a + self.g_hat);
         f::dot(mid, mid) > reach * reach
@@ -615,7 +631,8 @@ mod tests {
     /// at `gap` (m) beyond contact, plus a random jitter of up to `jitter / 2` (m) per
     /// coordinate. The activation gap is 2e-4 m.
     fn folded(gap: f64, jitter: f64, seed: u64) -> (Model, Vec<f64>) {
-        let toml = "[rod]\nlength = 0.24\ndiameter = 0.02\nelements = 24\nbending_stiffness = 0.01\n\
+        let toml =
+            "[rod]\nlength = 0.24\ndiameter = 0.02\nelements = 24\nbending_stiffness = 0.01\n\
                     [gravity]\ng = 0.0\n[time]\ndt = 1e-3\nduration = 0.01\n";
         let p = crate::problem::parse(toml, std::path::Path::new("<test>")).unwrap();
         let m = Model::new(&p);
@@ -633,7 +650,11 @@ mod tests {
         for i in 0..m.nodes {
             let k = dof::node(i);
             let xyz = match i {
-                0..=10 => [0.05 + 0.3 * a * next(), 0.07 - 0.01 * i as f64, a / 2.0 + a + gap],
+                0..=10 => [
+                    0.05 + 0.3 * a * next(),
+                    0.07 - 0.01 * i as f64,
+                    a / 2.0 + a + gap,
+                ],
                 11 => [0.09, -0.03, 1.5 * a],
                 12 => [0.12, -0.01, a],
                 _ => [0.24 - 0.01 * i as f64, 0.0, a / 2.0],
@@ -695,13 +716,33 @@ mod tests {
         };
         let cases: [[[f64; 3]; 4]; 4] = [
             // Crossing, skew.
-            [[0.0, 0.0, 0.0], [0.01, 0.001, 0.0005], [0.004, -0.005, 1.01 * a], [0.006, 0.005, 1.02 * a]],
+            [
+                [0.0, 0.0, 0.0],
+                [0.01, 0.001, 0.0005],
+                [0.004, -0.005, 1.01 * a],
+                [0.006, 0.005, 1.02 * a],
+            ],
             // The second edge's end above the first edge's inside.
-            [[0.0, 0.0, 0.0], [0.01, 0.0, 0.001], [0.005, 0.0, 1.01 * a], [0.007, 0.008, 1.3 * a]],
+            [
+                [0.0, 0.0, 0.0],
+                [0.01, 0.0, 0.001],
+                [0.005, 0.0, 1.01 * a],
+                [0.007, 0.008, 1.3 * a],
+            ],
             // End to end.
-            [[0.0, 0.0, 0.0], [0.01, 0.002, 0.0], [0.0105, 0.003, 1.01 * a], [0.02, 0.009, 1.4 * a]],
+            [
+                [0.0, 0.0, 0.0],
+                [0.01, 0.002, 0.0],
+                [0.0105, 0.003, 1.01 * a],
+                [0.02, 0.009, 1.4 * a],
+            ],
             // Nearly parallel, offset along.
-            [[0.0, 0.0, 0.0], [0.01, 0.0, 0.0], [0.004, 0.0003, 1.01 * a], [0.014, 0.0, 1.0101 * a]],
+            [
+                [0.0, 0.0, 0.0],
+                [0.01, 0.0, 0.0],
+                [0.004, 0.0003, 1.01 * a],
+                [0.014, 0.0, 1.0101 * a],
+            ],
         ];
         let (i, j) = (2usize, 20usize);
         for (n, pts) in cases.iter().enumerate() {
@@ -718,7 +759,9 @@ mod tests {
                 for (&k, v) in idx.iter().zip(x) {
                     y[k] = *v;
                 }
-                SelfContact::distance_gradient(&sc.pair(&y, i, j)).1.to_vec()
+                SelfContact::distance_gradient(&sc.pair(&y, i, j))
+                    .1
+                    .to_vec()
             };
             let jac = fd::jacobian(&mut grad, &x0, 1e-8);
             let scale = h.iter().flatten().fold(0.0f64, |a, b| a.max(b.abs()));
@@ -796,7 +839,12 @@ mod tests {
     /// a brute-force minimum over every eligible pair.
     #[test]
     fn closest_distance_matches_brute_force() {
-        for (gap, jitter, seed) in [(1e-4, 0.0, 1u64), (3e-3, 0.0, 2), (0.02, 0.006, 3), (0.1, 0.01, 4)] {
+        for (gap, jitter, seed) in [
+            (1e-4, 0.0, 1u64),
+            (3e-3, 0.0, 2),
+            (0.02, 0.006, 3),
+            (0.1, 0.01, 4),
+        ] {
             let (m, q) = folded(gap, jitter, seed);
             let sc = SelfContact::of(&m).unwrap();
             let mut best = f64::INFINITY;

@@ -211,14 +211,26 @@ impl Model {
         let a1 = frames::initial_director(t);
         let mut a1_0 = vec![a1; nodes - 1];
         if p.initial.shape == Shape::Coil {
-            // A helix from the tail (bottom) up to the head: arc length u = L - s from the
-            // tail, angle 2 pi u / c, rise p u / c, c = sqrt((2 pi R)^2 + p^2) per turn.
+            // A helix from the tail (bottom) up to the head, its nodes at equal angles `dphi`
+            // apart, chosen so that every edge (a chord) has the rest length `l0`:
+            // 2 R^2 (1 - cos dphi) + (p dphi / 2 pi)^2 = l0^2, by Newton's method from the
+            // arc's angle (the chord of an arc of `l0` is shorter by about `(l0 k)^2 / 24`).
             let (rad, pitch) = (p.initial.coil_radius, p.initial.coil_pitch);
-            let c = (2.0 * PI * rad).hypot(pitch);
+            let b = pitch / (2.0 * PI);
+            let mut dphi = l0 / rad.hypot(b);
+            for _ in 0..50 {
+                let f = 2.0 * rad * rad * (1.0 - dphi.cos()) + (b * dphi).powi(2) - l0 * l0;
+                let df = 2.0 * rad * rad * dphi.sin() + 2.0 * b * b * dphi;
+                let step = f / df;
+                dphi -= step;
+                if step.abs() <= 1e-15 * dphi {
+                    break;
+                }
+            }
             for i in 0..nodes {
-                let u = r.length - (first_s + i as f64 * l0);
-                let phi = 2.0 * PI * u / c;
-                let x = [rad * phi.cos(), rad * phi.sin(), z + pitch * u / c];
+                let k = (nodes - 1 - i) as f64;
+                let phi = k * dphi;
+                let x = [rad * phi.cos(), rad * phi.sin(), z + b * phi];
                 q0[dof::node(i)..dof::node(i) + 3].copy_from_slice(&x);
                 xs[i] = x;
             }

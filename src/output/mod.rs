@@ -432,6 +432,28 @@ fn put(
     w.finish()
 }
 
+/// The self-contact arrays of `trajectory.npz` from recorded frames: `closest_distance`
+/// (per frame, m: the closest centreline distance between parts of the body more than `2a`
+/// apart along it) and `self_contact` (frames x nodes, flattened: 1 where a node touches
+/// another part of the body, within the activation gap, else 0).
+pub fn self_contact_arrays(m: &Model, frames: &[Frame]) -> (Vec<f64>, Vec<f64>) {
+    use crate::energy::self_contact::{closest_of_frame, touching_of_frame, SelfContact};
+    let geometry = SelfContact::geometry(m);
+    let closest = frames
+        .iter()
+        .map(|fr| closest_of_frame(&geometry, m, &fr.x))
+        .collect();
+    let touching = frames
+        .iter()
+        .flat_map(|fr| {
+            touching_of_frame(&geometry, m, &fr.x)
+                .into_iter()
+                .map(|b| if b { 1.0 } else { 0.0 })
+        })
+        .collect();
+    (closest, touching)
+}
+
 /// Write `trajectory.npz` with `t` (F), `x` (F x nodes x 3), `theta` (F x edges),
 /// `v` (F x nodes x 3), `s` (nodes), `closest_distance` (F: the closest centreline distance
 /// between parts of the body more than `2a` apart along it, m), `self_contact` (F x nodes: 1
@@ -495,27 +517,10 @@ pub fn write_trajectory(
             })
         }),
     )?;
-    // Closest centreline distance between eligible parts of the body (m), per frame.
-    let geometry = crate::energy::self_contact::SelfContact::geometry(m);
-    put(
-        &mut npz,
-        "closest_distance",
-        &[nf],
-        frames
-            .iter()
-            .map(|fr| crate::energy::self_contact::closest_of_frame(&geometry, m, &fr.x)),
-    )?;
-    // Nodes touching another part of the body (1) or not (0), per frame.
-    put(
-        &mut npz,
-        "self_contact",
-        &[nf, nn],
-        frames.iter().flat_map(|fr| {
-            crate::energy::self_contact::touching_of_frame(&geometry, m, &fr.x)
-                .into_iter()
-                .map(|b| if b { 1.0 } else { 0.0 })
-        }),
-    )?;
+    // Self-contact per frame: the closest distance (m) and the touching nodes.
+    let (closest, touching) = self_contact_arrays(m, frames);
+    put(&mut npz, "closest_distance", &[nf], closest)?;
+    put(&mut npz, "self_contact", &[nf, nn], touching)?;
     for (name, v) in movie::movie_scalars(m) {
         put(&mut npz, name, &[1], [v])?;
     }

@@ -246,9 +246,10 @@ pub fn clip_from_dir(dir: &Path) -> Result<Clip, String> {
             .collect(),
         // Older runs have no self-contact flags.
         self_contact: match get("self_contact")? {
-            Some((shape, v)) if shape == [nf as u64, nn as u64] => {
-                v.chunks(nn).map(|r| r.iter().map(|&b| b > 0.5).collect()).collect()
-            }
+            Some((shape, v)) if shape == [nf as u64, nn as u64] => v
+                .chunks(nn)
+                .map(|r| r.iter().map(|&b| b > 0.5).collect())
+                .collect(),
             _ => Vec::new(),
         },
         t,

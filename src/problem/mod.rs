@@ -688,13 +688,31 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     c.key(&INITIAL_COIL_PITCH, i.coil_pitch)?;
     if i.shape == Shape::Coil {
         if r.clamp != Clamp::None {
-            return Err(c.fail("initial", "shape", "\"coil\"".into(), "\"straight\" when rod.clamp is \"head\" or \"tail\" (a coil has free ends)"));
+            return Err(c.fail(
+                "initial",
+                "shape",
+                "\"coil\"".into(),
+                "\"straight\" when rod.clamp is \"head\" or \"tail\" (a coil has free ends)",
+            ));
         }
         if !(i.coil_pitch > r.diameter) {
-            return Err(c.fail("initial", "coil_pitch", num(i.coil_pitch), &format!("> rod.diameter = {} (m): the turns must start apart", num(r.diameter))));
+            return Err(c.fail(
+                "initial",
+                "coil_pitch",
+                num(i.coil_pitch),
+                &format!(
+                    "> rod.diameter = {} (m): the turns must start apart",
+                    num(r.diameter)
+                ),
+            ));
         }
         if !(i.coil_radius > r.diameter) {
-            return Err(c.fail("initial", "coil_radius", num(i.coil_radius), &format!("> rod.diameter = {} (m)", num(r.diameter))));
+            return Err(c.fail(
+                "initial",
+                "coil_radius",
+                num(i.coil_radius),
+                &format!("> rod.diameter = {} (m)", num(r.diameter)),
+            ));
         }
     }
     c.key(&GRAVITY_G, p.gravity.g)?;
@@ -823,10 +841,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             "\"implicit\" in static mode (BDF2 only steps in time)",
         ));
     }
-    if p.self_contact.enabled
-        && p.ground.is_some()
-        && p.solver.contact == ContactKind::ActiveSet
-    {
+    if p.self_contact.enabled && p.ground.is_some() && p.solver.contact == ContactKind::ActiveSet {
         return Err(c.fail(
             "solver",
             "contact",

@@ -104,7 +104,10 @@ impl Aabb {
     }
     /// Whether the boxes overlap on `y` and `z` (the sweep has settled `x`).
     fn overlap_yz(&self, o: &Aabb) -> bool {
-        self.lo[1] <= o.hi[1] && o.lo[1] <= self.hi[1] && self.lo[2] <= o.hi[2] && o.lo[2] <= self.hi[2]
+        self.lo[1] <= o.hi[1]
+            && o.lo[1] <= self.hi[1]
+            && self.lo[2] <= o.hi[2]
+            && o.lo[2] <= self.hi[2]
     }
 }
 
@@ -171,10 +174,30 @@ mod tests {
             cases.push((p(), p(), p(), p()));
         }
         // Parallel, overlapping and not; collinear; crossing.
-        cases.push(([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.3, 0.5, 0.0], [1.6, 0.5, 0.0]));
-        cases.push(([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.5, 0.0], [3.0, 0.5, 0.0]));
-        cases.push(([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.5, 0.0, 0.0], [2.5, 0.0, 0.0]));
-        cases.push(([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, -0.5, 0.2], [0.5, 0.5, 0.2]));
+        cases.push((
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.3, 0.5, 0.0],
+            [1.6, 0.5, 0.0],
+        ));
+        cases.push((
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.5, 0.0],
+            [3.0, 0.5, 0.0],
+        ));
+        cases.push((
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.5, 0.0, 0.0],
+            [2.5, 0.0, 0.0],
+        ));
+        cases.push((
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.5, -0.5, 0.2],
+            [0.5, 0.5, 0.2],
+        ));
         for (p0, p1, q0, q1) in cases {
             let c = closest(p0, p1, q0, q1);
             let at = |s: f64, t: f64| {
@@ -189,8 +212,16 @@ mod tests {
                     best = best.min(at(a as f64 / 200.0, b as f64 / 200.0));
                 }
             }
-            assert!(c.dist <= best + 1e-12, "{p0:?} {p1:?} {q0:?} {q1:?}: {} > {best}", c.dist);
-            assert!(c.dist >= best - 1e-2, "grid far below: {} vs {best}", c.dist);
+            assert!(
+                c.dist <= best + 1e-12,
+                "{p0:?} {p1:?} {q0:?} {q1:?}: {} > {best}",
+                c.dist
+            );
+            assert!(
+                c.dist >= best - 1e-2,
+                "grid far below: {} vs {best}",
+                c.dist
+            );
         }
     }
 
