@@ -266,15 +266,16 @@ impl SelfContact {
     /// the edges' midpoints less their half-lengths (a bound below the distance) exceeds
     /// `a + g_hat`. Cheaper than the closest points for the candidates that are far.
     fn surely_apart(&self, q: &[f64], i: usize, j: usize) -> bool {
-        let (a0, a1, b0, b1) = (
-            node_x(q, i),
-            node_x(q, i + 1),
-            node_x(q, j),
-            node_x(q, j + 1),
-        );
-        let mid = f::sub(f::add(a0, a1), f::add(b0, b1));
-        let reach = f::norm(f::sub(a1, a0)) + f::norm(f::sub(b1, b0)) + 2.0 * (self.a + self.g_hat);
-        f::dot(mid, mid) > reach * reach
+        self.distance_bound(q, i, j) > self.a + self.g_hat
+    }
+
+    /// A lower bound of the pair's distance at `q`: the distance of the edges' midpoints less
+    /// their half-lengths.
+    fn distance_bound(&self, q: &[f64], i: usize, j: usize) -> f64 {
+        let (a0, a1) = (node_x(q, i), node_x(q, i + 1));
+        let (b0, b1) = (node_x(q, j), node_x(q, j + 1));
+        let mid = f::norm(f::sub(f::add(a0, a1), f::add(b0, b1)));
+        0.5 * (mid - f::norm(f::sub(a1, a0)) - f::norm(f::sub(b1, b0)))
     }
 
     /// Barrier energy at `q` (J; infinite when a pair touches or overlaps).
@@ -449,6 +450,10 @@ impl SelfContact {
     fn advance(&self, q: &[f64], dq: &[f64], i: usize, j: usize) -> f64 {
         let mv = |k: usize| f::norm(node_x(dq, k));
         let speed = mv(i).max(mv(i + 1)) + mv(j).max(mv(j + 1));
+        // Far enough apart for the whole step by the cheap bound: no closest points needed.
+        if speed == 0.0 || self.distance_bound(q, i, j) - self.a >= speed {
+            return 1.0;
+        }
         let g0 = self.pair(q, i, j).gap;
         if speed == 0.0 || g0 >= speed {
             return 1.0;
@@ -484,6 +489,11 @@ impl SelfContact {
                 ..Measure::default()
             };
             for &(i, j) in pairs {
+                // Neither closer than the closest so far nor within the activation gap.
+                let bound = self.distance_bound(q, i, j);
+                if bound >= m.closest && bound > self.a + self.g_hat {
+                    continue;
+                }
                 let p = self.pair(q, i, j);
                 m.closest = m.closest.min(p.closest.dist);
                 if p.gap < self.g_hat {
