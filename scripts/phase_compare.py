@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Compare two phase.csv files of one grid (a study before and after a change of the model):
-regime counts, the transition table, every cell whose label changed, and the writhe and
-v_s/v_m of the cells by regime. Prints Markdown (for scripts/record.sh).
+regime counts, the transition table, every cell whose label changed, the writhe and v_s/v_m
+of the cells by regime, and for verified studies the uncertain cells. Prints Markdown (for scripts/record.sh).
 
     python3 scripts/phase_compare.py BEFORE/phase.csv AFTER/phase.csv [NAME_BEFORE NAME_AFTER]
 """
@@ -67,6 +67,21 @@ def main():
             out.append(f"{len(sel)}, {med('v_s_over_v_m'):.4f}, {med('writhe_snapshot'):.3f}, "
                        f"{med('writhe_max'):.3f}, {med('wall_time_s'):.2f}")
         print(f"| {r} | {out[0]} | {out[1]} |")
+    if "label_agreement" in before[cells[0]] and "label_agreement" in after[cells[0]]:
+        # Verified studies: a cell is uncertain when its runs disagree (agreement below 1).
+        unsure = lambda data: [c for c in cells if float(data[c]["label_agreement"]) < 1.0]
+        ub, ua = unsure(before), unsure(after)
+        print()
+        print(f"uncertain cells (label agreement below 1): {nb} {len(ub)}, {na} {len(ua)}; "
+              f"uncertain in both {len(set(ub) & set(ua))}, only {nb} {len(set(ub) - set(ua))}, "
+              f"only {na} {len(set(ua) - set(ub))}")
+        print()
+        print(f"| W | G | {nb}: label, agreement | {na}: label, agreement |")
+        print("|---|---|---|---|")
+        for c in cells:
+            if c in ub or c in ua:
+                print(f"| {c[0]:.1f} | {c[1]:.2f} | {before[c]['regime']}, {float(before[c]['label_agreement']):.2f} | "
+                      f"{after[c]['regime']}, {float(after[c]['label_agreement']):.2f} |")
     tb = sum(f(before[c], "wall_time_s") for c in cells)
     ta = sum(f(after[c], "wall_time_s") for c in cells)
     print()
