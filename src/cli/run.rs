@@ -304,6 +304,17 @@ pub fn run(args: &Args) -> ExitCode {
             ob.regime,
             out.display()
         );
+        let sc = &summary.self_contact;
+        match sc.closest_over_a {
+            Some(c) if !sc.enabled && c < 1.0 => eprintln!(
+                "self-contact off: parts of the body came {c:.4} a apart (centrelines), closer than a: the body passed through itself"
+            ),
+            Some(c) if sc.active_steps > 0 => eprintln!(
+                "self-contact: closest pair {c:.4} a apart; {} steps with pairs within the activation gap, at most {} at once, largest pair force {:.3} N",
+                sc.active_steps, sc.max_pairs, sc.max_force
+            ),
+            _ => {}
+        }
         if let Some(p) = &summary.periodic {
             let miss = p.missed();
             eprintln!(
