@@ -2,6 +2,15 @@
 //! every energy term). It only evaluates the function: gradients are differenced from values
 //! and Hessians from gradients, so it is independent of the analytic code it checks.
 
+/// A deterministic pseudo-random number in `[-0.5, 0.5)` (xorshift64), for the random
+/// configurations of the tests; `state` must not be zero.
+pub fn uniform(state: &mut u64) -> f64 {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+    (*state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+}
+
 /// Central-difference gradient of `f` at `x` with step `h_k = eps * max(1, |x_k|)`.
 pub fn gradient(f: &mut dyn FnMut(&[f64]) -> f64, x: &[f64], eps: f64) -> Vec<f64> {
     let mut y = x.to_vec();

@@ -317,12 +317,7 @@ mod tests {
     fn band(n: usize, diag: f64, seed: u64) -> Assembly {
         let mut asm = Assembly::new(n);
         let mut x = seed;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut next = || crate::fd::uniform(&mut x);
         for j in 0..n {
             for i in j.saturating_sub(W)..j {
                 asm.add_h(i, j, next());
@@ -411,10 +406,7 @@ mod tests {
             let mut val = [0.0; super::super::LOW_RANK_ENTRIES];
             for r in 0..idx.len() {
                 idx[r] = if r < 6 { 3 * c + r } else { 180 + r };
-                seed = seed
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                val[r] = 3.0 * ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+                val[r] = 3.0 * crate::fd::uniform(&mut seed);
             }
             asm.add_low_rank(idx, val);
         }

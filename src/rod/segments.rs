@@ -156,12 +156,7 @@ impl SortAndSweep {
 mod tests {
     use super::*;
 
-    fn pseudo(seed: &mut u64) -> f64 {
-        *seed ^= *seed << 13;
-        *seed ^= *seed >> 7;
-        *seed ^= *seed << 17;
-        (*seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    }
+    use crate::fd::uniform as pseudo;
 
     /// The closest points beat a fine grid search over the unit square (and the distance is
     /// attained by the returned points), for random segments, parallel ones and crossing ones.
