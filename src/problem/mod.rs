@@ -6,13 +6,19 @@
 
 mod derived;
 mod gait;
+mod ground;
+mod initial;
 pub mod keys;
 pub mod limits;
 pub mod ranges;
+mod self_contact;
 mod solver;
 pub mod time;
 
 pub use gait::{GaitSpec, Kind};
+pub use ground::GroundSpec;
+pub use initial::{InitialSpec, Shape};
+pub use self_contact::SelfContactSpec;
 pub use solver::{set_overrides, ContactKind, IntegratorKind, Overrides, SolverSpec};
 pub use time::Adaptive;
 
@@ -91,72 +97,6 @@ pub fn check_accuracy(a: &AccuracySpec, p: &Problem) -> Result<(), (&'static str
     Ok(())
 }
 
-/// `[ground]`: a plane `z = 0` with anisotropic kinetic Coulomb friction. Defaults and ranges
-/// of every field: [`keys`].
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GroundSpec {
-    /// Coefficient resisting forward (toward the head) sliding ([`keys::GROUND_MU_FORWARD`]).
-    #[serde(default = "d_mu_f")]
-    pub mu_forward: f64,
-    /// Coefficient resisting backward sliding ([`keys::GROUND_MU_BACKWARD`]).
-    #[serde(default = "d_mu_b")]
-    pub mu_backward: f64,
-    /// Coefficient resisting sideways sliding ([`keys::GROUND_MU_SIDEWAYS`]).
-    #[serde(default = "d_mu_s")]
-    pub mu_sideways: f64,
-    /// Incline (degrees): gravity is tilted about y so that the slope rises along +x
-    /// ([`keys::GROUND_INCLINE_DEG`]).
-    #[serde(default = "d_incline")]
-    pub incline_deg: f64,
-}
-fn d_mu_f() -> f64 {
-    keys::GROUND_MU_FORWARD.real()
-}
-fn d_mu_b() -> f64 {
-    keys::GROUND_MU_BACKWARD.real()
-}
-fn d_mu_s() -> f64 {
-    keys::GROUND_MU_SIDEWAYS.real()
-}
-fn d_incline() -> f64 {
-    keys::GROUND_INCLINE_DEG.real()
-}
-
-/// `[self_contact]`: two parts of the body cannot pass through each other
-/// ([`crate::energy::self_contact`]). Defaults and ranges: [`keys`] (`SELF_CONTACT_*`).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct SelfContactSpec {
-    /// On or off ([`keys::SELF_CONTACT_ENABLED`]).
-    #[serde(default = "d_sc_enabled")]
-    pub enabled: bool,
-    /// Activation gap over `a` ([`keys::SELF_CONTACT_ACTIVATION`]).
-    #[serde(default = "d_sc_activation")]
-    pub activation: f64,
-    /// Barrier stiffness in `B / a^2` ([`keys::SELF_CONTACT_STIFFNESS`]).
-    #[serde(default = "d_sc_stiffness")]
-    pub stiffness: f64,
-}
-fn d_sc_enabled() -> bool {
-    keys::SELF_CONTACT_ENABLED.flag()
-}
-fn d_sc_activation() -> f64 {
-    keys::SELF_CONTACT_ACTIVATION.real()
-}
-fn d_sc_stiffness() -> f64 {
-    keys::SELF_CONTACT_STIFFNESS.real()
-}
-impl Default for SelfContactSpec {
-    fn default() -> Self {
-        SelfContactSpec {
-            enabled: d_sc_enabled(),
-            activation: d_sc_activation(),
-            stiffness: d_sc_stiffness(),
-        }
-    }
-}
-
 /// Which end of the rod is clamped (position and material frame held).
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
@@ -209,80 +149,6 @@ fn d_density() -> f64 {
 }
 fn d_natural_twist() -> f64 {
     keys::ROD_NATURAL_TWIST.real()
-}
-
-/// Initial shape.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum Shape {
-    /// Straight along the heading; head (s = 0) at x = L, tail at the origin.
-    #[default]
-    Straight,
-    /// A coil: a helix about the vertical axis through the origin, from the tail at the
-    /// bottom up to the head, of radius `coil_radius` rising `coil_pitch` per turn.
-    Coil,
-}
-
-/// `[initial]`: initial configuration and velocity. Units, defaults and ranges: [`keys`]
-/// (`INITIAL_*`).
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct InitialSpec {
-    /// Shape: "straight" (default): along +x, head (s = 0) at x = L, tail at x = 0,
-    /// centreline at z = a/2 + `height`.
-    #[serde(default)]
-    pub shape: Shape,
-    /// Uniform initial velocity (m/s) ([`keys::INITIAL_VELOCITY`]).
-    #[serde(default = "d_velocity")]
-    pub velocity: [f64; 3],
-    /// Initial rigid angular velocity about the centroid (rad/s)
-    /// ([`keys::INITIAL_ANGULAR_VELOCITY`]).
-    #[serde(default = "d_angular_velocity")]
-    pub angular_velocity: [f64; 3],
-    /// Rotation of the straight rod about z (degrees); 0 = head toward +x
-    /// ([`keys::INITIAL_HEADING_DEG`]).
-    #[serde(default = "d_heading")]
-    pub heading_deg: f64,
-    /// Extra height of the centreline above `a/2` (m) ([`keys::INITIAL_HEIGHT`]).
-    #[serde(default = "d_height")]
-    pub height: f64,
-    /// Coil: radius of the helix (m) ([`keys::INITIAL_COIL_RADIUS`]).
-    #[serde(default = "d_coil_radius")]
-    pub coil_radius: f64,
-    /// Coil: rise per turn (m) ([`keys::INITIAL_COIL_PITCH`]).
-    #[serde(default = "d_coil_pitch")]
-    pub coil_pitch: f64,
-}
-fn d_coil_radius() -> f64 {
-    keys::INITIAL_COIL_RADIUS.real()
-}
-fn d_coil_pitch() -> f64 {
-    keys::INITIAL_COIL_PITCH.real()
-}
-fn d_velocity() -> [f64; 3] {
-    keys::INITIAL_VELOCITY.reals3()
-}
-fn d_angular_velocity() -> [f64; 3] {
-    keys::INITIAL_ANGULAR_VELOCITY.reals3()
-}
-fn d_heading() -> f64 {
-    keys::INITIAL_HEADING_DEG.real()
-}
-fn d_height() -> f64 {
-    keys::INITIAL_HEIGHT.real()
-}
-impl Default for InitialSpec {
-    fn default() -> Self {
-        Self {
-            coil_radius: d_coil_radius(),
-            coil_pitch: d_coil_pitch(),
-            shape: Shape::Straight,
-            velocity: d_velocity(),
-            angular_velocity: d_angular_velocity(),
-            heading_deg: d_heading(),
-            height: d_height(),
-        }
-    }
 }
 
 /// `[gravity]`.
@@ -679,42 +545,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
     }
     c.key_finite(&ROD_NATURAL_CURVATURE, &r.natural_curvature)?;
     c.key(&ROD_NATURAL_TWIST, r.natural_twist)?;
-    let i = &p.initial;
-    c.key_finite(&INITIAL_VELOCITY, &i.velocity)?;
-    c.key_finite(&INITIAL_ANGULAR_VELOCITY, &i.angular_velocity)?;
-    c.key(&INITIAL_HEADING_DEG, i.heading_deg)?;
-    c.key(&INITIAL_HEIGHT, i.height)?;
-    c.key(&INITIAL_COIL_RADIUS, i.coil_radius)?;
-    c.key(&INITIAL_COIL_PITCH, i.coil_pitch)?;
-    if i.shape == Shape::Coil {
-        if r.clamp != Clamp::None {
-            return Err(c.fail(
-                "initial",
-                "shape",
-                "\"coil\"".into(),
-                "\"straight\" when rod.clamp is \"head\" or \"tail\" (a coil has free ends)",
-            ));
-        }
-        if !(i.coil_pitch > r.diameter) {
-            return Err(c.fail(
-                "initial",
-                "coil_pitch",
-                num(i.coil_pitch),
-                &format!(
-                    "> rod.diameter = {} (m): the turns must start apart",
-                    num(r.diameter)
-                ),
-            ));
-        }
-        if !(i.coil_radius > r.diameter) {
-            return Err(c.fail(
-                "initial",
-                "coil_radius",
-                num(i.coil_radius),
-                &format!("> rod.diameter = {} (m)", num(r.diameter)),
-            ));
-        }
-    }
+    initial::check(p, &c)?;
     c.key(&GRAVITY_G, p.gravity.g)?;
     let t = &p.time;
     match t.mode {
@@ -760,30 +591,8 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
         }
     }
     c.int(&TIME_LOAD_STEPS, t.load_steps)?;
-    if let Some(gr) = &p.ground {
-        c.key(&GROUND_MU_FORWARD, gr.mu_forward)?;
-        c.key(&GROUND_MU_BACKWARD, gr.mu_backward)?;
-        c.key(&GROUND_MU_SIDEWAYS, gr.mu_sideways)?;
-        c.key(&GROUND_INCLINE_DEG, gr.incline_deg)?;
-        if t.mode == Mode::Static {
-            return Err(c.fail(
-                "time",
-                "mode",
-                "\"static\"".into(),
-                "\"dynamic\" when a [ground] is present (friction needs time)",
-            ));
-        }
-        if p.gravity.g == 0.0 {
-            return Err(c.fail(
-                "gravity",
-                "g",
-                "0".into(),
-                "> 0 when a [ground] is present (the normal contact forces, and so friction, come from the weight)",
-            ));
-        }
-    }
-    c.key(&SELF_CONTACT_ACTIVATION, p.self_contact.activation)?;
-    c.key(&SELF_CONTACT_STIFFNESS, p.self_contact.stiffness)?;
+    ground::check(p, &c)?;
+    self_contact::check_keys(p, &c)?;
     let g = &p.gait;
     c.key(&GAIT_STRESS, g.stress)?;
     c.key(&GAIT_SIGMA, g.sigma)?;
@@ -841,14 +650,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             "\"implicit\" in static mode (BDF2 only steps in time)",
         ));
     }
-    if p.self_contact.enabled && p.ground.is_some() && p.solver.contact == ContactKind::ActiveSet {
-        return Err(c.fail(
-            "solver",
-            "contact",
-            "\"active-set\"".into(),
-            "\"semi-smooth\" or \"conic\" while self_contact.enabled = true (the active set has no self-contact)",
-        ));
-    }
+    self_contact::check_solver(p, &c)?;
     if let Err((k, value)) = p.solver.check_settings() {
         return Err(c.fail_key(k, value));
     }
