@@ -17,8 +17,11 @@ pub mod lock;
 pub mod movie;
 pub mod rundir;
 pub mod schema;
+pub mod self_contact;
 pub mod staging;
 pub mod vtk;
+
+pub use self_contact::{self_contact_arrays, SelfContactSummary};
 
 use crate::model::Model;
 use crate::rod::vec3::f;
@@ -99,45 +102,6 @@ pub struct Summary {
     /// observable over them ([`ensemble`], run by `crate::design::ensemble`); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ensemble: Option<ensemble::Ensemble>,
-}
-
-/// The `self_contact` block of `summary.json`.
-#[derive(Clone, Debug, Serialize)]
-pub struct SelfContactSummary {
-    /// Whether the run had self-contact (`[self_contact] enabled`).
-    pub enabled: bool,
-    /// Closest centreline distance between parts of the body more than `2a` apart along it,
-    /// over `a`: over every accepted step (the broad phase's candidates, exact below
-    /// `1 + activation`) and every recorded frame (exact); `null` when no pair is eligible.
-    pub closest_over_a: Option<f64>,
-    /// Accepted steps that ended with a pair within the activation gap.
-    pub active_steps: usize,
-    /// Largest force of one pair at the end of a step (N).
-    pub max_force: f64,
-    /// Most pairs within the activation gap at once.
-    pub max_pairs: usize,
-}
-
-impl SelfContactSummary {
-    /// From a run's statistics and its recorded frames.
-    pub fn new(m: &Model, o: &Outcome) -> Self {
-        let st = &o.stats.self_contact;
-        let geometry = crate::energy::self_contact::SelfContact::geometry(m);
-        let frames = o
-            .frames
-            .iter()
-            .map(|fr| crate::energy::self_contact::closest_of_frame(&geometry, m, &fr.x))
-            .fold(f64::INFINITY, f64::min)
-            / m.diameter;
-        let closest = st.closest_over_a.map_or(frames, |c| c.min(frames));
-        SelfContactSummary {
-            enabled: m.self_contact.is_some(),
-            closest_over_a: closest.is_finite().then_some(closest),
-            active_steps: st.active_steps,
-            max_force: st.max_force,
-            max_pairs: st.max_pairs,
-        }
-    }
 }
 
 /// How `slither run --accuracy` chose its model (see `crate::design::selection`).
@@ -430,28 +394,6 @@ fn put(
         .begin_nd()?;
     w.extend(data)?;
     w.finish()
-}
-
-/// The self-contact arrays of `trajectory.npz` from recorded frames: `closest_distance`
-/// (per frame, m: the closest centreline distance between parts of the body more than `2a`
-/// apart along it) and `self_contact` (frames x nodes, flattened: 1 where a node touches
-/// another part of the body, within the activation gap, else 0).
-pub fn self_contact_arrays(m: &Model, frames: &[Frame]) -> (Vec<f64>, Vec<f64>) {
-    use crate::energy::self_contact::{closest_of_frame, touching_of_frame, SelfContact};
-    let geometry = SelfContact::geometry(m);
-    let closest = frames
-        .iter()
-        .map(|fr| closest_of_frame(&geometry, m, &fr.x))
-        .collect();
-    let touching = frames
-        .iter()
-        .flat_map(|fr| {
-            touching_of_frame(&geometry, m, &fr.x)
-                .into_iter()
-                .map(|b| if b { 1.0 } else { 0.0 })
-        })
-        .collect();
-    (closest, touching)
 }
 
 /// Write `trajectory.npz` with `t` (F), `x` (F x nodes x 3), `theta` (F x edges),
