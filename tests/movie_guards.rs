@@ -9,7 +9,11 @@ use std::process::{Command, Output};
 const BIN: &str = env!("CARGO_BIN_EXE_slither");
 
 fn slither(args: &[&str]) -> Output {
-    Command::new(BIN).args(args).env("RAYON_NUM_THREADS", "1").output().unwrap()
+    Command::new(BIN)
+        .args(args)
+        .env("RAYON_NUM_THREADS", "1")
+        .output()
+        .unwrap()
 }
 
 fn err(o: &Output) -> String {
@@ -18,9 +22,20 @@ fn err(o: &Output) -> String {
 
 /// The bundled sliding rod (0.6 s) run into a fresh directory with `--no-plots --movie`.
 fn slide_run(name: &str) -> PathBuf {
-    let out = std::env::temp_dir().join(format!("slither-movie-guards-{}-{name}", std::process::id()));
+    let out = std::env::temp_dir().join(format!(
+        "slither-movie-guards-{}-{name}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&out);
-    let o = slither(&["run", "problems/slide.toml", "--out", out.to_str().unwrap(), "--quiet", "--no-plots", "--movie"]);
+    let o = slither(&[
+        "run",
+        "problems/slide.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+        "--no-plots",
+        "--movie",
+    ]);
     assert!(o.status.success(), "{}", err(&o));
     out
 }
@@ -52,26 +67,68 @@ fn movie_refuses_data_files_wrong_formats_late_stills_and_bad_fps() {
     let out = slide_run("guards");
     let npz = out.join("trajectory.npz");
     let data = std::fs::read(&npz).unwrap();
-    refused(&out, &["--out", npz.to_str().unwrap()], &["trajectory.npz", ".gif", ".png"]);
-    refused(&out, &["--out", out.join("summary.json").to_str().unwrap()], &["summary.json", ".gif"]);
-    assert_eq!(std::fs::read(&npz).unwrap(), data, "the data file was overwritten");
+    refused(
+        &out,
+        &["--out", npz.to_str().unwrap()],
+        &["trajectory.npz", ".gif", ".png"],
+    );
+    refused(
+        &out,
+        &["--out", out.join("summary.json").to_str().unwrap()],
+        &["summary.json", ".gif"],
+    );
+    assert_eq!(
+        std::fs::read(&npz).unwrap(),
+        data,
+        "the data file was overwritten"
+    );
     let png = out.join("x.png");
-    refused(&out, &["--out", png.to_str().unwrap()], &["x.png", "--still"]);
+    refused(
+        &out,
+        &["--out", png.to_str().unwrap()],
+        &["x.png", "--still"],
+    );
     assert!(!png.exists());
     let gif = out.join("x.gif");
-    refused(&out, &["--still", "0.3", "--out", gif.to_str().unwrap()], &["x.gif", ".png"]);
+    refused(
+        &out,
+        &["--still", "0.3", "--out", gif.to_str().unwrap()],
+        &["x.gif", ".png"],
+    );
     refused(&out, &["--out", out.to_str().unwrap()], &["is a directory"]);
     refused(&out, &["--still", "100"], &["--still 100", "[0, 0.6"]);
     refused(&out, &["--still=-1"], &["--still -1", "[0, 0.6"]);
     assert!(!out.join("still_100.png").exists());
     for fps in ["0.001", "1000", "0"] {
-        refused(&out, &["--fps", fps], &[&format!("--fps {fps}"), "[0.1, 100]"]);
+        refused(
+            &out,
+            &["--fps", fps],
+            &[&format!("--fps {fps}"), "[0.1, 100]"],
+        );
     }
     // Within the ranges both work, and the format follows the extension.
-    let o = slither(&["movie", out.to_str().unwrap(), "--size", "160x120", "--still", "0.6", "--out", png.to_str().unwrap()]);
+    let o = slither(&[
+        "movie",
+        out.to_str().unwrap(),
+        "--size",
+        "160x120",
+        "--still",
+        "0.6",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", err(&o));
     assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
-    let o = slither(&["movie", out.to_str().unwrap(), "--size", "160x120", "--fps", "0.1", "--out", gif.to_str().unwrap()]);
+    let o = slither(&[
+        "movie",
+        out.to_str().unwrap(),
+        "--size",
+        "160x120",
+        "--fps",
+        "0.1",
+        "--out",
+        gif.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", err(&o));
     assert_eq!(&std::fs::read(&gif).unwrap()[..6], b"GIF89a");
 }

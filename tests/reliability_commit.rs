@@ -28,11 +28,17 @@ fn slide(dir: &Path) -> PathBuf {
 }
 
 fn slither(args: &[&str]) -> Output {
-    Command::new(BIN).args(args).env("RAYON_NUM_THREADS", "1").output().unwrap()
+    Command::new(BIN)
+        .args(args)
+        .env("RAYON_NUM_THREADS", "1")
+        .output()
+        .unwrap()
 }
 
 fn data(out: &Path) -> Vec<Vec<u8>> {
-    DATA.iter().map(|n| std::fs::read(out.join(n)).unwrap()).collect()
+    DATA.iter()
+        .map(|n| std::fs::read(out.join(n)).unwrap())
+        .collect()
 }
 
 /// The folder of new results the error names (`unsaved_run_PID`), checked to exist.
@@ -41,10 +47,19 @@ fn kept_folder(err: &str, out: &Path) -> PathBuf {
         .unwrap()
         .flatten()
         .map(|e| e.path())
-        .filter(|p| p.file_name().unwrap().to_string_lossy().starts_with("unsaved_run_"))
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("unsaved_run_")
+        })
         .collect();
     assert_eq!(kept.len(), 1, "{err}");
-    assert!(err.contains(&kept[0].display().to_string()), "the error names {}: {err}", kept[0].display());
+    assert!(
+        err.contains(&kept[0].display().to_string()),
+        "the error names {}: {err}",
+        kept[0].display()
+    );
     kept[0].clone()
 }
 
@@ -60,7 +75,12 @@ fn a_rerun_whose_final_move_fails_keeps_both_results() {
     let (file, out) = (slide(&dir), dir.join("out"));
     let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
     let first = slither(&["run", f, "--out", o, "--quiet", "--no-plots"]);
-    assert_eq!(first.status.code(), Some(0), "{}", String::from_utf8_lossy(&first.stderr));
+    assert_eq!(
+        first.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
     let before = data(&out);
     // A non-empty directory where the rerun's tracks.png must go: no rename replaces it,
     // whoever runs.
@@ -69,20 +89,34 @@ fn a_rerun_whose_final_move_fails_keeps_both_results() {
     let rerun = slither(&["run", f, "--out", o, "--quiet"]);
     let err = String::from_utf8_lossy(&rerun.stderr).into_owned();
     assert_eq!(rerun.status.code(), Some(1), "{err}");
-    assert!(err.contains("tracks.png") && err.contains("previous results are unchanged"), "{err}");
+    assert!(
+        err.contains("tracks.png") && err.contains("previous results are unchanged"),
+        "{err}"
+    );
     assert_eq!(data(&out), before, "the previous results changed");
     let kept = kept_folder(&err, &out);
     for n in DATA.iter().chain(&["tracks.png", "snapshots.png"]) {
         assert!(kept.join(n).is_file(), "{n} not kept in {}", kept.display());
     }
-    assert!(!out.join("snapshots.png").exists(), "a new figure was moved in");
+    assert!(
+        !out.join("snapshots.png").exists(),
+        "a new figure was moved in"
+    );
     no_leftovers(&out);
     // The obstacle gone, a rerun replaces the results; the user's file stays.
     std::fs::remove_dir_all(out.join("tracks.png")).unwrap();
     let again = slither(&["run", f, "--out", o, "--quiet"]);
-    assert_eq!(again.status.code(), Some(0), "{}", String::from_utf8_lossy(&again.stderr));
+    assert_eq!(
+        again.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
     assert!(out.join("tracks.png").is_file() && out.join("snapshots.png").is_file());
-    assert_eq!(std::fs::read_to_string(out.join("notes.txt")).unwrap(), "mine");
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
     no_leftovers(&out);
 }
 
@@ -91,14 +125,22 @@ fn a_rerun_removes_earlier_movie_renderings_but_no_user_file() {
     let dir = scratch("movies");
     let (file, out) = (slide(&dir), dir.join("out"));
     let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
-    assert!(slither(&["run", f, "--out", o, "--quiet", "--no-plots"]).status.success());
+    assert!(slither(&["run", f, "--out", o, "--quiet", "--no-plots"])
+        .status
+        .success());
     let m = slither(&["movie", o, "--view", "top", "--size", "160x120"]);
     assert!(m.status.success(), "{}", String::from_utf8_lossy(&m.stderr));
-    assert!(slither(&["movie", o, "--still", "0.3", "--size", "160x120"]).status.success());
+    assert!(
+        slither(&["movie", o, "--still", "0.3", "--size", "160x120"])
+            .status
+            .success()
+    );
     assert!(out.join("movie_top_contact.gif").exists() && out.join("still_0.3.png").exists());
     std::fs::write(out.join("movie_notes.txt"), "mine").unwrap();
     std::fs::write(out.join("my_still.png"), "mine").unwrap();
-    assert!(slither(&["run", f, "--out", o, "--quiet", "--no-plots"]).status.success());
+    assert!(slither(&["run", f, "--out", o, "--quiet", "--no-plots"])
+        .status
+        .success());
     assert!(!out.join("movie_top_contact.gif").exists() && !out.join("still_0.3.png").exists());
     assert!(out.join("movie_notes.txt").exists() && out.join("my_still.png").exists());
 }
@@ -141,7 +183,9 @@ fn an_unprivileged_rerun_that_cannot_replace_a_subfolder_keeps_both_results() {
     std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o755)).unwrap();
     let (file, out) = (slide(&dir), dir.join("out"));
     let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
-    assert!(slither(&["run", f, "--out", o, "--quiet", "--no-plots"]).status.success());
+    assert!(slither(&["run", f, "--out", o, "--quiet", "--no-plots"])
+        .status
+        .success());
     // The previous results belong to nobody, but their vtk/ (with a ParaView frame a rerun
     // must remove) to root: nobody cannot move anything out of it.
     std::fs::create_dir(out.join("vtk")).unwrap();
@@ -152,9 +196,15 @@ fn an_unprivileged_rerun_that_cannot_replace_a_subfolder_keeps_both_results() {
     let rerun = as_nobody(&["run", f, "--out", o, "--quiet", "--no-plots"]);
     let err = String::from_utf8_lossy(&rerun.stderr).into_owned();
     assert_eq!(rerun.status.code(), Some(1), "{err}");
-    assert!(err.contains("vtk/frame_0.vtp") && err.contains("previous results are unchanged"), "{err}");
+    assert!(
+        err.contains("vtk/frame_0.vtp") && err.contains("previous results are unchanged"),
+        "{err}"
+    );
     assert_eq!(data(&out), before, "the previous results changed");
-    assert_eq!(std::fs::read_to_string(out.join("vtk/frame_0.vtp")).unwrap(), "old frame");
+    assert_eq!(
+        std::fs::read_to_string(out.join("vtk/frame_0.vtp")).unwrap(),
+        "old frame"
+    );
     let kept = kept_folder(&err, &out);
     for n in DATA {
         assert!(kept.join(n).is_file(), "{n} not kept in {}", kept.display());

@@ -44,7 +44,11 @@ fn signalled(args: &[&str], out: &Path, sig: i32, delay: Duration) -> (Output, D
     while !lock.exists() && start.elapsed() < Duration::from_secs(20) {
         std::thread::sleep(Duration::from_millis(10));
     }
-    assert!(lock.exists(), "the lock never appeared in {}", out.display());
+    assert!(
+        lock.exists(),
+        "the lock never appeared in {}",
+        out.display()
+    );
     std::thread::sleep(delay);
     let sent = Instant::now();
     assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, sig) }, 0);
@@ -60,7 +64,11 @@ fn clean(out: &Path, what: &str) {
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .filter(|n| n.starts_with(".slither.lock") || n.contains(".tmp") || n == ".run.old")
         .collect();
-    assert!(left.is_empty(), "{what}: left behind in {}: {left:?}", out.display());
+    assert!(
+        left.is_empty(),
+        "{what}: left behind in {}: {left:?}",
+        out.display()
+    );
 }
 
 const SIGNALS: [(i32, &str); 3] = [
@@ -76,14 +84,23 @@ fn each_signal_ends_a_run_with_its_data_written() {
     for (sig, name) in SIGNALS {
         let out = dir.join(name);
         let (o, took) = signalled(
-            &["run", base.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()],
+            &[
+                "run",
+                base.to_str().unwrap(),
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ],
             &out,
             sig,
             Duration::from_millis(300),
         );
         let e = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(128 + sig), "{name}: {e}");
-        assert!(took < Duration::from_secs(10), "{name}: ended {took:?} after the signal");
+        assert!(
+            took < Duration::from_secs(10),
+            "{name}: ended {took:?} after the signal"
+        );
         assert!(e.contains("interrupted") && e.contains(name), "{name}: {e}");
         let j: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
@@ -93,7 +110,11 @@ fn each_signal_ends_a_run_with_its_data_written() {
         assert!(t > 0.0 && t < 1000.0, "{name}: t_final {t}");
         assert!(out.join("trajectory.npz").exists() && out.join("final.csv").exists());
         // A scheduler's signal skips the figures; Ctrl-C draws them.
-        assert_eq!(out.join("snapshots.png").exists(), sig == libc::SIGINT, "{name}");
+        assert_eq!(
+            out.join("snapshots.png").exists(),
+            sig == libc::SIGINT,
+            "{name}"
+        );
         clean(&out, name);
     }
 }
@@ -111,22 +132,40 @@ fn each_signal_ends_a_phase_study_keeping_it_resumable() {
     for (sig, name) in SIGNALS {
         let out = dir.join(name);
         let (o, took) = signalled(
-            &["phase", file.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()],
+            &[
+                "phase",
+                file.to_str().unwrap(),
+                "--quiet",
+                "--out",
+                out.to_str().unwrap(),
+            ],
             &out,
             sig,
             Duration::from_millis(300),
         );
         let e = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(128 + sig), "{name}: {e}");
-        assert!(took < Duration::from_secs(10), "{name}: ended {took:?} after the signal");
-        assert!(e.contains("interrupted") && e.contains("resume"), "{name}: {e}");
+        assert!(
+            took < Duration::from_secs(10),
+            "{name}: ended {took:?} after the signal"
+        );
+        assert!(
+            e.contains("interrupted") && e.contains("resume"),
+            "{name}: {e}"
+        );
         // The study's record is there to resume from: its grid and its CSV header.
         assert!(out.join("phase.json").exists() && out.join("phase.csv").exists());
         clean(&out, name);
         // `slither status` sees the four cells missing and no lock.
-        let s = Command::new(BIN).args(["status", out.to_str().unwrap()]).output().unwrap();
+        let s = Command::new(BIN)
+            .args(["status", out.to_str().unwrap()])
+            .output()
+            .unwrap();
         let text = String::from_utf8_lossy(&s.stdout);
-        assert!(text.contains("0 done") && text.contains("4 missing"), "{text}");
+        assert!(
+            text.contains("0 done") && text.contains("4 missing"),
+            "{text}"
+        );
         assert!(text.contains("lock: none"), "{text}");
     }
 }
@@ -143,14 +182,23 @@ fn sigterm_ends_an_optimize_study_and_its_lock() {
     .unwrap();
     let out = dir.join("out");
     let (o, took) = signalled(
-        &["optimize", file.to_str().unwrap(), "--quiet", "--out", out.to_str().unwrap()],
+        &[
+            "optimize",
+            file.to_str().unwrap(),
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+        ],
         &out,
         libc::SIGTERM,
         Duration::from_millis(300),
     );
     let e = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(143), "{e}");
-    assert!(took < Duration::from_secs(10), "ended {took:?} after the signal");
+    assert!(
+        took < Duration::from_secs(10),
+        "ended {took:?} after the signal"
+    );
     assert!(e.contains("SIGTERM") && e.contains("resume"), "{e}");
     clean(&out, "optimize");
 }

@@ -198,9 +198,14 @@ fn phase_status(dir: &Path, p: &PhaseDir) {
             ok + failed
         );
     }
-    let finished = dir.join("boundaries.json").exists() && missing.is_empty();
+    let sharded = i.shard.is_some_and(|s| s.count > 1);
+    let finished = missing.is_empty() && (sharded || dir.join("boundaries.json").exists());
     println!("{}", lock_line(dir));
-    if finished {
+    if finished && sharded {
+        println!(
+            "shard done: every cell of this shard finished (merge the shards with slither merge)"
+        );
+    } else if finished {
         println!("finished: every cell done and the figures written (a rerun replays without simulating)");
     } else {
         println!(
