@@ -202,3 +202,62 @@ fn sigterm_ends_an_optimize_study_and_its_lock() {
     assert!(e.contains("SIGTERM") && e.contains("resume"), "{e}");
     clean(&out, "optimize");
 }
+
+#[test]
+fn sighup_ends_a_merge_that_is_refining() {
+    // Shards of a 2 x 2 grid with one regime boundary; the merge bisects it (`refine`), one
+    // simulation of 200 s of the tiny S-start per step: the signal arrives mid-refinement.
+    let dir = scratch("merge");
+    tiny(&dir, 200.0);
+    let file = dir.join("phase.toml");
+    std::fs::write(
+        &file,
+        "[phase]\nbase = \"base.toml\"\nweight = [100.0, 1000.0]\ntorque = [12.0, 22.0]\nrefine = true\nrefine_steps = 2\n",
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let shards: Vec<String> = ["1/2", "2/2"]
+        .iter()
+        .map(|s| {
+            let out = dir.join(format!("shard_{}", &s[..1]));
+            let o = Command::new(BIN)
+                .args([
+                    "phase",
+                    f,
+                    "--quiet",
+                    "--shard",
+                    s,
+                    "--out",
+                    out.to_str().unwrap(),
+                ])
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            out.to_str().unwrap().to_string()
+        })
+        .collect();
+    let merged = dir.join("merged");
+    let (o, took) = signalled(
+        &[
+            "merge",
+            &shards[0],
+            &shards[1],
+            "--out",
+            merged.to_str().unwrap(),
+        ],
+        &merged,
+        libc::SIGHUP,
+        Duration::from_millis(300),
+    );
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(129), "{e}");
+    assert!(
+        took < Duration::from_secs(10),
+        "ended {took:?} after the signal"
+    );
+    assert!(e.contains("SIGHUP") && e.contains("resume"), "{e}");
+    clean(&merged, "merge");
+    for s in &shards {
+        clean(Path::new(s), "a merge's input");
+    }
+}
