@@ -275,9 +275,10 @@ fn restore_aside(out: &Path) {
 }
 
 /// Remove what a process ended by a signal leaves in the output directory `out`: the staging
-/// folder, an aside folder (its files put back first), the ParaView staging folder and the
-/// temporary files of atomic writes (`.NAME.tmp`, `.NAME.tmp.png`, `NAME.tmp`). Results and
-/// other files stay.
+/// folder, an aside folder (its files put back first), the ParaView staging folder, the
+/// temporary files of atomic writes (`.NAME.tmp`, `.NAME.tmp.png`, `.NAME.tmp.svg`, and
+/// `refine.csv.tmp`) and this process's private lock file (`.slither.lock.PID`). Results and
+/// every other file stay.
 pub fn abandon(out: &Path) {
     restore_aside(out);
     let _ = std::fs::remove_dir_all(out.join(STAGING_DIR));
@@ -287,8 +288,11 @@ pub fn abandon(out: &Path) {
     };
     for e in entries.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
-        let temporary = name.ends_with(".tmp")
-            || (name.starts_with('.') && (name.contains(".tmp.") || name.ends_with(".tmp")));
+        let hidden_tmp = name.starts_with('.')
+            && (name.ends_with(".tmp") || name.ends_with(".tmp.png") || name.ends_with(".tmp.svg"));
+        let temporary = hidden_tmp
+            || name == "refine.csv.tmp"
+            || name == format!("{}.{}", super::lock::LOCK_FILE, std::process::id());
         if temporary && e.file_type().is_ok_and(|t| t.is_file()) {
             let _ = std::fs::remove_file(e.path());
         }
@@ -373,6 +377,38 @@ mod tests {
         assert_eq!(read(out.join("final.csv")), "old");
         assert_eq!(read(e.kept.join("summary.json")), "new");
         assert!(out.join("tracks.png/inside").is_dir() && !out.join(ASIDE_DIR).exists());
+        std::fs::remove_dir_all(&out).unwrap();
+    }
+
+    #[test]
+    fn abandon_removes_temporaries_and_puts_moved_aside_results_back() {
+        let out = std::env::temp_dir().join(format!("slither_abandon_{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        std::fs::create_dir_all(out.join(STAGING_DIR)).unwrap();
+        std::fs::create_dir_all(out.join(ASIDE_DIR)).unwrap();
+        std::fs::write(out.join(ASIDE_DIR).join("summary.json"), "old").unwrap();
+        let temporaries = [
+            ".summary.json.tmp",
+            ".tracks.tmp.png",
+            ".tracks.tmp.svg",
+            "refine.csv.tmp",
+        ];
+        let users = ["notes.tmp", ".hidden", "phase.csv"];
+        for n in temporaries.iter().chain(&users) {
+            std::fs::write(out.join(n), "x").unwrap();
+        }
+        abandon(&out);
+        for n in temporaries {
+            assert!(!out.join(n).exists(), "{n} left");
+        }
+        for n in users {
+            assert!(
+                out.join(n).exists(),
+                "{n}, not a temporary of slither's, removed"
+            );
+        }
+        assert_eq!(read(out.join("summary.json")), "old");
+        assert!(!out.join(STAGING_DIR).exists() && !out.join(ASIDE_DIR).exists());
         std::fs::remove_dir_all(&out).unwrap();
     }
 }
