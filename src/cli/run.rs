@@ -246,8 +246,9 @@ pub fn run(args: &Args) -> ExitCode {
     }
     // After SIGTERM or SIGHUP the data goes to disk at once, without figures (Slurm kills
     // the job 30 s after SIGTERM).
-    let hurry = o.interrupted && super::signals::hurry();
-    if hurry && !no_plots {
+    // A signal that came after the simulation (post-processing, ensemble) counts too.
+    let hurry = super::signals::hurry();
+    if hurry && (!no_plots || args.movie) {
         eprintln!(
             "{}: interrupted ({}): figures and movie skipped",
             path.display(),
@@ -291,6 +292,15 @@ pub fn run(args: &Args) -> ExitCode {
             out.display()
         );
         return ExitCode::from(1);
+    }
+    if hurry && !o.interrupted {
+        eprintln!(
+            "{}: {} came after the simulation: its results are written to {}, without figures",
+            path.display(),
+            super::signals::name(),
+            out.display()
+        );
+        return super::signals::exit_code();
     }
     if o.interrupted {
         eprintln!(
