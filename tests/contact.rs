@@ -2,7 +2,7 @@
 //! (issue: ground contact as a conic program).
 mod common;
 use common::model;
-use slither::contact::Conic;
+use slither::contact::Dispatcher;
 use slither::integrator::{Integrator, Natural};
 use slither::model::Model;
 use slither::rod::vec3::f;
@@ -55,8 +55,8 @@ fn simulate(m: &Model, each: impl FnMut(&State, &mut Integrator)) -> (State, Int
     simulate_path(m, true, each)
 }
 
-/// Step with the active-set contact Newton (`active = true`, the default) or with one conic
-/// solve per Newton iterate (`false`), so that both paths stay tested.
+/// Step with the default contact solver, the semi-smooth Newton (`active = true`), or with one
+/// conic solve per Newton iterate (`false`), so that both solvers stay tested.
 fn simulate_path(
     m: &Model,
     active: bool,
@@ -64,7 +64,7 @@ fn simulate_path(
 ) -> (State, Integrator<'_>) {
     let mut integ = Integrator::new(m, Box::new(Natural));
     if !active {
-        integ.set_contact(Some(Box::new(Conic::new(m))));
+        integ.set_contact(Some(Box::new(Dispatcher::new(m, false))));
     }
     let mut s = State::initial(m);
     let steps = (m.duration / m.dt).round() as usize;
@@ -132,30 +132,6 @@ fn stop_distance_with(heading: f64, v: [f64; 3], mu: f64, active: bool, integrat
     println!("heading {heading}: stopped after {d:.6} m (analytic {expected:.6} m), final speed {speed:e}, {:.2} conic solves/step", integ.stats().contact.conic_solves as f64 / integ.stats().steps as f64);
     assert!((d / expected - 1.0).abs() < 0.01);
     assert!(speed < 1e-9, "still moving at {speed}");
-    if active {
-        // The active set (the default contact solve before the semi-smooth Newton) stops at
-        // the same distance, and counts its status changes (`stats.switches`): every contact
-        // slides from the start and comes to rest on the ground, each stops once (a slip
-        // reversal or a vanished slip) and never slides again, and none lands or lifts off.
-        let mut m = scene_with(
-            heading,
-            v,
-            0.0,
-            0.0,
-            1.1 * f::norm(v) / (mu * G),
-            integrator,
-        );
-        m.solver.contact = slither::problem::ContactKind::ActiveSet;
-        let (s, integ) = simulate_path(&m, true, |_, _| {});
-        let d_active = f::norm(f::sub(s.centroid(&m), c0));
-        println!("active set: stopped after {d_active:.6} m");
-        assert!((d_active / expected - 1.0).abs() < 0.01);
-        let w = integ.stats().contact.switches;
-        println!("status changes: {w:?}");
-        assert_eq!(w.reversals + w.zero_slip_sticks, m.real.len());
-        assert_eq!(w.early_slides + w.converged_slides + w.front_slides, 0);
-        assert_eq!(w.landings + w.early_lifts + w.converged_lifts, 0);
-    }
 }
 
 #[test]
@@ -207,7 +183,7 @@ fn incline_with(heading: f64, mu: f64, active: bool, integrator: &str) {
     );
     // Rigid sliding from rest at constant acceleration: implicit Euler and BDF2 give the
     // velocity exactly, so only the solver's tolerance is left: measured 1.4e-11 and 1.8e-12
-    // (active set, implicit Euler), 9e-13 and 1.4e-12 (BDF2), -2.9e-7 (conic program alone,
+    // (the retired active set, implicit Euler), 9e-13 and 1.4e-12 (BDF2), -2.9e-7 (conic program alone,
     // its interior-point tolerance): 1e-6 is 3.4 times the largest.
     assert!(
         (acc / expected - 1.0).abs() < 1e-6,
@@ -307,7 +283,7 @@ fn bad_ground_keys_are_rejected_with_the_key_named() {
 
 #[test]
 fn conic_path_alone_stops_and_sticks_and_slides_correctly() {
-    // One conic (Clarabel) solve per Newton iterate, no active set: the fallback path.
+    // One conic (Clarabel) solve per Newton iterate, no semi-smooth Newton: the fallback path.
     stop_distance_path(0.0, [0.5, 0.0, 0.0], MU[0], false);
     stop_distance_path(90.0, [0.5, 0.0, 0.0], MU[2], false);
     incline_path(0.0, MU[1], false);
@@ -323,13 +299,13 @@ fn bdf2_slides_to_the_same_stop_distances_and_sticks_below_the_friction_angle() 
 }
 
 /// The S-start's first 0.3 s on 50 elements with implicit Euler at 2e-3 s
-/// ([`common::s_start_coarse`]) with the active-set contact path, `[solver] contact_coupling`
-/// as given; returns every step's residual sequence (see `Stats::residuals`).
+/// ([`common::s_start_coarse`]) with the default contact solver (the semi-smooth Newton),
+/// `[solver] contact_coupling` as given; returns every step's residual sequence (see
+/// `ContactStats::residuals`).
 fn s_start_residuals(coupling: bool) -> Vec<Vec<f64>> {
     use slither::gait::Muscles;
     let mut p = common::s_start_coarse();
     p.time.duration = Some(0.3);
-    p.solver.contact = slither::problem::ContactKind::ActiveSet;
     p.solver.contact_coupling = coupling;
     p.solver.tolerance = 1e-9;
     let m = Model::new(&p);
@@ -626,7 +602,7 @@ fn conic_certificate_confirms_the_contact_newton_while_sliding_and_sticking() {
         m.solver.conic_certificate = 1;
         let (_, integ) = simulate(&m, |_, _| {});
         let c = &integ.stats().contact;
-        let solved = c.active_set_steps + c.semismooth_steps;
+        let solved = c.semismooth_steps;
         println!(
             "heading {heading}, incline {incline:.2}: {} of {solved} steps certified, {} failed, largest correction {:.3e} and normal-force change {:.3e} tolerances",
             c.certificates,
