@@ -281,6 +281,65 @@ fn bad_ground_keys_are_rejected_with_the_key_named() {
     }
 }
 
+/// Contacts between nodes (the machinery ground contact between nodes will use): the ground's
+/// contacts replaced by one at the middle of every segment (a stencil of its two nodes with
+/// weights 1/2). The semi-smooth Newton holds node coordinates, so every step goes to the conic
+/// program, which takes the stencils as they are. A straight rod sliding forward on them stops
+/// after `v0^2 / (2 mu_f g)` as with contacts at the nodes (the stop depends on the friction
+/// law, not on where the contacts sit), no midpoint sinks below the ground, and the normal
+/// forces spread to the nodes carry the weight.
+#[test]
+fn contacts_between_nodes_go_to_the_conic_program_and_stop_a_sliding_rod() {
+    use slither::contact::{Contact, ContactSet, Stencil};
+    let v = [0.5, 0.0, 0.0];
+    let m = scene(0.0, v, 0.0, 0.0, 1.1 * f::norm(v) / (MU[0] * G));
+    let law = *m.ground.as_ref().unwrap();
+    let weight = m.total_mass() * G;
+    let segments: Vec<usize> = m.real.clone().take(m.real.len() - 1).collect();
+    let contacts: Vec<Contact> = segments
+        .iter()
+        .map(|&i| Contact::new(Stencil::new(&[i, i + 1], &[0.5, 0.5]).unwrap(), law))
+        .collect();
+    let n = contacts.len();
+    let set = ContactSet::new(contacts.clone(), vec![weight / n as f64; n]);
+    let mut integ = Integrator::new(&m, Box::new(Natural));
+    integ.set_contact(Some(Box::new(Dispatcher::with_set(&m, set, true))));
+    let mut s = State::initial(&m);
+    let c0 = s.centroid(&m);
+    let steps = (m.duration / m.dt).round() as usize;
+    for _ in 0..steps {
+        integ.step(&mut s, m.dt).unwrap();
+        for c in &contacts {
+            let gap = c.gap(&s.q, m.diameter);
+            assert!(
+                gap >= -1e-9 * m.diameter,
+                "a midpoint {gap:e} m below the ground at t = {}",
+                s.t
+            );
+        }
+    }
+    let st = integ.stats();
+    println!(
+        "{} steps, {} semi-smooth steps, {} fallbacks, {} conic solves",
+        st.steps,
+        st.contact.semismooth_steps,
+        st.contact.semismooth_fallbacks,
+        st.contact.conic_solves
+    );
+    assert_eq!(st.contact.semismooth_steps, 0);
+    assert_eq!(st.contact.semismooth_fallbacks, st.steps);
+    let d = f::norm(f::sub(s.centroid(&m), c0));
+    let expected = f::dot(v, v) / (2.0 * MU[0] * G);
+    println!("stopped after {d:.6} m (analytic {expected:.6} m)");
+    assert!((d / expected - 1.0).abs() < 0.01, "{d} against {expected}");
+    let carried: f64 = integ.normal_forces().iter().sum();
+    println!("normal forces {carried:.9} N against the weight {weight:.9} N");
+    assert!(
+        (carried / weight - 1.0).abs() < 1e-6,
+        "{carried} against {weight}"
+    );
+}
+
 #[test]
 fn conic_path_alone_stops_and_sticks_and_slides_correctly() {
     // One conic (Clarabel) solve per Newton iterate, no semi-smooth Newton: the fallback path.

@@ -26,7 +26,12 @@ impl Dispatcher {
     /// The ground contacts of `m` with the semi-smooth Newton (conic fallback) or, if
     /// `semismooth` is false, the conic program alone.
     pub fn new(m: &Model, semismooth: bool) -> Self {
-        let set = ContactSet::ground(m, &m.q0);
+        Self::with_set(m, ContactSet::ground(m, &m.q0), semismooth)
+    }
+
+    /// The contact set `set` of `m` with the semi-smooth Newton (conic fallback) or the conic
+    /// program alone.
+    pub fn with_set(m: &Model, set: ContactSet, semismooth: bool) -> Self {
         Dispatcher {
             semismooth: semismooth.then(|| SemiSmooth::new(m, &set)),
             set,

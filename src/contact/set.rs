@@ -50,6 +50,19 @@ impl ContactSet {
         }
     }
 
+    /// A contact set of the given contacts with initial normal forces `normal` (N, one per
+    /// contact).
+    pub fn new(contacts: Vec<Contact>, normal: Vec<f64>) -> Self {
+        assert_eq!(contacts.len(), normal.len(), "one normal force per contact");
+        ContactSet {
+            contacts,
+            pending: normal.clone(),
+            normal,
+            normal_saved: Vec::new(),
+            h: 0.0,
+        }
+    }
+
     /// Number of contacts.
     pub fn len(&self) -> usize {
         self.contacts.len()
