@@ -42,6 +42,7 @@ TIMERS = {
     "line_search_s",
     "conic_s",
     "wall_s",
+    "elapsed_s",
 }
 
 
