@@ -301,7 +301,12 @@ fn contacts_between_nodes_go_to_the_conic_program_and_stop_a_sliding_rod() {
         .map(|&i| Contact::new(Stencil::new(&[i, i + 1], &[0.5, 0.5]).unwrap(), law))
         .collect();
     let n = contacts.len();
-    let set = ContactSet::new(contacts.clone(), vec![weight / n as f64; n]);
+    let set = ContactSet::new(
+        contacts
+            .iter()
+            .map(|c| (c.clone(), weight / n as f64))
+            .collect(),
+    );
     let mut integ = Integrator::new(&m, Box::new(Natural));
     integ.set_contact(Some(Box::new(Dispatcher::with_set(&m, set, true))));
     let mut s = State::initial(&m);

@@ -50,10 +50,9 @@ impl ContactSet {
         }
     }
 
-    /// A contact set of the given contacts with initial normal forces `normal` (N, one per
-    /// contact).
-    pub fn new(contacts: Vec<Contact>, normal: Vec<f64>) -> Self {
-        assert_eq!(contacts.len(), normal.len(), "one normal force per contact");
+    /// A contact set of the given contacts, each with its initial normal force (N).
+    pub fn new(contacts: Vec<(Contact, f64)>) -> Self {
+        let (contacts, normal): (Vec<Contact>, Vec<f64>) = contacts.into_iter().unzip();
         ContactSet {
             contacts,
             pending: normal.clone(),
