@@ -269,6 +269,9 @@ pub fn phase(args: &Args) -> ExitCode {
     }
     if let Some((g, simulated)) = &sw.growth {
         eprintln!("{}", growth_summary(g, *simulated));
+        if let Err(code) = growth_failed(g, &out.join("growth.csv")) {
+            return code;
+        }
     }
     if args.gallery {
         match design::phase::gallery::write_gallery(&ph, &sw.cells, out) {
@@ -322,6 +325,23 @@ pub fn growth_summary(g: &design::phase::growth::GrowthLine, simulated: usize) -
         g.points.len(),
         g.verdict
     )
+}
+
+/// Exit 3 (after an error line) when every size of the growth line failed: the line has no
+/// verdict, and a job script must not take it for "no size S-starts".
+pub fn growth_failed(
+    g: &design::phase::growth::GrowthLine,
+    csv: &std::path::Path,
+) -> Result<(), ExitCode> {
+    if g.all_failed() {
+        eprintln!(
+            "error: every size of the growth line failed ({} sizes); see {}",
+            g.points.len(),
+            csv.display()
+        );
+        return Err(ExitCode::from(3));
+    }
+    Ok(())
 }
 
 /// The refinement's counts, for the last lines of `phase` and `merge`.
