@@ -228,6 +228,7 @@ pub fn optimize(args: &Args) -> ExitCode {
         path,
         &out.join("best"),
         quiet,
+        true,
         "best evaluation",
     );
     if let Err(code) = best_run {

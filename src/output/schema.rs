@@ -309,7 +309,7 @@ pub const PHASE_CSV: &[Field] = &[
 /// `refine.csv`, after [`PHASE_CSV`]'s; the row's other values are then its reported run's
 /// (the finer run with `finer = true`).
 pub const PHASE_VERIFY_CSV: &[Field] = &[
-    f("label_agreement", "", "fraction of the cell's runs (the study's, the finer one, the perturbed ones) whose label is the reported one; a failed run agrees with nothing"),
+    f("label_agreement", "", "fraction of the cell's runs (the study's, the finer one, the perturbed ones) whose label is the reported one, and for a gait with a launch period whose sidewinding verdict is too; a failed run agrees with nothing"),
     f("v_s_over_v_m_min", "", "smallest v_s/v_m over the cell's runs that finished"),
     f("v_s_over_v_m_max", "", "largest v_s/v_m over them"),
     f("regime_base", "", "the label at the study's resolution (\"-\" when failed)"),
