@@ -127,7 +127,8 @@ fn phase_reruns_one_cell_into_a_run_directory() {
     assert!(
         e.contains("W = 450")
             && e.contains("phase.weight")
-            && e.contains("600 (index 1), 300 (index 0)"),
+            && e.contains("300 (index 0)")
+            && e.contains("600 (index 1)"),
         "{e}"
     );
     let (o, e) = slither(

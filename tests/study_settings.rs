@@ -143,10 +143,9 @@ fn merge_follows_the_current_phase_file_or_names_the_difference() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let info = json(&d.join("phase.json"));
         assert_eq!(info["refine_steps"], 1);
-        assert!(
-            info["verify"].is_null(),
-            "phase.json records no verification: {info}"
-        );
+        // Recorded, not left out: null means no verification.
+        assert!(info.as_object().unwrap().contains_key("verify"), "{info}");
+        assert!(info["verify"].is_null(), "{info}");
         shards.push(d.to_str().unwrap().to_string());
     }
     let merge = |out: &str| {
