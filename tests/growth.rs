@@ -359,3 +359,43 @@ fn a_phase_run_draws_and_resumes_its_growth_line() {
         );
     }
 }
+
+/// On the command line: a growth line whose every size failed (steps that would have to
+/// fall below `dt_min`) says so in `growth.json` and on stderr, and exits 3.
+#[test]
+fn a_phase_run_whose_growth_line_failed_exits_3() {
+    let d = scratch("all-failed");
+    let base = common::TINY_S_START.replace(
+        "dt = 1e-2\n",
+        "dt = 1e-2\nadaptive = true\nerror_tolerance = 1e-9\ndt_min = 1e-2\n",
+    );
+    std::fs::write(d.join("base.toml"), base).unwrap();
+    let file = d.join("phase.toml");
+    std::fs::write(
+        &file,
+        "[phase]\nbase = \"base.toml\"\nweight = [300.0]\ntorque = [15.0]\ngrowth = { diameters = [0.01, 0.02] }\n",
+    )
+    .unwrap();
+    let out = d.join("out");
+    let o = slither(&[
+        "phase",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("every size of the growth line failed (2 sizes)"),
+        "{err}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("growth.json")).unwrap()).unwrap();
+    assert_eq!(json["failed_sizes"], 2);
+    let verdict = json["verdict"].as_str().unwrap();
+    assert!(
+        verdict.contains("failed") && !verdict.contains("S-starts"),
+        "{verdict}"
+    );
+}
