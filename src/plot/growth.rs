@@ -326,13 +326,14 @@ mod tests {
             .unwrap_or(f64::NAN)
     }
 
-    fn draw_svg(grid: &[Mark], line: &[Mark]) -> String {
+    /// The chart as SVG text (drawn into its own file `name`: the tests run in parallel).
+    fn draw_svg(name: &str, grid: &[Mark], line: &[Mark]) -> String {
         let dir = std::env::temp_dir().join(format!("slither-growth-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let f = dir.join("growth.svg");
+        let f = dir.join(name);
         growth_chart(&f, grid, line, "verdict").unwrap();
         let s = std::fs::read_to_string(&f).unwrap();
-        let _ = std::fs::remove_dir_all(&dir);
+        let _ = std::fs::remove_file(&f);
         s
     }
 
@@ -341,7 +342,7 @@ mod tests {
     #[test]
     fn diameter_labels_sit_next_to_their_points() {
         let (grid, line) = study();
-        let s = draw_svg(&grid, &line);
+        let s = draw_svg("labels.svg", &grid, &line);
         let circles: Vec<(f64, f64)> = s
             .split("<circle ")
             .skip(1)
@@ -372,7 +373,7 @@ mod tests {
     #[test]
     fn cells_outside_the_speed_range_are_clipped() {
         let (grid, line) = study();
-        let s = draw_svg(&grid, &line);
+        let s = draw_svg("clip.svg", &grid, &line);
         let rr = 20.0..40.0;
         assert!(in_speed_range(&mark(600.0, 20.0, None), &rr));
         assert!(!in_speed_range(&mark(150.0, 120.0, None), &rr));
@@ -395,7 +396,8 @@ mod tests {
     fn map_ticks_are_the_grid_values() {
         let v = grid_values([4.0, 12.6, 4.0, 37.9, 120.0, 0.0].into_iter(), 8);
         assert_eq!(v, vec![4.0, 12.6, 37.9, 120.0]);
-        let s = draw_svg(&study().0, &study().1);
+        let (grid, line) = study();
+        let s = draw_svg("ticks.svg", &grid, &line);
         for t in ["150", "1500", "4", "120"] {
             assert!(s.lines().any(|l| l.trim() == t), "no tick {t}");
         }
