@@ -240,12 +240,20 @@ fn fnv1a(text: &str) -> String {
     format!("{h:016x}")
 }
 
+/// A run's step as the logs print it: `dt` (already formatted) and, for an adaptive run, its
+/// tolerance; a fixed-step run has no tolerance and says "fixed step" instead.
+fn step_text(dt: &str, tolerance: Option<f64>) -> String {
+    match tolerance {
+        Some(tol) => format!("dt {dt} s, tol {tol:.0e}"),
+        None => format!("dt {dt} s, fixed step"),
+    }
+}
+
 fn log_run(log: &mut dyn FnMut(&str), what: &str, r: &GaitRun) {
     log(&format!(
-        "{what}: {} dt {:.3e} s tol {:.0e}: v_s/v_m {:.5}, {} steps ({} rejected), {:.2} s ({})",
+        "{what}: {} {}: v_s/v_m {:.5}, {} steps ({} rejected), {:.2} s ({})",
         r.method,
-        r.dt,
-        r.tolerance.unwrap_or(f64::NAN),
+        step_text(&format!("{:.3e}", r.dt), r.tolerance),
         r.v_ratio,
         r.steps,
         r.rejected,
@@ -584,11 +592,10 @@ impl GaitPrecision {
         let pct = 100.0 * error;
         let ours_s = ours.map_or(format!("slither: no run within {pct:.1} %"), |p| {
             format!(
-                "slither {} {} el. (dt {:.1e} s, tol {:.0e}) {:.2} s",
+                "slither {} {} el. ({}) {:.2} s",
                 p.run.method,
                 p.run.elements,
-                p.run.dt,
-                p.run.tolerance.unwrap_or(f64::NAN),
+                step_text(&format!("{:.1e}", p.run.dt), p.run.tolerance),
                 p.run.wall_s
             )
         });
@@ -630,11 +637,10 @@ impl GaitPrecision {
                     Some(p) => (
                         p.run.wall_s,
                         format!(
-                            "{method} {n} el.: within {:.1} % at {:.2} s (dt {:.1e} s, tol {:.0e}, error {:.2} %)",
+                            "{method} {n} el.: within {:.1} % at {:.2} s ({}, error {:.2} %)",
                             100.0 * error,
                             p.run.wall_s,
-                            p.run.dt,
-                            p.run.tolerance.unwrap_or(f64::NAN),
+                            step_text(&format!("{:.1e}", p.run.dt), p.run.tolerance),
                             100.0 * p.v_error
                         ),
                     ),
@@ -849,4 +855,33 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fixed-step run has no tolerance: its line says so instead of printing "tol NaN".
+    #[test]
+    fn a_fixed_step_run_prints_its_step_not_a_nan_tolerance() {
+        assert_eq!(step_text("2.0e-3", None), "dt 2.0e-3 s, fixed step");
+        assert_eq!(step_text("2.0e-3", Some(1e-4)), "dt 2.0e-3 s, tol 1e-4");
+        let mut lines = Vec::new();
+        let run = GaitRun {
+            method: "implicit".into(),
+            elements: 50,
+            dt: 2e-3,
+            tolerance: None,
+            v_ratio: 0.23,
+            wall_s: 0.5,
+            steps: 2000,
+            rejected: 0,
+            dt_range: (2e-3, 2e-3),
+            status: "ok".into(),
+            x: Vec::new(),
+        };
+        log_run(&mut |l: &str| lines.push(l.to_string()), "run", &run);
+        assert!(!lines[0].contains("NaN"), "{}", lines[0]);
+        assert!(lines[0].contains("fixed step"), "{}", lines[0]);
+    }
 }

@@ -1,9 +1,16 @@
 //! The growth line's figure (`growth.png` / `growth.svg`): the sizes of a growing snake placed
 //! on the regime map over `(W, G)` and on the chart of `v_s/v_m` against `W/G`, over the
 //! study's own cells.
-use super::phase::regime_color;
+//!
+//! A size's diameter is written beside its circle, a fixed number of pixels away
+//! ([`LABEL_OFFSET`]) whatever the axes' ranges. The speed chart spans the line's `W/G`; the
+//! grid's cells outside it are left out, not drawn on the axis's edge ([`in_speed_range`]). The
+//! map's ticks are the grid's own values ([`super::phase::grid_ticks`]): plotters labels a log
+//! axis only at its powers of ten.
+use super::phase::{grid_ticks, regime_color};
 use super::{PlotError, FONT, LEGEND_PX, TICK_PX};
 use crate::observe::Regime;
+use plotters::coord::combinators::BindKeyPoints;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -22,6 +29,29 @@ pub struct Mark {
     pub uncertain: bool,
     /// The snake's diameter (m), for a size of the line.
     pub diameter: Option<f64>,
+}
+
+/// Where a size's diameter label starts (its top-left corner), in pixels from the size's
+/// point: just right of the 8 px circle and a little below its centre, on the side the line
+/// (which rises to the right) leaves free.
+pub const LABEL_OFFSET: (i32, i32) = (11, 1);
+
+/// Radius (px) of a size's circle.
+const SIZE_RADIUS: u32 = 8;
+
+/// Whether a grid cell belongs on the speed chart, whose x axis spans `range` of `W/G` (the
+/// line's span with a margin): cells outside it are left out rather than drawn at the edge.
+pub fn in_speed_range(m: &Mark, range: &std::ops::Range<f64>) -> bool {
+    range.contains(&(m.weight / m.torque))
+}
+
+/// The distinct positive values of `v`, sorted, thinned to at most `max` (first and last kept):
+/// the ticks of one axis of the map.
+fn grid_values(v: impl Iterator<Item = f64>, max: usize) -> Vec<f64> {
+    let mut v: Vec<f64> = v.filter(|x| x.is_finite() && *x > 0.0).collect();
+    v.sort_by(f64::total_cmp);
+    v.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs());
+    grid_ticks(v.len(), max).into_iter().map(|i| v[i]).collect()
 }
 
 /// Log range with a margin around the finite positive values of `v`.
@@ -58,7 +88,7 @@ pub fn growth_chart(
         let pad = 0.08 * (r.end - r.start).max(0.1 * r.end);
         (r.start - pad).max(0.0)..r.end + pad
     };
-    let shown = |m: &&Mark| rr.contains(&(m.weight / m.torque));
+    let shown = |m: &&Mark| in_speed_range(m, &rr);
     let speeds: Vec<f64> = grid
         .iter()
         .filter(shown)
@@ -104,21 +134,26 @@ pub fn growth_chart(
                 c.filled()
             }
         };
-        // Left: the (W, G) plane.
+        // Left: the (W, G) plane, ticked at the grid's values (the line's when there is no grid).
+        let ticks = |f: fn(&Mark) -> f64| {
+            let from = if grid.is_empty() { line } else { grid };
+            grid_values(from.iter().map(f), 8)
+        };
         let mut chart = ChartBuilder::on(&left)
             .caption("Sizes on the regime map", (FONT, 22))
             .margin(15)
             .x_label_area_size(55)
             .y_label_area_size(70)
-            .build_cartesian_2d(wr.clone().log_scale(), gr.clone().log_scale())
+            .build_cartesian_2d(
+                wr.clone().log_scale().with_key_points(ticks(|m| m.weight)),
+                gr.clone().log_scale().with_key_points(ticks(|m| m.torque)),
+            )
             .map_err(|e| err(&e))?;
         chart
             .configure_mesh()
             .disable_mesh()
             .x_desc("scaled weight W (log)")
             .y_desc("scaled torque G (log)")
-            .x_labels(10)
-            .y_labels(10)
             .x_label_formatter(&tick)
             .y_label_formatter(&tick)
             .label_style((FONT, TICK_PX))
@@ -144,22 +179,23 @@ pub fn growth_chart(
         chart
             .draw_series(
                 line.iter()
-                    .map(|m| Circle::new((m.weight, m.torque), 8, style(m))),
+                    .map(|m| Circle::new((m.weight, m.torque), SIZE_RADIUS, style(m))),
             )
             .map_err(|e| err(&e))?;
         chart
             .draw_series(
                 line.iter()
-                    .map(|m| Circle::new((m.weight, m.torque), 8, BLACK.stroke_width(1))),
+                    .map(|m| Circle::new((m.weight, m.torque), SIZE_RADIUS, BLACK.stroke_width(1))),
             )
             .map_err(|e| err(&e))?;
         chart
             .draw_series(line.iter().map(|m| {
-                Text::new(
-                    m.diameter.map_or(String::new(), cm),
-                    (m.weight * 1.06, m.torque / 1.25),
-                    (FONT, LEGEND_PX),
-                )
+                EmptyElement::at((m.weight, m.torque))
+                    + Text::new(
+                        m.diameter.map_or(String::new(), cm),
+                        LABEL_OFFSET,
+                        (FONT, LEGEND_PX),
+                    )
             }))
             .map_err(|e| err(&e))?;
         // Right: speed against W/G.
@@ -187,6 +223,7 @@ pub fn growth_chart(
             .draw_series(
                 grid.iter()
                     .filter(finite)
+                    .filter(shown)
                     .map(|m| Circle::new(at(m), 3, style(m))),
             )
             .map_err(|e| err(&e))?;
@@ -200,27 +237,24 @@ pub fn growth_chart(
             .draw_series(
                 line.iter()
                     .filter(finite)
-                    .map(|m| Circle::new(at(m), 8, style(m))),
+                    .map(|m| Circle::new(at(m), SIZE_RADIUS, style(m))),
             )
             .map_err(|e| err(&e))?;
         chart
             .draw_series(
                 line.iter()
                     .filter(finite)
-                    .map(|m| Circle::new(at(m), 8, BLACK.stroke_width(1))),
+                    .map(|m| Circle::new(at(m), SIZE_RADIUS, BLACK.stroke_width(1))),
             )
             .map_err(|e| err(&e))?;
         chart
             .draw_series(line.iter().filter(finite).map(|m| {
-                let (x, y) = at(m);
-                Text::new(
-                    m.diameter.map_or(String::new(), cm),
-                    (
-                        x + 0.01 * (rr.end - rr.start),
-                        y + 0.02 * (vhi - vlo).max(0.1),
-                    ),
-                    (FONT, LEGEND_PX),
-                )
+                EmptyElement::at(at(m))
+                    + Text::new(
+                        m.diameter.map_or(String::new(), cm),
+                        LABEL_OFFSET,
+                        (FONT, LEGEND_PX),
+                    )
             }))
             .map_err(|e| err(&e))?;
         // The regimes' colours.
@@ -248,4 +282,124 @@ pub fn growth_chart(
             .map_err(|e| err(&e))?;
         root.present().map_err(|e| err(&e))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mark(weight: f64, torque: f64, diameter: Option<f64>) -> Mark {
+        Mark {
+            weight,
+            torque,
+            regime: Some(Regime::M),
+            v_s_over_v_m: 0.05 + 0.01 * (weight / torque).sin(),
+            uncertain: false,
+            diameter,
+        }
+    }
+
+    /// A growth line like the bundled study's: 19 sizes from W = 150, G = 4.7 to W = 1500,
+    /// G = 120 over a 4 x 4 grid, whose cells' W/G (1.25 to 375) mostly lie outside the line's.
+    fn study() -> (Vec<Mark>, Vec<Mark>) {
+        let grid = [150.0, 316.0, 711.0, 1500.0]
+            .iter()
+            .flat_map(|&w| [4.0, 12.6, 37.9, 120.0].map(|g| mark(w, g, None)))
+            .collect();
+        let line = (0..19)
+            .map(|k| {
+                let u = k as f64 / 18.0;
+                let a = 0.01 * 10f64.powf(u);
+                mark(150.0 * 10f64.powf(u), 4.72 * 10f64.powf(1.39 * u), Some(a))
+            })
+            .collect();
+        (grid, line)
+    }
+
+    /// Attribute `k` of the SVG element whose text (after its tag name) starts `elem`.
+    fn attr(elem: &str, k: &str) -> f64 {
+        let elem = format!(" {}", elem.split('>').next().unwrap_or(""));
+        elem.split(&format!(" {k}=\""))
+            .nth(1)
+            .and_then(|v| v.split('"').next())
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(f64::NAN)
+    }
+
+    /// The chart as SVG text (drawn into its own file `name`: the tests run in parallel).
+    fn draw_svg(name: &str, grid: &[Mark], line: &[Mark]) -> String {
+        let dir = std::env::temp_dir().join(format!("slither-growth-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join(name);
+        growth_chart(&f, grid, line, "verdict").unwrap();
+        let s = std::fs::read_to_string(&f).unwrap();
+        let _ = std::fs::remove_file(&f);
+        s
+    }
+
+    /// Every diameter label starts within 16 px of its size's circle (the old labels, placed
+    /// in data units, sat some 35 px away on the map).
+    #[test]
+    fn diameter_labels_sit_next_to_their_points() {
+        let (grid, line) = study();
+        let s = draw_svg("labels.svg", &grid, &line);
+        let circles: Vec<(f64, f64)> = s
+            .split("<circle ")
+            .skip(1)
+            .filter(|c| attr(c, "r") == SIZE_RADIUS as f64)
+            .map(|c| (attr(c, "cx"), attr(c, "cy")))
+            .collect();
+        let labels: Vec<(f64, f64)> = s
+            .split("<text ")
+            .skip(1)
+            .filter(|t| t.contains(" cm"))
+            .map(|t| (attr(t, "x"), attr(t, "y")))
+            .collect();
+        // Two charts, each with a label per size.
+        assert_eq!(labels.len(), 2 * line.len());
+        for (x, y) in labels {
+            let d = circles
+                .iter()
+                .map(|(cx, cy)| (x - cx).hypot(y - cy))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d <= 16.0, "label at ({x}, {y}) is {d:.0} px from its point");
+        }
+        let (dx, dy) = LABEL_OFFSET;
+        assert!(dx > SIZE_RADIUS as i32 && (dx as f64).hypot(dy as f64) <= 16.0);
+    }
+
+    /// The speed chart leaves out the grid's cells outside its W/G range: none is drawn, and
+    /// none sits on the axis's edges.
+    #[test]
+    fn cells_outside_the_speed_range_are_clipped() {
+        let (grid, line) = study();
+        let s = draw_svg("clip.svg", &grid, &line);
+        let rr = 20.0..40.0;
+        assert!(in_speed_range(&mark(600.0, 20.0, None), &rr));
+        assert!(!in_speed_range(&mark(150.0, 120.0, None), &rr));
+        assert!(!in_speed_range(&mark(1500.0, 4.0, None), &rr));
+        // The line's W/G spans 31.8 down to 12.5: only the grid cells with W/G between about
+        // 11 and 34 belong on the chart (the 3 px dots).
+        let inside = grid
+            .iter()
+            .filter(|m| (11.0..34.0).contains(&(m.weight / m.torque)))
+            .count();
+        let dots = s
+            .split("<circle ")
+            .skip(1)
+            .filter(|c| attr(c, "r") == 3.0)
+            .count();
+        assert_eq!(dots, inside, "{} grid cells in all", grid.len());
+    }
+
+    #[test]
+    fn map_ticks_are_the_grid_values() {
+        let v = grid_values([4.0, 12.6, 4.0, 37.9, 120.0, 0.0].into_iter(), 8);
+        assert_eq!(v, vec![4.0, 12.6, 37.9, 120.0]);
+        let (grid, line) = study();
+        let s = draw_svg("ticks.svg", &grid, &line);
+        for t in ["150", "1500", "4", "120"] {
+            assert!(s.lines().any(|l| l.trim() == t), "no tick {t}");
+        }
+    }
 }

@@ -16,7 +16,10 @@
 //! gait), the mean forward speed of the centroid so far (`v_s`, along the initial heading, and
 //! `v_s/v_m`), the run's regime when known, the colour legend, and a scale in body lengths
 //! (a bar of 0.25 L in the orthographic views; in the 3D view a 0.5 L ruler lying on the
-//! ground near the bottom of the picture, and the grid spacing, 0.1 L). The text stays in a
+//! ground near the bottom of the picture, and the grid spacing, 0.1 L). The side view's ground
+//! is a panel as deep as the body needs (0.1 L beyond its farthest node along the line of sight,
+//! at least 0.25 L each way), the sky colour beyond, not a plane seen edge on across the whole
+//! picture. The text stays in a
 //! band at the top and a band at the bottom of the picture ([`scene_rows`] gives the rows
 //! between them).
 //!
@@ -27,6 +30,7 @@
 
 mod camera;
 mod encode;
+pub mod layout;
 mod overlay;
 mod raster;
 
@@ -174,13 +178,12 @@ pub const AIR: [u8; 3] = [44, 160, 44];
 /// Colour of a node touching another part of the body (self-contact; Tableau purple).
 pub const SELF_CONTACT: [u8; 3] = [148, 103, 189];
 
-/// Height (px) of the text band at the top and of the legend band at the bottom.
-const TOP_BAND: u32 = 44;
-const BOTTOM_BAND: u32 = 28;
-
-/// The rows `[y0, y1)` of a picture of `size` between the text bands: the scene alone.
+/// The rows `[y0, y1)` of a picture of `size` between the text bands: the scene alone. The
+/// bands' heights come from [`layout::layout`], scaled with the picture, so the text fits a
+/// small picture and the scene (framed within these rows) stays clear of it.
 pub fn scene_rows(size: (u32, u32)) -> (u32, u32) {
-    (TOP_BAND, size.1.saturating_sub(BOTTOM_BAND))
+    let l = layout::layout(size);
+    (l.top, size.1.saturating_sub(l.bottom))
 }
 
 /// The clip frames a movie shows: every frame while `n / fps <= max_seconds`, else every
@@ -299,6 +302,9 @@ struct Plan<'a> {
     cams: Vec<Camera>,
     elev_max: f64,
     lambda_max: f64,
+    /// The side view's ground panel: half its depth (m) before and behind the point the
+    /// camera looks at (`None`: the whole plane, in the 3D and top views).
+    panel: Option<f64>,
 }
 
 /// Centred moving average with a triangular window of half-width `tau` (s) of the points `c`
@@ -359,7 +365,8 @@ impl<'a> Plan<'a> {
         let cams: Vec<Camera> = match opts.view {
             View::ThreeD => {
                 // Looking 60 degrees from the heading, 28 degrees down, the body about 0.55 of
-                // the width across.
+                // the width across (or 1.1 times the scene's height, on a wide, short picture,
+                // so that it stays between the text bands).
                 let az = 60f64.to_radians();
                 let hdir = [
                     heading[0] * az.cos() + lateral[0] * az.sin(),
@@ -367,7 +374,7 @@ impl<'a> Plan<'a> {
                     0.0,
                 ];
                 let focal = 0.5 * w / 20f64.to_radians().tan();
-                let dist = focal * l / (0.55 * w);
+                let dist = focal * l / (0.55 * w).min(1.1 * scene_h);
                 follow
                     .iter()
                     .map(|&c| {
@@ -451,11 +458,29 @@ impl<'a> Plan<'a> {
                 "movie: colouring by lambda needs the local link density, which this run did not record".into(),
             ));
         }
+        // The side view's ground panel: deep enough for every picked frame's body (0.1 L
+        // beyond its farthest node along the line of sight), at least 0.25 L each way.
+        let panel = (opts.view == View::Side).then(|| {
+            let mut depth = 0.25 * l;
+            for (&k, cam) in picks.iter().zip(&cams) {
+                let Some((c, _)) = cam.ground_hit(cam.cx, cam.cy) else {
+                    continue;
+                };
+                let n = cam.fwd[0].hypot(cam.fwd[1]).max(1e-12);
+                let fh = [cam.fwd[0] / n, cam.fwd[1] / n];
+                for p in clip.x[k].iter().filter(|p| p.iter().all(|v| v.is_finite())) {
+                    let d = ((p[0] - c[0]) * fh[0] + (p[1] - c[1]) * fh[1]).abs();
+                    depth = depth.max(d + 0.1 * l);
+                }
+            }
+            depth
+        });
         Ok(Plan {
             clip,
             opts,
             picks,
             cams,
+            panel,
             elev_max,
             lambda_max: if lambda_max > 0.0 { lambda_max } else { 1.0 },
         })
@@ -564,7 +589,7 @@ impl<'a> Plan<'a> {
                 )
                 .min(12.0 * l),
         };
-        raster::ground(&mut cv, cam, 0.1 * l, centre, reach, &balls);
+        raster::ground(&mut cv, cam, 0.1 * l, centre, reach, self.panel, &balls);
         raster::tube(&mut cv, cam, &balls);
         let body: Vec<bool> = cv.depth.iter().map(|d| d.is_finite()).collect();
         overlay::draw(&mut cv.rgb, self, j)?;
@@ -624,3 +649,6 @@ pub fn still(path: &Path, clip: &Clip, opts: &MovieOptions, t: f64) -> Result<()
     root.present().map_err(draw_err)?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests;

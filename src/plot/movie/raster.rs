@@ -10,6 +10,11 @@
 //! centre and where cells shrink below a few pixels. The shadow is the body's vertical
 //! projection: a ground pixel (its ray cast to the ground) is shaded when the point under it
 //! lies within `a/2` of a sphere centre's foot, lighter the higher that sphere is.
+//!
+//! An orthographic camera that looks nearly level (the side view) sees the ground plane edge
+//! on: unbounded, it would fill the whole picture with grid lines. There the ground is a panel
+//! ([`panel_rows`]): a strip of the plane a given depth before and behind the scene's centre,
+//! edged by two darker lines, with the sky colour beyond it.
 
 use super::camera::Camera;
 
@@ -53,22 +58,51 @@ impl Canvas {
     }
 }
 
+/// The camera's viewing direction along the ground (unit; screen up when looking straight
+/// down).
+fn ground_forward(cam: &Camera) -> [f64; 2] {
+    let n = (cam.fwd[0] * cam.fwd[0] + cam.fwd[1] * cam.fwd[1]).sqrt();
+    if n > 1e-9 {
+        [cam.fwd[0] / n, cam.fwd[1] / n]
+    } else {
+        [cam.up[0], cam.up[1]]
+    }
+}
+
+/// The rows `[a, b)` of a picture `h` rows high that show the ground panel: the points of the
+/// plane within `half_depth` (m) of `centre` along the camera's viewing direction. The
+/// camera's right vector is horizontal, so a row's rays all meet the ground at the same depth.
+pub(super) fn panel_rows(cam: &Camera, centre: [f64; 3], half_depth: f64, h: usize) -> (usize, usize) {
+    let fh = ground_forward(cam);
+    let inside = |py: usize| {
+        cam.ground_hit(cam.cx, py as f64 + 0.5).is_some_and(|(g, _)| {
+            ((g[0] - centre[0]) * fh[0] + (g[1] - centre[1]) * fh[1]).abs() <= half_depth
+        })
+    };
+    let a = (0..h).find(|&py| inside(py)).unwrap_or(h);
+    let b = (a..h).find(|&py| !inside(py)).unwrap_or(h);
+    (a, b)
+}
+
 /// Ground and grid (spacing `cell` m, every fifth line darker, fading out between 2.5 and 4
-/// body lengths `reach` from `centre`) with the shadow of `balls`.
+/// body lengths `reach` from `centre`) with the shadow of `balls`; with `panel` (m), only the
+/// ground within that depth of `centre` ([`panel_rows`]), the sky colour elsewhere.
 pub(super) fn ground(
     cv: &mut Canvas,
     cam: &Camera,
     cell: f64,
     centre: [f64; 3],
     reach: f64,
+    panel: Option<f64>,
     balls: &[Ball],
 ) {
     let (w, h) = (cv.w, cv.h);
+    let rows = panel.map_or((0, h), |d| panel_rows(cam, centre, d, h));
     // Sky and ground by rows: the camera's right vector is horizontal, so a ray's vertical
     // component is the same along a row.
     for py in 0..h {
         let (_, d) = cam.ray(0.5 * w as f64, py as f64 + 0.5);
-        let c = if d[2] > -1e-9 && cam.focal.is_some() {
+        let c = if (d[2] > -1e-9 && cam.focal.is_some()) || !(rows.0..rows.1).contains(&py) {
             SKY
         } else {
             GROUND
@@ -121,7 +155,7 @@ pub(super) fn ground(
                 let px_cell = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
                 let fade = fade * ((px_cell - 4.0) / 4.0).clamp(0.0, 1.0);
                 if fade > 0.0 {
-                    line(cv, (a.0, a.1), (b.0, b.1), mix(GROUND, colour, fade));
+                    line(cv, (a.0, a.1), (b.0, b.1), rows, mix(GROUND, colour, fade));
                 }
             }
         }
@@ -132,15 +166,7 @@ pub(super) fn ground(
     // The ground disc under a sphere, of radius `r`, spans on screen the box of the four
     // points `r` along the camera's horizontal right and forward directions (its projection
     // is near an ellipse with those axes), widened by a pixel and a tenth.
-    let fh = {
-        let n = (cam.fwd[0] * cam.fwd[0] + cam.fwd[1] * cam.fwd[1]).sqrt();
-        if n > 1e-9 {
-            [cam.fwd[0] / n, cam.fwd[1] / n]
-        } else {
-            // Looking straight down: screen up is the forward direction on the ground.
-            [cam.up[0], cam.up[1]]
-        }
-    };
+    let fh = ground_forward(cam);
     let rh = [cam.right[0], cam.right[1]];
     for b in balls {
         let foot = [b.c[0], b.c[1], 0.0];
@@ -169,6 +195,7 @@ pub(super) fn ground(
         let (mx, my) = (0.1 * (xb - xa) + 1.0, 0.1 * (yb - ya) + 1.0);
         let (x0, x1) = clamp_span(xa - mx, xb + mx, w);
         let (y0, y1) = clamp_span(ya - my, yb + my, h);
+        let (y0, y1) = (y0.max(rows.0), y1.min(rows.1));
         let r2 = r * r;
         for py in y0..y1 {
             for px in x0..x1 {
@@ -194,17 +221,27 @@ pub(super) fn ground(
             }
         }
     }
+    // The panel's far and near edges.
+    if panel.is_some() && rows.0 < rows.1 {
+        for py in [rows.0, rows.1 - 1] {
+            for p in cv.rgb[3 * py * w..3 * (py + 1) * w].chunks_exact_mut(3) {
+                p.copy_from_slice(&GRID_MAJOR);
+            }
+        }
+    }
 }
 
-/// A one-pixel line from `a` to `b` (px), clipped to the picture (Liang-Barsky) first.
-fn line(cv: &mut Canvas, a: (f64, f64), b: (f64, f64), c: [u8; 3]) {
+/// A one-pixel line from `a` to `b` (px), clipped first (Liang-Barsky) to the picture's
+/// rows `[rows.0, rows.1)`.
+fn line(cv: &mut Canvas, a: (f64, f64), b: (f64, f64), rows: (usize, usize), c: [u8; 3]) {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let (w, h) = (cv.w as f64, cv.h as f64);
+    let w = cv.w as f64;
+    let (top, h) = (rows.0 as f64, rows.1.min(cv.h) as f64);
     let (mut u0, mut u1) = (0.0f64, 1.0f64);
     for (p, q) in [
         (-dx, a.0),
         (dx, w - 1e-6 - a.0),
-        (-dy, a.1),
+        (-dy, a.1 - top),
         (dy, h - 1e-6 - a.1),
     ] {
         if p == 0.0 {
@@ -229,7 +266,7 @@ fn line(cv: &mut Canvas, a: (f64, f64), b: (f64, f64), c: [u8; 3]) {
     let (sx, sy) = (ex / n as f64, ey / n as f64);
     for k in 0..=n {
         let (x, y) = (x0 + k as f64 * sx, y0 + k as f64 * sy);
-        if x >= 0.0 && y >= 0.0 && x < w && y < h {
+        if x >= 0.0 && y >= top && x < w && y < h {
             let i = y as usize * cv.w + x as usize;
             cv.put(i, c);
         }
@@ -341,5 +378,49 @@ mod tests {
         let mut cv = Canvas::new(40, 40);
         tube(&mut cv, &cam, &[low, high]);
         assert!(cv.rgb[3 * i] > cv.rgb[3 * i + 2]);
+    }
+}
+
+#[cfg(test)]
+mod panel_tests {
+    use super::*;
+
+    /// The side view's camera over a 120 x 80 picture: orthographic, 5 degrees above the
+    /// ground, 200 px per metre.
+    fn side() -> Camera {
+        Camera::looking_at(
+            [0.0; 3],
+            [0.0, 1.0, 0.0],
+            5f64.to_radians(),
+            5.0,
+            None,
+            200.0,
+            (120, 80),
+        )
+    }
+
+    /// With a panel, the rows beyond it keep the sky colour (no ground, no grid line); the
+    /// panel shows ground and grid. Without one, the plane seen edge on fills every row.
+    #[test]
+    fn the_side_views_ground_stays_in_its_panel() {
+        let cam = side();
+        let (a, b) = panel_rows(&cam, [0.0; 3], 0.2, 80);
+        // 0.2 m each way at sin 5 deg and 200 px/m: about 7 rows.
+        assert!(a > 0 && b < 80 && (5..=9).contains(&(b - a)), "{a}..{b}");
+        let mut cv = Canvas::new(120, 80);
+        ground(&mut cv, &cam, 0.05, [0.0; 3], 2.0, Some(0.2), &[]);
+        let row = |cv: &Canvas, y: usize| cv.rgb[3 * 120 * y..3 * 120 * (y + 1)].to_vec();
+        for y in (0..a).chain(b..80) {
+            assert!(
+                row(&cv, y).chunks(3).all(|p| p == SKY),
+                "row {y} outside the panel {a}..{b} is not background"
+            );
+        }
+        for y in a..b {
+            assert!(row(&cv, y).chunks(3).all(|p| p != SKY), "row {y}");
+        }
+        let mut whole = Canvas::new(120, 80);
+        ground(&mut whole, &cam, 0.05, [0.0; 3], 2.0, None, &[]);
+        assert!(row(&whole, 0).chunks(3).all(|p| p != SKY));
     }
 }
