@@ -12,6 +12,7 @@ pub mod keys;
 pub mod limits;
 pub mod ranges;
 mod self_contact;
+pub mod set;
 mod solver;
 pub mod time;
 
@@ -26,7 +27,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// A whole problem file.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Problem {
     /// The rod (required table).
@@ -58,8 +59,16 @@ pub struct Problem {
     pub accuracy: Option<AccuracySpec>,
 }
 
+impl Problem {
+    /// The problem as a problem file, every key written with defaults filled in: what
+    /// `--dump-problem` writes. It reads back to the same problem ([`parse`]).
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a validated problem is representable in TOML")
+    }
+}
+
 /// `[accuracy]`: run the cheapest model whose estimated error of `v_s/v_m` is below a target.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AccuracySpec {
     /// Relative error of `v_s/v_m` allowed (time and mesh together), e.g. 0.01
@@ -98,7 +107,7 @@ pub fn check_accuracy(a: &AccuracySpec, p: &Problem) -> Result<(), (&'static str
 }
 
 /// Which end of the rod is clamped (position and material frame held).
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum Clamp {
     /// Both ends free.
@@ -112,7 +121,7 @@ pub enum Clamp {
 
 /// `[rod]`: geometry and material of the snake. Units, defaults and ranges of every field:
 /// [`keys`] (`ROD_*`).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RodSpec {
     /// Length `L` (m). Required.
@@ -152,7 +161,7 @@ fn d_natural_twist() -> f64 {
 }
 
 /// `[gravity]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GravitySpec {
     /// Gravitational acceleration along -z (m/s^2); 0 disables ([`keys::GRAVITY_G`]).
@@ -169,7 +178,7 @@ impl Default for GravitySpec {
 }
 
 /// Integration mode.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum Mode {
     /// Variational implicit Euler in time.
@@ -180,7 +189,7 @@ pub enum Mode {
 }
 
 /// `[time]`. Units, defaults and ranges: [`keys`] (`TIME_*`).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeSpec {
     /// "dynamic" (default) or "static".
@@ -219,7 +228,7 @@ fn d_adaptive() -> bool {
 }
 
 /// `[output]`.
-#[derive(Clone, Debug, Default, Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Interval between recorded frames (s); absent: [`OutputSpec::interval_for`]
@@ -272,6 +281,17 @@ pub enum ProblemError {
         /// toml's message (line, column, snippet, key).
         message: String,
     },
+    /// A command-line setting (`--set KEY=VALUE`) that cannot be applied, or whose value is
+    /// not allowed.
+    #[error("{file}: {arg}: {message}")]
+    Set {
+        /// The file the setting edits.
+        file: PathBuf,
+        /// The argument, `--set KEY=VALUE`.
+        arg: String,
+        /// What is wrong, with the allowed range.
+        message: String,
+    },
     /// A value outside its allowed range.
     #[error("{file}:{line}: `{key}` = {value} is not allowed: must be {allowed}")]
     Invalid {
@@ -300,13 +320,52 @@ pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
     Ok(p)
 }
 
+/// Parse and validate problem text edited by command-line settings ([`set`]): an error about
+/// a key a setting changed names the setting; an error of the file itself keeps its line.
+pub fn parse_with(
+    text: &str,
+    path: &Path,
+    settings: &[&set::Setting],
+) -> Result<(String, Problem), ProblemError> {
+    let edited = edit(text, path, settings)?;
+    match parse(&edited, path) {
+        Ok(p) => Ok((edited, p)),
+        Err(e) if settings.is_empty() => Err(e),
+        Err(e) => match set::attribute(e, settings, path) {
+            e @ ProblemError::Set { .. } => Err(e),
+            // Not a key a setting changed: the file's own error, with its own lines, when the
+            // file alone has it.
+            e => Err(parse(text, path).err().unwrap_or(e)),
+        },
+    }
+}
+
+/// `text` with `settings` applied, or a [`ProblemError::Set`] naming the one that cannot be.
+pub fn edit(text: &str, path: &Path, settings: &[&set::Setting]) -> Result<String, ProblemError> {
+    set::apply(text, settings).map_err(|(arg, message)| ProblemError::Set {
+        file: path.into(),
+        arg,
+        message,
+    })
+}
+
 /// Read, parse and validate a problem file for `slither run`: also refuses a run above the
 /// size limits of [`limits`] unless `force`.
 pub fn load_for_run(path: &Path, force: bool) -> Result<Problem, ProblemError> {
-    let text = read(path)?;
-    let p = parse(&text, path)?;
+    load_for_run_with(path, force, &[])
+}
+
+/// [`load_for_run`] with command-line settings applied to the file first.
+pub fn load_for_run_with(
+    path: &Path,
+    force: bool,
+    settings: &[&set::Setting],
+) -> Result<Problem, ProblemError> {
+    let (text, p) = parse_with(&read(path)?, path, settings)?;
     if !force {
-        limits::check_run_size(&p, &text, path)?;
+        limits::check_run_size(&p, &text, path)
+            .and_then(|_| limits::check_scaled_groups(&p, &text, path))
+            .map_err(|e| set::attribute(e, settings, path))?;
     }
     Ok(p)
 }

@@ -8,7 +8,7 @@ use super::keys::{self, Key};
 use serde::Deserialize;
 
 /// `[solver]`: solver settings (defaults and ranges: the `SOLVER_*` keys of [`keys`]).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
     /// Convergence: the last Newton correction is below `tolerance * a` on every position and
@@ -146,7 +146,7 @@ pub enum IntegratorKind {
 }
 
 /// `[solver] contact`.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactKind {
     /// Active set first, the conic program as the certified fallback.
