@@ -689,7 +689,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
                 "solver",
                 "integrator",
                 "\"explicit\"".into(),
-                "\"implicit\" when a [ground] is present (the explicit integrator has no contact)",
+                "\"implicit\" or \"bdf2\" when a [ground] is present (the explicit integrator has no contact)",
             ));
         }
         if t.mode == Mode::Static {
