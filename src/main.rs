@@ -54,6 +54,9 @@ enum Cmd {
     /// shaded tube over the ground, in a 3d, top or side view, coloured by contact state,
     /// elevation or lambda.
     Movie(cli::movie::Args),
+    /// The state of a study or run directory: cells or evaluations done, failed and missing,
+    /// shards, locks (with host, process and whether it lives) and the command that resumes.
+    Status(cli::status::Args),
 }
 
 fn main() -> ExitCode {
@@ -65,10 +68,20 @@ fn main() -> ExitCode {
         Cmd::Run(a) => cli::run::run(&a),
         Cmd::Topology(a) => cli::topology::topo(&a),
         Cmd::Chart { which } => cli::chart::chart_cmd(which),
-        Cmd::Optimize(a) => cli::optimize::optimize(&a),
-        Cmd::Phase(a) => cli::phase::phase(&a),
-        Cmd::Merge(a) => cli::merge::merge(&a),
+        Cmd::Optimize(a) => {
+            cli::signals::end_studies();
+            cli::optimize::optimize(&a)
+        }
+        Cmd::Phase(a) => {
+            cli::signals::end_studies();
+            cli::phase::phase(&a)
+        }
+        Cmd::Merge(a) => {
+            cli::signals::end_studies();
+            cli::merge::merge(&a)
+        }
         Cmd::Keys(a) => cli::keys::keys(&a),
         Cmd::Movie(a) => cli::movie::movie(&a),
+        Cmd::Status(a) => cli::status::status(&a),
     }
 }

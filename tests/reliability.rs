@@ -413,7 +413,7 @@ fn concurrent_runs_into_one_directory_do_not_mix() {
     // Wait on the lock file: it is written whole (hard-linked from a private name) before
     // the run simulates, and removed only when the run ends.
     loop {
-        if std::fs::read_to_string(&lock).is_ok_and(|t| t.trim() == pid) {
+        if std::fs::read_to_string(&lock).is_ok_and(|t| t.lines().next() == Some(pid.as_str())) {
             break;
         }
         if let Some(st) = a.child().try_wait().unwrap() {
@@ -427,7 +427,7 @@ fn concurrent_runs_into_one_directory_do_not_mix() {
     a.signal("-STOP");
     assert!(
         a.child().try_wait().unwrap().is_none()
-            && std::fs::read_to_string(&lock).is_ok_and(|t| t.trim() == pid),
+            && std::fs::read_to_string(&lock).is_ok_and(|t| t.lines().next() == Some(pid.as_str())),
         "the first run finished before it could be stopped (its run takes ~0.5 s)"
     );
     let b = spawn().wait_with_output().unwrap();

@@ -260,9 +260,11 @@ impl NativeRun {
         Ok(d)
     }
 
-    /// Write the files `slither run` writes into `out_dir` (created if absent; a previous
-    /// run's outputs there are removed first); `plots=False` skips the figures and the
-    /// ParaView export, as `--no-plots`.
+    /// Write the files `slither run` writes into `out_dir` (created if absent), staged and
+    /// swapped in as `slither run` does: the previous run's outputs there are replaced when
+    /// every new file is written, or kept if the swap fails (the error names the folder that
+    /// holds the new ones); `plots=False` skips the figures and the ParaView export, as
+    /// `--no-plots`.
     #[pyo3(signature = (out_dir, plots = true))]
     fn save(&self, py: Python<'_>, out_dir: PathBuf, plots: bool) -> PyResult<()> {
         let r = py.allow_threads(|| self.write(&out_dir, plots));
@@ -276,26 +278,27 @@ impl NativeRun {
         std::fs::create_dir_all(out)
             .map_err(|e| format!("{}: cannot create output directory: {e}", out.display()))?;
         let _lock = output::lock::OutLock::acquire(out).map_err(|e| e.to_string())?;
-        output::remove_previous(out).map_err(|e| {
-            format!(
-                "{}: cannot remove the previous run's outputs: {e}",
-                out.display()
-            )
-        })?;
+        // Staged and swapped in as `slither run` does: a failure leaves the previous results.
+        let staging = output::staging::Staging::new(out)
+            .map_err(|e| format!("{}: cannot create the staging folder: {e}", out.display()))?;
+        let stage = staging.dir().to_path_buf();
         let (m, o, fl) = (&self.model, &self.outcome, &self.fields);
         let extra = [
             ("elevation", fl.elevation.clone()),
             ("slip_speed", fl.slip.clone()),
             ("lambda", fl.lambda.clone()),
         ];
-        output::write_final_csv(out, m, o)
-            .and_then(|_| output::write_trajectory(out, m, &o.frames, &extra))
-            .and_then(|_| output::write_summary(out, &self.summary))
+        output::write_final_csv(&stage, m, o)
+            .and_then(|_| output::write_trajectory(&stage, m, &o.frames, &extra))
+            .and_then(|_| output::write_summary(&stage, &self.summary))
             .map_err(|e| format!("{}: cannot write results: {e}", out.display()))?;
         if plots {
-            output::write_figures(out, m, &o.frames, fl)
+            output::write_figures(&stage, m, &o.frames, fl)
                 .map_err(|e| format!("{}: cannot write figures: {e}", out.display()))?;
         }
+        staging
+            .commit()
+            .map_err(|e| format!("{}: cannot move the results into place: {e}", out.display()))?;
         Ok(())
     }
 }

@@ -112,6 +112,32 @@ def test_summary_and_files_match_the_cli_to_the_bit(tmp_path):
     assert back.regime == r.regime == expected["regime"]
 
 
+def test_save_that_cannot_replace_keeps_the_previous_results(tmp_path):
+    # save() goes through the CLI's staged commit: a directory where a result file must go
+    # (which even root cannot replace) leaves the previous files and names the new ones' folder.
+    r = sg.run(sg.load_problem(S_START).with_(**{"time.duration": 0.05}), progress=False)
+    out = tmp_path / "py"
+    r.save(out, plots=False)
+    before = (out / "summary.json").read_bytes()
+    (out / "movie_top_contact.gif").write_bytes(b"old movie")
+    (out / "notes.txt").write_text("mine")
+    (out / "final.csv").rename(out / "kept.csv")
+    (out / "final.csv" / "inside").mkdir(parents=True)
+    with pytest.raises(OSError) as e:
+        r.save(out, plots=False)
+    assert "final.csv" in str(e.value) and "unsaved_run_" in str(e.value)
+    assert (out / "summary.json").read_bytes() == before
+    assert (out / "movie_top_contact.gif").exists()
+    kept = [d for d in out.iterdir() if d.name.startswith("unsaved_run_")]
+    assert len(kept) == 1 and (kept[0] / "summary.json").exists()
+    # Once the obstacle is gone a save replaces everything of slither's, the movie too.
+    (out / "final.csv" / "inside").rmdir()
+    (out / "final.csv").rmdir()
+    r.save(out, plots=False)
+    assert (out / "final.csv").is_file() and not (out / "movie_top_contact.gif").exists()
+    assert (out / "notes.txt").read_text() == "mine"
+
+
 BAD = [
     ("rod", "elements = 100", "elements = 0"),
     ("rod", "length = 1.0", "length = -1.0"),

@@ -10,6 +10,8 @@ pub mod movie;
 pub mod optimize;
 pub mod phase;
 pub mod run;
+pub mod signals;
+pub mod status;
 pub mod topology;
 
 use slither::{design, output, problem};
@@ -96,13 +98,15 @@ pub fn lock_out(out: &Path) -> Result<output::lock::OutLock, ExitCode> {
         );
         return Err(ExitCode::from(1));
     }
-    output::lock::OutLock::acquire(out).map_err(|e| {
+    let lock = output::lock::OutLock::acquire(out).map_err(|e| {
         eprintln!("error: {e}");
         ExitCode::from(match e {
             output::lock::LockError::Busy { .. } => 2,
             output::lock::LockError::Io { .. } => 1,
         })
-    })
+    })?;
+    signals::register(out);
+    Ok(lock)
 }
 
 /// A study's `[accuracy]` after [`design::accuracy::prepare_study`] or [`design::phase::prepare_accuracy`]

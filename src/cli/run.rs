@@ -3,7 +3,7 @@ use super::{lock_out, model_label};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use slither::model::Model;
 use slither::observe::{self, Measure, Observed};
-use slither::{output, problem, sim};
+use slither::{output, problem};
 use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -20,10 +20,12 @@ pub struct Args {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
-    /// Skip the PNG figures, the movie, the tracks and the ParaView export.
+    /// Skip the PNG figures, the movie, the tracks and the ParaView export (with --movie: all
+    /// but the movie).
     #[arg(long)]
     pub no_plots: bool,
-    /// Write movie.gif even when the problem file says `[output] movie = false`.
+    /// Write movie.gif even when the problem file says `[output] movie = false`, and with
+    /// --no-plots (then the movie alone).
     #[arg(long)]
     pub movie: bool,
     /// Run even above the size limits (steps, stored frames, post-processing; see the
@@ -145,7 +147,7 @@ pub fn run(args: &Args) -> ExitCode {
     };
     let stage = staging.dir().to_path_buf();
     let stage = stage.as_path();
-    on_interrupt();
+    super::signals::stop_runs();
     let show = !quiet && std::io::stderr().is_terminal();
     // The stepping's bar, then the post-processing's (topology of every frame), each shown
     // once its part has taken over a second.
@@ -246,12 +248,13 @@ pub fn run(args: &Args) -> ExitCode {
     } = observed;
     if o.interrupted && staging.has_previous() {
         eprintln!(
-            "{}: interrupted at t = {} s; nothing written, the previous results in {} are kept",
+            "{}: interrupted ({}) at t = {} s; nothing written, the previous results in {} are kept",
             path.display(),
+            super::signals::name(),
             o.state.t,
             out.display()
         );
-        return ExitCode::from(130);
+        return super::signals::exit_code();
     }
     let mut summary = output::Summary::new(path, &model, &o);
     summary.accuracy = report;
@@ -287,7 +290,19 @@ pub fn run(args: &Args) -> ExitCode {
         eprintln!("error: {}: cannot write results: {e}", out.display());
         return ExitCode::from(1);
     }
-    if !no_plots {
+    // After SIGTERM or SIGHUP the data goes to disk at once, without figures (Slurm kills
+    // the job 30 s after SIGTERM).
+    // A signal that came after the simulation (post-processing, ensemble) counts too.
+    let hurry = super::signals::hurry();
+    if hurry && (!no_plots || args.movie) {
+        eprintln!(
+            "{}: interrupted ({}): figures and movie skipped",
+            path.display(),
+            super::signals::name()
+        );
+    }
+    // `--movie` with `--no-plots` writes the movie alone (no figures, tracks or ParaView).
+    if (!no_plots || args.movie) && !hurry {
         // Ground tracks always; the movie unless the problem file turns it off.
         let title = path
             .file_stem()
@@ -304,8 +319,14 @@ pub fn run(args: &Args) -> ExitCode {
                 .map(|p| (p.sidewinding, p.lateral_speed_over_v_m)),
         );
         let want_movie = args.movie || p.output.movie;
-        let made =
-            output::rundir::write_plots(stage, &model, &o, &fields, &title, regime, want_movie);
+        let made = if no_plots {
+            let clip = output::movie::clip_from_run(&model, &o.frames, &fields, &title, regime);
+            output::movie::write_movie(stage, "movie.gif", &clip, &Default::default())
+                .map(Some)
+                .map_err(|e| format!("cannot write the movie: {e}"))
+        } else {
+            output::rundir::write_plots(stage, &model, &o, &fields, &title, regime, want_movie)
+        };
         if let Err(e) = made {
             eprintln!("error: {}: {e}", out.display());
             return ExitCode::from(1);
@@ -318,14 +339,24 @@ pub fn run(args: &Args) -> ExitCode {
         );
         return ExitCode::from(1);
     }
+    if hurry && !o.interrupted {
+        eprintln!(
+            "{}: {} came after the simulation: its results are written to {}, without figures",
+            path.display(),
+            super::signals::name(),
+            out.display()
+        );
+        return super::signals::exit_code();
+    }
     if o.interrupted {
         eprintln!(
-            "{}: interrupted at t = {} s; results up to then written to {} (status \"interrupted\")",
+            "{}: interrupted ({}) at t = {} s; results up to then written to {} (status \"interrupted\")",
             path.display(),
+            super::signals::name(),
             o.state.t,
             out.display()
         );
-        return ExitCode::from(130);
+        return super::signals::exit_code();
     }
     if let Some(e) = &o.error {
         eprintln!(
@@ -435,27 +466,6 @@ impl LateBar {
     fn clear(&mut self) {
         if let Some(b) = self.bar.take() {
             b.finish_and_clear();
-        }
-    }
-}
-
-/// Ctrl-C (SIGINT) stops the simulation after its current step ([`sim::INTERRUPT`]); the run
-/// then saves what it computed (a fresh directory) or keeps the previous results (a rerun),
-/// and exits 130. A second Ctrl-C ends the process at once.
-fn on_interrupt() {
-    #[cfg(unix)]
-    {
-        extern "C" fn handler(_: libc::c_int) {
-            sim::INTERRUPT.store(true, std::sync::atomic::Ordering::Relaxed);
-            // Async-signal-safe: the next Ctrl-C gets the default action.
-            unsafe {
-                libc::signal(libc::SIGINT, libc::SIG_DFL);
-            }
-        }
-        // SAFETY: the handler only stores an atomic and resets the disposition, both
-        // async-signal-safe.
-        unsafe {
-            libc::signal(libc::SIGINT, handler as *const () as libc::sighandler_t);
         }
     }
 }

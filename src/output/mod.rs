@@ -7,9 +7,9 @@
 //! and renamed over its final name only when complete, so a full disk or a crash never leaves
 //! a truncated file under a result's name; an I/O error names the file. [`lock`] keeps two
 //! runs out of one output directory. A run writes into a [`staging`] folder and swaps its
-//! outputs in when they are complete ([`staging::Staging::commit`], which clears the previous
-//! run's [`RUN_OUTPUTS`] with [`remove_previous`]), so an interrupted rerun never destroys
-//! the previous results. [`schema`] lists every key of `summary.json` and every column of the
+//! outputs in when they are complete ([`staging::Staging::commit`], which replaces the previous
+//! run's [`RUN_OUTPUTS`] all at once or not at all), so an interrupted or failed rerun never
+//! destroys the previous results. [`schema`] lists every key of `summary.json` and every column of the
 //! studies' CSV files with its unit and meaning.
 
 pub mod ensemble;
@@ -233,8 +233,9 @@ impl Summary {
     }
 }
 
-/// Files and folders a `slither run` writes into its output directory (removed by
-/// [`remove_previous`] before a run; `vtk/` only its `frame_*.vtp` files and `frames.pvd`).
+/// Files and folders a `slither run` writes into its output directory (a rerun's commit,
+/// [`staging::Staging::commit`], replaces or removes them, with `slither movie`'s renderings:
+/// [`staging::is_run_output`]; in `vtk/` only its `frame_*.vtp` files and `frames.pvd`).
 pub const RUN_OUTPUTS: &[&str] = &[
     "summary.json",
     "final.csv",
@@ -249,36 +250,6 @@ pub const RUN_OUTPUTS: &[&str] = &[
     "tracks.svg",
     "vtk",
 ];
-
-/// Remove the outputs of a previous run from `dir` ([`RUN_OUTPUTS`]), so a new run into a used directory never leaves another run's figures or
-/// frames beside its own. Other files are left alone.
-pub fn remove_previous(dir: &Path) -> std::io::Result<()> {
-    let gone = |r: std::io::Result<()>| match r {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(e),
-        _ => Ok(()),
-    };
-    for name in RUN_OUTPUTS {
-        let path = dir.join(name);
-        if *name == "vtk" {
-            if let Ok(entries) = std::fs::read_dir(&path) {
-                for entry in entries.flatten() {
-                    let n = entry.file_name().to_string_lossy().into_owned();
-                    if (n.starts_with("frame_") && n.ends_with(".vtp")) || n == "frames.pvd" {
-                        gone(std::fs::remove_file(entry.path()))?;
-                    }
-                }
-                // Only if empty now (a user's own files stay).
-                let _ = std::fs::remove_dir(&path);
-            }
-            continue;
-        }
-        gone(std::fs::remove_file(&path).map_err(|e| context(&path, e)))?;
-    }
-    // A temporary file left by a crash (`.NAME.tmp`) is overwritten by the next write of
-    // NAME; the staging folder of the ParaView files goes now.
-    let _ = std::fs::remove_dir_all(dir.join(".vtk.tmp"));
-    Ok(())
-}
 
 /// The error `e` with the file's path in front.
 fn context(path: &Path, e: std::io::Error) -> std::io::Error {

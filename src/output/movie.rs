@@ -338,6 +338,22 @@ pub fn still_of_dir(
     out: Option<&Path>,
 ) -> Result<std::path::PathBuf, String> {
     let clip = clip_from_dir(dir)?;
+    let (first, last) = (
+        clip.t.first().copied().unwrap_or(0.0),
+        clip.t.last().copied().unwrap_or(0.0),
+    );
+    // Half a frame's spacing of slack at either end (the nearest frame is shown).
+    let slack = if clip.t.len() > 1 {
+        0.5 * (last - first) / (clip.t.len() - 1) as f64
+    } else {
+        0.0
+    };
+    if !(t >= first - slack && t <= last + slack) {
+        return Err(format!(
+            "--still {t} is not allowed: the run in {} recorded t in [{first}, {last}] s",
+            dir.display()
+        ));
+    }
     let path = match out {
         Some(p) => p.to_path_buf(),
         None => dir.join(format!("still_{t}.png")),
