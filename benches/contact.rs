@@ -1,5 +1,5 @@
-//! One implicit step with ground contact and friction at 50 and 200 elements (active-set
-//! path, conic program as fallback); prints conic solves and iterations per step and
+//! One implicit step with ground contact and friction at 50 and 200 elements (the semi-smooth
+//! Newton, conic program as fallback); prints conic solves and iterations per step and
 //! Clarabel's share, also for the conic path alone.
 use criterion::{criterion_group, criterion_main, Criterion};
 use slither::integrator::{Integrator, Natural};
@@ -44,12 +44,12 @@ fn bench(c: &mut Criterion) {
                 criterion::BatchSize::SmallInput,
             )
         });
-        // The same 200 steps with the active-set path (default) and with a conic program at
+        // The same 200 steps with the semi-smooth Newton (default) and with a conic program at
         // every Newton iterate (the fallback path alone), for comparison.
-        for active_set in [true, false] {
+        for semismooth in [true, false] {
             let mut integ = Integrator::new(&m, Box::new(Natural));
-            if !active_set {
-                integ.set_contact(Some(Box::new(slither::contact::Conic::new(&m))));
+            if !semismooth {
+                integ.set_contact(Some(Box::new(slither::contact::Dispatcher::new(&m, false))));
             }
             let mut s = s0.clone();
             let t = std::time::Instant::now();
@@ -59,13 +59,13 @@ fn bench(c: &mut Criterion) {
             let wall = t.elapsed().as_secs_f64();
             let st = integ.stats();
             println!(
-                "{n} elements, {}: {:.3} ms/step, {:.2} Newton it/step, {:.2} conic solves/step, {} active-set steps, {} fallbacks, {:.1} Clarabel iterations/solve, Clarabel {:.0}% of step time, assembly {:.0}%",
-                if active_set { "active set" } else { "conic only" },
+                "{n} elements, {}: {:.3} ms/step, {:.2} Newton it/step, {:.2} conic solves/step, {} semi-smooth steps, {} fallbacks, {:.1} Clarabel iterations/solve, Clarabel {:.0}% of step time, assembly {:.0}%",
+                if semismooth { "semi-smooth" } else { "conic only" },
                 1e3 * wall / st.steps as f64,
                 st.newton_iterations as f64 / st.steps as f64,
                 st.contact.conic_solves as f64 / st.steps as f64,
-                st.contact.active_set_steps,
-                st.contact.active_set_fallbacks,
+                st.contact.semismooth_steps,
+                st.contact.semismooth_fallbacks,
                 st.contact.conic_iterations as f64 / st.contact.conic_solves.max(1) as f64,
                 100.0 * st.contact.conic_s / wall,
                 100.0 * st.newton.assembly_s / wall

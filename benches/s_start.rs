@@ -1,6 +1,6 @@
 //! The whole S-start (`problems/s_start.toml`, 50 elements, dt 2e-3) over its first 0.5 s of
 //! simulated time (lift-off, the first contact changes and the pulse forming), end to end through
-//! the run loop: assembly, factorisations, active-set and conic contact, frames. Beside it the
+//! the run loop: assembly, factorisations, semi-smooth and conic contact, frames. Beside it the
 //! same window with BDF2, and the time of one simulated second is printed from the statistics.
 //! A second group runs 200 elements over the first 1.5 s, where slip fronts start.
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -24,7 +24,7 @@ fn print_stats(name: &str, m: &Model, kind: problem::IntegratorKind) {
         st.steps,
         st.newton_iterations as f64 / st.steps as f64,
         st.contact.conic_solves,
-        st.contact.active_set_fallbacks,
+        st.contact.semismooth_fallbacks,
         st.step_halvings
     );
 }

@@ -2,12 +2,11 @@
 //! `DURATION` seconds (0.5 by default) with implicit Euler at `dt` (5e-4 by default) at each
 //! element count, and per run the Newton iterations, factorisations and conic fallbacks per
 //! step, the step halvings, microseconds per step per element and wall seconds per simulated
-//! second, plus the time split (assembly, factorisation, solves, line search, Clarabel), and a
-//! second table of the active set's status changes per step by kind (`stats.switches`).
+//! second, plus the time split (assembly, factorisation, solves, line search, Clarabel).
 //!
 //! ```sh
 //! cargo run --release --example contact_scaling -- [--elements 50,100,200,400] [--duration 0.5]
-//!     [--dt 5e-4[,1e-3...]] [--integrator implicit|bdf2] [--contact active-set|semi-smooth|conic]
+//!     [--dt 5e-4[,1e-3...]] [--integrator implicit|bdf2] [--contact semi-smooth|conic]
 //!     [--scene problems/s_start.toml] [--cap N] [--perturb X] [--merit-memory M] [--penalty P]
 //!     [--certificate N] [--adaptive TOL] [--chart OUT.png [--pyelastica STEPS.csv]]
 //! ```
@@ -18,10 +17,10 @@
 //! from the CSV written by `compare/stable_steps.sh` (its `stable` rows).
 //!
 //! `--duration full` runs the whole scene and adds v_s/v_m. `--certificate N` certifies every
-//! N-th active-set step with the conic program (`[solver] conic_certificate`) and reports it.
+//! N-th semi-smooth step with the conic program (`[solver] conic_certificate`) and reports it.
 //! `--adaptive TOL` runs adaptive BDF2 instead (error tolerance `TOL`, a fraction of L per step;
 //! `dt` is its first step); `--integrator bdf2`, BDF2 at the fixed step `dt`. `--cap N` sets
-//! `[solver] active_set_max_iterations` (and `max_iterations`, which caps it, to at least
+//! `[solver] semi_smooth_max_iterations` (and `max_iterations`, which caps it, to at least
 //! `N`); `--merit-memory M` sets `[solver] semi_smooth_merit_memory` (the semi-smooth
 //! Newton's non-monotone line search; 1 is monotone), `--penalty P` its `semi_smooth_penalty`;
 //! `--perturb X` adds `X` to `mu_forward` (another trajectory of the same scene, for solver
@@ -39,7 +38,7 @@ struct Args {
     contact: Option<problem::ContactKind>,
     /// Fixed-step BDF2 instead of implicit Euler (`--integrator bdf2`).
     bdf2: bool,
-    /// `[solver] active_set_max_iterations` (`--cap`; the file's by default).
+    /// `[solver] semi_smooth_max_iterations` (`--cap`; the file's by default).
     cap: Option<usize>,
     /// `[solver] semi_smooth_merit_memory` (`--merit-memory`; the file's by default).
     memory: Option<usize>,
@@ -112,7 +111,7 @@ fn parse() -> Args {
                         .expect("--merit-memory: accepted merits remembered"),
                 )
             }
-            "--cap" => a.cap = Some(v.parse().expect("--cap: active-set iterations per step")),
+            "--cap" => a.cap = Some(v.parse().expect("--cap: semi-smooth iterations per step")),
             "--perturb" => a.perturb = v.parse().expect("--perturb: added to mu_forward"),
             "--integrator" => {
                 a.bdf2 = match v.as_str() {
@@ -123,10 +122,9 @@ fn parse() -> Args {
             }
             "--contact" => {
                 a.contact = Some(match v.as_str() {
-                    "active-set" => problem::ContactKind::ActiveSet,
                     "semi-smooth" => problem::ContactKind::SemiSmooth,
                     "conic" => problem::ContactKind::Conic,
-                    _ => panic!("--contact: active-set, semi-smooth or conic"),
+                    _ => panic!("--contact: semi-smooth or conic (the active set was retired)"),
                 })
             }
             other => {
@@ -275,7 +273,6 @@ fn method(args: &Args, dt: f64) -> String {
 /// simulated second)` of the runs that finished.
 fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
     let mut points = Vec::new();
-    let mut switches = Vec::new();
     println!(
         "scene {}{}, {}, {}{}{}{}",
         args.scene.display(),
@@ -288,7 +285,7 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
         args.duration
             .map_or("whole scene".to_string(), |d| format!("first {d} s")),
         args.cap.map_or(String::new(), |c| format!(
-            ", active-set cap {c} iterations"
+            ", semi-smooth cap {c} iterations"
         )),
         args.memory
             .map_or(String::new(), |k| format!(", semi-smooth merit memory {k}")),
@@ -324,7 +321,7 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             p.solver.semi_smooth_merit_memory = mem;
         }
         if let Some(cap) = args.cap {
-            p.solver.active_set_max_iterations = cap;
+            p.solver.semi_smooth_max_iterations = cap;
             p.solver.max_iterations = p.solver.max_iterations.max(cap);
         }
         if let Some(g) = p.ground.as_mut() {
@@ -362,7 +359,7 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             st.contact.semismooth_retries,
             hist.join(" ")
         );
-        let fallbacks = st.contact.active_set_fallbacks + st.contact.semismooth_fallbacks;
+        let fallbacks = st.contact.semismooth_fallbacks;
         let wall = o.wall_time_s;
         let simulated = o.state.t.max(1e-300);
         let pct = |x: f64| 100.0 * x / wall.max(1e-300);
@@ -393,29 +390,9 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
             pct(st.contact.conic_s),
             o.error.as_ref().map_or(String::new(), |e| format!(" failed: {e}"))
         );
-        let w = &st.contact.switches;
-        switches.push(format!(
-            "| {n} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
-            w.early_slides as f64 / steps,
-            w.reversals as f64 / steps,
-            w.converged_slides as f64 / steps,
-            w.front_slides as f64 / steps,
-            w.zero_slip_sticks as f64 / steps,
-            w.landings as f64 / steps,
-            w.early_lifts as f64 / steps,
-            w.converged_lifts as f64 / steps,
-        ));
         if o.error.is_none() {
             points.push((n as f64, wall / simulated));
         }
-    }
-    println!();
-    println!("Active-set status changes per step (`stats.switches` of summary.json):");
-    println!();
-    println!("| elements | early slides | reversals | converged slides | front slides | zero-slip sticks | landings | early lift-offs | converged lift-offs |");
-    println!("|---|---|---|---|---|---|---|---|---|");
-    for row in &switches {
-        println!("{row}");
     }
     println!();
     points

@@ -54,7 +54,7 @@ fn run(p: &problem::Problem) -> Result<Run, String> {
         wall: o.wall_time_s,
         newton_mean: st.newton_iterations as f64 / st.steps.max(1) as f64,
         conic: st.contact.conic_solves,
-        fallbacks: st.contact.active_set_fallbacks,
+        fallbacks: st.contact.semismooth_fallbacks,
         halvings: st.step_halvings,
     })
 }

@@ -9,7 +9,12 @@ phase study (problems/phase_s_start.toml) and compares phase.csv, refine.csv and
 boundaries.json without their wall-time columns; optionally a shortened optimize study.
 
     scripts/compare_outputs.py --old /tmp/slither_old --new target/release/slither \
-        --work /tmp/cmp [--only s_start,slide] [--skip-phase] [--optimize]
+        --work /tmp/cmp [--only s_start,slide] [--skip-phase] [--optimize] \
+        [--retired stats.active_set_,stats.switches.]
+
+`--retired` names summary.json fields (prefixes of their dotted paths) that a change removed
+on purpose: found only in the old output they are counted and listed once per scene, not as
+differences; any other field found in one output only still is one.
 
 Exit status 0 when every compared field is identical (floats compared exactly, NaN equal to
 NaN), 1 otherwise. Single-threaded (RAYON_NUM_THREADS=1) so the runs are deterministic and
@@ -37,6 +42,7 @@ TIMERS = {
     "line_search_s",
     "conic_s",
     "wall_s",
+    "elapsed_s",
 }
 
 
@@ -66,12 +72,18 @@ def same(a, b):
     return type(a) is type(b) and a == b
 
 
+RETIRED = ()
+
+
 def compare_json(old, new, label):
     """Differences between two JSON files (list of strings), and the number of compared fields."""
     a = flatten(json.loads(Path(old).read_text()))
     b = flatten(json.loads(Path(new).read_text()))
     diffs = []
     for k in sorted(set(a) | set(b)):
+        if k in a and k not in b and k.startswith(RETIRED):
+            del a[k]
+            continue
         if k not in a or k not in b:
             diffs.append(f"{label}: {k} only in {'new' if k not in a else 'old'}")
         elif not same(a[k], b[k]):
@@ -145,7 +157,12 @@ def main():
     ap.add_argument("--skip-phase", action="store_true")
     ap.add_argument("--optimize", action="store_true", help="also a 6-evaluation optimize study")
     ap.add_argument("--short", action="store_true", help="also `run --accuracy 0.05` and the gait work-precision chart on the S-start cut to 0.3 s")
+    ap.add_argument("--retired", help="comma-separated prefixes of summary.json fields removed on purpose (only in the old output)")
     args = ap.parse_args()
+    global RETIRED
+    RETIRED = tuple(args.retired.split(",")) if args.retired else ()
+    if RETIRED:
+        print(f"retired fields (only in the old summary.json, not compared): {', '.join(RETIRED)}")
     work = Path(args.work)
     shutil.rmtree(work, ignore_errors=True)
     work.mkdir(parents=True)

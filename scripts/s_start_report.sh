@@ -29,7 +29,6 @@ for key in ("status", "regime", "v_s", "v_s_over_v_m", "displacement_angle_deg",
             "max_elevation_over_a", "steps", "newton_iterations_mean", "wall_time_s"):
     print(f"{key:24s}{s[key]}")
 print(f"{'conic_solves':24s}{s['stats']['conic_solves']}")
-print(f"{'active_set_fallbacks':24s}{s['stats']['active_set_fallbacks']}")
 print(f"{'semismooth_fallbacks':24s}{s['stats']['semismooth_fallbacks']}")
 print(f"{'semismooth_retries':24s}{s['stats']['semismooth_retries']}")
 print(f"{'wall s per simulated s':24s}{s['wall_time_s'] / s['t_final']:.3f}")

@@ -3,7 +3,8 @@
 # accepted against the largest merit of the last M accepted iterates (M = 1: monotone). Runs,
 # with examples/contact_scaling.rs and for each M, the bundled S-start (100 elements, BDF2 at
 # 3.6e-3 s), the same at 200 elements, and the whole S-start with implicit Euler at 1e-3 s on
-# 200 elements and at 5e-4 s on 200 and 400 elements; then the active set on the same runs.
+# 200 elements and at 5e-4 s on 200 and 400 elements. (Its records also ran the active set, the
+# retired solver, on the same runs.)
 # Keeps the output as a dated record docs/results/semismooth-merit/<date>.md.
 #
 #   scripts/semismooth_merit.sh [MEMORIES]   # default 1,4,8; about 8 minutes
@@ -25,4 +26,3 @@ runs() {
 for mem in ${memories//,/ }; do
     runs --contact semi-smooth --merit-memory "$mem"
 done
-runs --contact active-set

@@ -14,8 +14,10 @@
 //! ([`energy::self_contact`]; its Hessian is a low-rank part beside the band, solved by
 //! Woodbury). Ground contact with anisotropic Coulomb friction `D` is solved by default by a
 //! semi-smooth Newton on the Alart-Curnier function ([`contact::semismooth`]), with the
-//! second-order-cone program (Clarabel, [`contact::conic`]) as its fallback and certificate;
-//! the older active-set iteration ([`contact::active`]) remains selectable for comparison.
+//! second-order-cone program (Clarabel, [`contact::conic`]) as its fallback and certificate.
+//! A contact is a point of the body given as a stencil of nodes ([`contact::Contact`]); the
+//! contact set belongs to a dispatcher that hands it to the two solvers
+//! ([`contact::Dispatcher`]).
 
 //! Module map, in layers: a module uses only modules of its own or lower layers, so the
 //! top-level modules import each other without cycles.
@@ -34,9 +36,10 @@
 //!    [`gait::Actuation`]).
 //! 4. [`newton`]: Newton's method on an objective (assembly, factorisation by [`band`], line
 //!    search, statistics, typed failures), and the incremental potential of a step.
-//! 5. [`contact`]: ground-contact models behind [`contact::ContactModel`] (the semi-smooth
-//!    Newton by default; the conic program by Clarabel as its fallback; the active set),
-//!    solving a step's problem with Newton's building blocks.
+//! 5. [`contact`]: ground contact behind [`contact::ContactModel`]: contacts as stencils of
+//!    nodes, the contact set and its dispatcher, and the solvers that take the set (the
+//!    semi-smooth Newton by default; the conic program by Clarabel as its fallback and
+//!    certificate), solving a step's problem with Newton's building blocks.
 //! 6. [`integrator`]: time steppers behind [`integrator::Stepper`]: the implicit stepper with
 //!    a time integration [`integrator::Scheme`] (implicit Euler), static equilibrium, and the
 //!    explicit velocity Verlet reference.

@@ -2,7 +2,8 @@
 //! arguments and body live in its own module under `cli/`; the shared pieces (logger, output
 //! lock, accuracy messages) in `cli/mod.rs`. The physics is the library's (`slither`): each
 //! implicit step a Newton solve of the incremental potential with the self-contact barrier,
-//! ground contact and friction by the semi-smooth Newton (the conic program as its fallback).
+//! ground contact and friction by the semi-smooth Newton (the default; the conic program by
+//! Clarabel as its fallback and certificate, or alone with `[solver] contact = "conic"`).
 mod cli;
 
 use clap::{Parser, Subcommand};

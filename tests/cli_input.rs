@@ -834,6 +834,50 @@ fn solver_settings_out_of_range() {
     }
 }
 
+/// The retired active-set solver and the keys only it used: one message naming the file, the
+/// line, the key and what to write instead, and saying the solver was retired with the record
+/// that justifies it. The replacement key of the semi-smooth Newton's cap runs.
+#[test]
+fn retired_active_set_solver_and_its_keys_are_refused() {
+    for (i, (line, key, allowed)) in [
+        (
+            "contact = \"active-set\"",
+            "solver.contact",
+            "\"semi-smooth\" or \"conic\"",
+        ),
+        (
+            "active_set_max_iterations = 50",
+            "solver.active_set_max_iterations",
+            "solver.semi_smooth_max_iterations",
+        ),
+        (
+            "active_set_extra_switches = 8",
+            "solver.active_set_extra_switches",
+            "only the active set used it",
+        ),
+        (
+            "contact_force_tolerance = 1e-9",
+            "solver.contact_force_tolerance",
+            "only the active set used it",
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let text = format!("{BASE}\n[solver]\n{line}\n");
+        let prefix = line.split(' ').next().unwrap();
+        let err = range_error(&format!("retired_{i}"), &text, key, prefix, allowed);
+        assert!(
+            err.contains("retired") && err.contains("docs/results/active-set-need/latest.md"),
+            "{err}"
+        );
+    }
+    let text = format!("{BASE}\n[solver]\nsemi_smooth_max_iterations = 50\n");
+    let r = run_problem("semi_smooth_cap", &text);
+    assert_eq!(r.code(), Some(0), "{}", r.stderr());
+    r.cleanup();
+}
+
 #[test]
 fn bdf2_in_static_mode() {
     let text = edit("[time]", "[time]\nmode = \"static\"");

@@ -2,7 +2,7 @@
 //! (issue: ground contact as a conic program).
 mod common;
 use common::model;
-use slither::contact::Conic;
+use slither::contact::Dispatcher;
 use slither::integrator::{Integrator, Natural};
 use slither::model::Model;
 use slither::rod::vec3::f;
@@ -55,8 +55,8 @@ fn simulate(m: &Model, each: impl FnMut(&State, &mut Integrator)) -> (State, Int
     simulate_path(m, true, each)
 }
 
-/// Step with the active-set contact Newton (`active = true`, the default) or with one conic
-/// solve per Newton iterate (`false`), so that both paths stay tested.
+/// Step with the default contact solver, the semi-smooth Newton (`active = true`), or with one
+/// conic solve per Newton iterate (`false`), so that both solvers stay tested.
 fn simulate_path(
     m: &Model,
     active: bool,
@@ -64,7 +64,7 @@ fn simulate_path(
 ) -> (State, Integrator<'_>) {
     let mut integ = Integrator::new(m, Box::new(Natural));
     if !active {
-        integ.set_contact(Some(Box::new(Conic::new(m))));
+        integ.set_contact(Some(Box::new(Dispatcher::new(m, false))));
     }
     let mut s = State::initial(m);
     let steps = (m.duration / m.dt).round() as usize;
@@ -132,30 +132,6 @@ fn stop_distance_with(heading: f64, v: [f64; 3], mu: f64, active: bool, integrat
     println!("heading {heading}: stopped after {d:.6} m (analytic {expected:.6} m), final speed {speed:e}, {:.2} conic solves/step", integ.stats().contact.conic_solves as f64 / integ.stats().steps as f64);
     assert!((d / expected - 1.0).abs() < 0.01);
     assert!(speed < 1e-9, "still moving at {speed}");
-    if active {
-        // The active set (the default contact solve before the semi-smooth Newton) stops at
-        // the same distance, and counts its status changes (`stats.switches`): every contact
-        // slides from the start and comes to rest on the ground, each stops once (a slip
-        // reversal or a vanished slip) and never slides again, and none lands or lifts off.
-        let mut m = scene_with(
-            heading,
-            v,
-            0.0,
-            0.0,
-            1.1 * f::norm(v) / (mu * G),
-            integrator,
-        );
-        m.solver.contact = slither::problem::ContactKind::ActiveSet;
-        let (s, integ) = simulate_path(&m, true, |_, _| {});
-        let d_active = f::norm(f::sub(s.centroid(&m), c0));
-        println!("active set: stopped after {d_active:.6} m");
-        assert!((d_active / expected - 1.0).abs() < 0.01);
-        let w = integ.stats().contact.switches;
-        println!("status changes: {w:?}");
-        assert_eq!(w.reversals + w.zero_slip_sticks, m.real.len());
-        assert_eq!(w.early_slides + w.converged_slides + w.front_slides, 0);
-        assert_eq!(w.landings + w.early_lifts + w.converged_lifts, 0);
-    }
 }
 
 #[test]
@@ -207,7 +183,7 @@ fn incline_with(heading: f64, mu: f64, active: bool, integrator: &str) {
     );
     // Rigid sliding from rest at constant acceleration: implicit Euler and BDF2 give the
     // velocity exactly, so only the solver's tolerance is left: measured 1.4e-11 and 1.8e-12
-    // (active set, implicit Euler), 9e-13 and 1.4e-12 (BDF2), -2.9e-7 (conic program alone,
+    // (the retired active set, implicit Euler), 9e-13 and 1.4e-12 (BDF2), -2.9e-7 (conic program alone,
     // its interior-point tolerance): 1e-6 is 3.4 times the largest.
     assert!(
         (acc / expected - 1.0).abs() < 1e-6,
@@ -305,9 +281,73 @@ fn bad_ground_keys_are_rejected_with_the_key_named() {
     }
 }
 
+/// Contacts between nodes (the machinery ground contact between nodes will use): the ground's
+/// contacts replaced by one at the middle of every segment (a stencil of its two nodes with
+/// weights 1/2). The semi-smooth Newton holds node coordinates, so every step goes to the conic
+/// program, which takes the stencils as they are. A straight rod sliding forward on them stops
+/// after `v0^2 / (2 mu_f g)` as with contacts at the nodes (the stop depends on the friction
+/// law, not on where the contacts sit), no midpoint sinks below the ground, and the normal
+/// forces spread to the nodes carry the weight.
+#[test]
+fn contacts_between_nodes_go_to_the_conic_program_and_stop_a_sliding_rod() {
+    use slither::contact::{Contact, ContactSet, Stencil};
+    let v = [0.5, 0.0, 0.0];
+    let m = scene(0.0, v, 0.0, 0.0, 1.1 * f::norm(v) / (MU[0] * G));
+    let law = *m.ground.as_ref().unwrap();
+    let weight = m.total_mass() * G;
+    let segments: Vec<usize> = m.real.clone().take(m.real.len() - 1).collect();
+    let contacts: Vec<Contact> = segments
+        .iter()
+        .map(|&i| Contact::new(Stencil::new(&[i, i + 1], &[0.5, 0.5]).unwrap(), law))
+        .collect();
+    let n = contacts.len();
+    let set = ContactSet::new(
+        contacts
+            .iter()
+            .map(|c| (c.clone(), weight / n as f64))
+            .collect(),
+    );
+    let mut integ = Integrator::new(&m, Box::new(Natural));
+    integ.set_contact(Some(Box::new(Dispatcher::with_set(&m, set, true))));
+    let mut s = State::initial(&m);
+    let c0 = s.centroid(&m);
+    let steps = (m.duration / m.dt).round() as usize;
+    for _ in 0..steps {
+        integ.step(&mut s, m.dt).unwrap();
+        for c in &contacts {
+            let gap = c.gap(&s.q, m.diameter);
+            assert!(
+                gap >= -1e-9 * m.diameter,
+                "a midpoint {gap:e} m below the ground at t = {}",
+                s.t
+            );
+        }
+    }
+    let st = integ.stats();
+    println!(
+        "{} steps, {} semi-smooth steps, {} fallbacks, {} conic solves",
+        st.steps,
+        st.contact.semismooth_steps,
+        st.contact.semismooth_fallbacks,
+        st.contact.conic_solves
+    );
+    assert_eq!(st.contact.semismooth_steps, 0);
+    assert_eq!(st.contact.semismooth_fallbacks, st.steps);
+    let d = f::norm(f::sub(s.centroid(&m), c0));
+    let expected = f::dot(v, v) / (2.0 * MU[0] * G);
+    println!("stopped after {d:.6} m (analytic {expected:.6} m)");
+    assert!((d / expected - 1.0).abs() < 0.01, "{d} against {expected}");
+    let carried: f64 = integ.normal_forces().iter().sum();
+    println!("normal forces {carried:.9} N against the weight {weight:.9} N");
+    assert!(
+        (carried / weight - 1.0).abs() < 1e-6,
+        "{carried} against {weight}"
+    );
+}
+
 #[test]
 fn conic_path_alone_stops_and_sticks_and_slides_correctly() {
-    // One conic (Clarabel) solve per Newton iterate, no active set: the fallback path.
+    // One conic (Clarabel) solve per Newton iterate, no semi-smooth Newton: the fallback path.
     stop_distance_path(0.0, [0.5, 0.0, 0.0], MU[0], false);
     stop_distance_path(90.0, [0.5, 0.0, 0.0], MU[2], false);
     incline_path(0.0, MU[1], false);
@@ -320,117 +360,6 @@ fn bdf2_slides_to_the_same_stop_distances_and_sticks_below_the_friction_angle() 
     stop_distance_with(90.0, [0.5, 0.0, 0.0], MU[2], true, "bdf2");
     incline_with(0.0, MU[1], true, "bdf2");
     incline_with(90.0, MU[2], true, "bdf2");
-}
-
-/// The S-start's first 0.3 s on 50 elements with implicit Euler at 2e-3 s
-/// ([`common::s_start_coarse`]) with the active-set contact path, `[solver] contact_coupling`
-/// as given; returns every step's residual sequence (see `Stats::residuals`).
-fn s_start_residuals(coupling: bool) -> Vec<Vec<f64>> {
-    use slither::gait::Muscles;
-    let mut p = common::s_start_coarse();
-    p.time.duration = Some(0.3);
-    p.solver.contact = slither::problem::ContactKind::ActiveSet;
-    p.solver.contact_coupling = coupling;
-    p.solver.tolerance = 1e-9;
-    let m = Model::new(&p);
-    let mut integ = Integrator::new(
-        &m,
-        Box::new(Muscles {
-            gait: m.gait.clone(),
-        }),
-    );
-    let mut s = State::initial(&m);
-    let mut out = Vec::new();
-    for _ in 0..(m.duration / m.dt).round() as usize {
-        integ.step(&mut s, m.dt).unwrap();
-        out.push(integ.stats().contact.residuals.clone());
-    }
-    out
-}
-
-/// Residual sequences per step: with coupled and with lagged normal forces.
-type ResidualRuns = (Vec<Vec<f64>>, Vec<Vec<f64>>);
-
-/// The S-start's residual sequences with coupled and with lagged normal forces, computed
-/// once for the convergence test and its pin.
-fn residual_runs() -> &'static ResidualRuns {
-    static RUNS: std::sync::OnceLock<ResidualRuns> = std::sync::OnceLock::new();
-    RUNS.get_or_init(|| (s_start_residuals(true), s_start_residuals(false)))
-}
-
-/// Successive residuals (relative to the weight per contact) near the solution: the first
-/// below 0.1, the second above the round-off floor (positions ~0.5 m carry ~1e-16 m of
-/// round-off, times the stretching stiffness EA / l ~ 3e5 N/m, over W / n_c ~ 0.06 N:
-/// ~1e-9, and so it is observed). Pairs across a status change (NaN) or after a step that
-/// was not a full exact Newton step (-1) are not Newton pairs.
-fn newton_pairs(steps: &[Vec<f64>]) -> Vec<(f64, f64)> {
-    steps
-        .iter()
-        .flat_map(|r| r.windows(2).map(|w| (w[0], w[1])))
-        .filter(|&(a, b)| (0.0..0.1).contains(&a) && b > 1e-8)
-        .collect()
-}
-
-/// Fraction of pairs whose residual at least squared, and the largest `r1 / r0^2`.
-fn squared_fraction(p: &[(f64, f64)]) -> (f64, f64) {
-    let sq = p.iter().filter(|&&(a, b)| b <= a * a).count() as f64 / p.len() as f64;
-    let worst = p.iter().map(|&(a, b)| b / (a * a)).fold(0.0, f64::max);
-    (sq, worst)
-}
-
-/// Contact forces inside the Newton system: on the S-start's contact steps the force
-/// residual squares from one iterate to the next near the solution (`r1 <= C r0^2` with a
-/// bounded C on every pair, and `r1 <= r0^2` on most); with the normal forces lagged by one
-/// iterate (`contact_coupling = false`) it only contracts.
-#[test]
-fn contact_newton_converges_quadratically() {
-    let (raw, lagged_raw) = residual_runs();
-    let iterations = raw.iter().flatten().filter(|r| **r >= 0.0).count();
-    let inexact = raw.iter().flatten().filter(|r| **r < 0.0).count();
-    println!("coupled: {inexact} of {iterations} iterations not full exact Newton steps");
-    assert!((inexact as f64) < 0.1 * iterations as f64);
-    let coupled = newton_pairs(raw);
-    let lagged = newton_pairs(lagged_raw);
-    let (sc, wc) = squared_fraction(&coupled);
-    let (sl, wl) = squared_fraction(&lagged);
-    println!(
-        "coupled: {} pairs, {:.0} % squared, largest r1/r0^2 {wc:.2e}; lagged: {} pairs, {:.0} % squared, largest r1/r0^2 {wl:.2e}",
-        coupled.len(),
-        100.0 * sc,
-        lagged.len(),
-        100.0 * sl,
-    );
-    assert!(coupled.len() >= 50 && lagged.len() >= 50);
-    // Quadratic: on every pair `r1 <= C r0^2` with a bounded C (a contact crossing between
-    // forward and backward sliding, where the dissipation's Hessian jumps, costs the odd pair
-    // its full rate), and most pairs square outright. A linear contraction (the lagged
-    // iteration's) gives neither.
-    assert!(wc <= 100.0, "coupled: r1 / r0^2 up to {wc:e}");
-    assert!(
-        sc >= 0.75,
-        "coupled: only {:.0} % of pairs squared",
-        100.0 * sc
-    );
-    // The lagged iteration does not: the comparison shows what the coupling does.
-    assert!(sl <= 0.5, "lagged: {:.0} % of pairs squared", 100.0 * sl);
-    assert!(wl > 1e3, "lagged: r1 / r0^2 at most {wl:e}");
-}
-
-/// Regression pin: nine pairs in ten square outright on the S-start's first 0.3 s (measured
-/// 91 % of 158 pairs when pinned; 90 % of 161 with the semi-smooth contact of 2026-12-04, at
-/// the pin's edge). Which pairs cross a forward/backward switch depends on the trajectory's last
-/// digits, so the fraction may differ slightly on another machine; the physics claim
-/// (quadratic convergence, with a margin that survives that) is the test above. Re-pinned by
-/// the lead after the contact work, not here.
-#[test]
-fn pin_contact_newton_squares_nine_pairs_in_ten() {
-    let (raw, _) = residual_runs();
-    let (sc, _) = squared_fraction(&newton_pairs(raw));
-    assert!(
-        sc >= 0.9,
-        "coupled: only {:.0} % of pairs squared",
-        100.0 * sc
-    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -626,7 +555,7 @@ fn conic_certificate_confirms_the_contact_newton_while_sliding_and_sticking() {
         m.solver.conic_certificate = 1;
         let (_, integ) = simulate(&m, |_, _| {});
         let c = &integ.stats().contact;
-        let solved = c.active_set_steps + c.semismooth_steps;
+        let solved = c.semismooth_steps;
         println!(
             "heading {heading}, incline {incline:.2}: {} of {solved} steps certified, {} failed, largest correction {:.3e} and normal-force change {:.3e} tolerances",
             c.certificates,

@@ -243,6 +243,15 @@ fn unknown_solver_overrides_in_the_environment_are_refused() {
         assert!(e.contains(var) && e.contains(value), "{e}");
         assert!(!out.join("summary.json").exists());
     }
+    // The retired active set is named as retired.
+    let (o, out) = run("active-set", BASE, &[("SLITHER_CONTACT", "active-set")]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("SLITHER_CONTACT") && e.contains("retired"),
+        "{e}"
+    );
+    assert!(!out.join("summary.json").exists());
     // The allowed values still run.
     let (o, _) = run("conic", BASE, &[("SLITHER_CONTACT", "conic")]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));

@@ -306,7 +306,7 @@ fn a_failed_step_is_retried_with_other_penalties_before_the_conic_fallback() {
             0.0,
             5e-3,
             0.05,
-            &format!("active_set_max_iterations = 1\nsemi_smooth_retries = {retries}"),
+            &format!("semi_smooth_max_iterations = 1\nsemi_smooth_retries = {retries}"),
         );
         let mut integ = Integrator::new(&m, Box::new(Natural));
         let mut s = State::initial(&m);

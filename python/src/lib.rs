@@ -133,8 +133,9 @@ impl log::Log for StderrLog {
 }
 
 /// Read the environment once, as the CLI does: the logger and the solver overrides
-/// (`SLITHER_CONTACT`, `SLITHER_CLARABEL_METHOD`).
-fn configure_from_env() {
+/// (`SLITHER_CONTACT`, `SLITHER_CLARABEL_METHOD`), refused with the CLI's message when their
+/// values are not allowed (`SLITHER_CONTACT=active-set` names the retired solver).
+fn configure_from_env() -> PyResult<()> {
     use slither::problem;
     static LOGGER: StderrLog = StderrLog;
     if log::set_logger(&LOGGER).is_ok() {
@@ -144,21 +145,18 @@ fn configure_from_env() {
             log::LevelFilter::Warn
         });
     }
-    problem::set_overrides(problem::Overrides {
-        contact: std::env::var("SLITHER_CONTACT")
-            .ok()
-            .map(|v| match v.as_str() {
-                "conic" => problem::ContactKind::Conic,
-                _ => problem::ContactKind::ActiveSet,
-            }),
-        clarabel_method: std::env::var("SLITHER_CLARABEL_METHOD").ok(),
-    });
+    let contact = std::env::var("SLITHER_CONTACT").ok();
+    let method = std::env::var("SLITHER_CLARABEL_METHOD").ok();
+    let overrides = problem::Overrides::from_env_values(contact.as_deref(), method.as_deref())
+        .map_err(PyValueError::new_err)?;
+    problem::set_overrides(overrides);
+    Ok(())
 }
 
 /// The native part of `slither_gait`.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    configure_from_env();
+    configure_from_env()?;
     m.add_class::<convert::Problem>()?;
     m.add_class::<run::NativeRun>()?;
     m.add_function(wrap_pyfunction!(convert::load_problem, m)?)?;

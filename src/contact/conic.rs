@@ -1,11 +1,13 @@
 //! The conic contact model: one second-order-cone program (Clarabel) per Newton iterate, its
 //! duals the lagged normal forces of the next iterate (see the module doc of
-//! [`crate::contact`]). Also the certified fallback of the active-set model.
+//! [`crate::contact`]). A solver of its own (`[solver] contact = "conic"`), and the fallback
+//! and certificate of the semi-smooth Newton.
 //!
-//! [`Contacts::conic_program`] formulates and solves the program of one iterate;
-//! [`Conic::iterate`] runs the Newton iterations around it.
+//! [`Conic::program`] formulates and solves the program of one iterate from the contact set
+//! (each contact's gap and slip rows through its stencil, so a contact between nodes is one
+//! more row with more entries); [`Conic::iterate`] runs the Newton iterations around it.
 
-use super::{ContactFailure, ContactModel, ContactStats, Contacts, Ground};
+use super::{ContactFailure, ContactSet, ContactStats};
 use crate::band::Assembly;
 use crate::model::Model;
 use crate::newton::{Failure, Newton, Objective, Path, Potential};
@@ -20,32 +22,26 @@ use std::time::Instant;
 /// accuracy-level correction of the interior-point solve: it is taken in full.
 const NEGLIGIBLE_DECREASE: f64 = 1e-12;
 
-/// One conic program per Newton iterate.
+/// The conic program as a contact solver: Newton iterations, each solving one conic program
+/// of the quadratic model with the contact set's lagged normal forces.
 pub struct Conic {
-    /// Contact data and normal forces.
-    pub ct: Contacts,
-    /// Statistics (also those of an active-set model that owns this one).
-    pub stats: ContactStats,
-    normal_saved: Vec<f64>,
+    /// The gradient the conic model predicts at the next iterate.
     pred_grad: Vec<f64>,
-    h: f64,
+    /// Clarabel's KKT solver, tolerances and iteration cap (`[solver]`).
+    direct_method: String,
+    tolerance: f64,
+    max_iterations: u32,
 }
 
 impl Conic {
-    /// The conic model of `m` (initial normal forces: each touching node's weight).
+    /// The conic solver of `m` (Clarabel settings from `[solver]`).
     pub fn new(m: &Model) -> Self {
         Conic {
-            ct: Contacts::new(m, &m.q0),
-            stats: ContactStats::default(),
-            normal_saved: Vec::new(),
             pred_grad: vec![0.0; m.ndof],
-            h: 0.0,
+            direct_method: m.solver.clarabel_method.clone(),
+            tolerance: m.solver.conic_tolerance,
+            max_iterations: m.solver.conic_max_iterations,
         }
-    }
-
-    /// Restore the normal forces saved at the start of the step.
-    pub(crate) fn restore_normals(&mut self) {
-        self.ct.normal.clone_from(&self.normal_saved);
     }
 
     /// Certify a converged step `q` with [`Self::certify`] and record the outcome in the
@@ -53,15 +49,17 @@ impl Conic {
     /// tolerances, and a failure where either exceeds one; a warning is logged then).
     pub(crate) fn certify_recorded(
         &mut self,
+        set: &mut ContactSet,
+        stats: &mut ContactStats,
         nw: &mut Newton,
         obj: &Potential,
         q: &[f64],
     ) -> Result<(), ContactFailure> {
         let m = obj.model;
-        let (dq, dn) = self.certify(nw, obj, q)?;
+        let (dq, dn) = self.certify(set, stats, nw, obj, q)?;
         let dq = dq / m.tolerance;
-        let dn = dn / (m.solver.normal_force_tolerance * self.ct.weight_scale(m));
-        let st = &mut self.stats;
+        let dn = dn / (m.solver.normal_force_tolerance * set.weight_scale(m));
+        let st = stats;
         st.certificates += 1;
         st.certificate_max_correction = st.certificate_max_correction.max(dq);
         st.certificate_max_normal_change = st.certificate_max_normal_change.max(dn);
@@ -80,12 +78,13 @@ impl Conic {
     /// normal-force change (N); `q` and the normal forces stay as they are.
     pub(crate) fn certify(
         &mut self,
+        set: &mut ContactSet,
+        stats: &mut ContactStats,
         nw: &mut Newton,
         obj: &Potential,
         q: &[f64],
     ) -> Result<(f64, f64), ContactFailure> {
         let m = obj.model;
-        let ground = m.ground.as_ref().expect("a contact model needs a ground");
         let t0 = Instant::now();
         obj.assemble(q, &mut nw.asm, true);
         for k in 0..m.ndof {
@@ -96,12 +95,11 @@ impl Conic {
         nw.stats.assembly_s += t0.elapsed().as_secs_f64();
         let t1 = Instant::now();
         let r = self
-            .ct
-            .conic_program(m, ground, &nw.asm, q, self.h, &mut nw.dq)
+            .program(set, m, &nw.asm, q, &mut nw.dq)
             .map_err(|e| e.at(1))?;
-        self.stats.conic_solves += 1;
-        self.stats.conic_iterations += self.ct.last_iterations as usize;
-        self.stats.conic_s += t1.elapsed().as_secs_f64();
+        stats.conic_solves += 1;
+        stats.conic_iterations += r.iterations as usize;
+        stats.conic_s += t1.elapsed().as_secs_f64();
         let (dx, dth) = nw.correction_norms();
         Ok(((dx / m.diameter).max(dth), r.max_normal_change))
     }
@@ -112,6 +110,8 @@ impl Conic {
     /// prediction (then the conic optimality conditions hold for the true problem).
     pub(crate) fn iterate(
         &mut self,
+        set: &mut ContactSet,
+        stats: &mut ContactStats,
         nw: &mut Newton,
         obj: &Potential,
         q: &mut Vec<f64>,
@@ -120,7 +120,6 @@ impl Conic {
         let m = obj.model;
         let n = m.ndof;
         let a = m.diameter;
-        let ground = m.ground.as_ref().expect("a contact model needs a ground");
         let path = Path::Newton;
         let mut have_pred = false;
         for it in 1..=cap {
@@ -159,13 +158,12 @@ impl Conic {
             let t1 = Instant::now();
             nw.stats.assembly_s += (t1 - t0).as_secs_f64();
             let r = self
-                .ct
-                .conic_program(m, ground, &nw.asm, q, self.h, &mut nw.dq)
+                .program(set, m, &nw.asm, q, &mut nw.dq)
                 .map_err(|e| e.at(it))?;
-            self.stats.conic_solves += 1;
-            self.stats.conic_iterations += self.ct.last_iterations as usize;
+            stats.conic_solves += 1;
+            stats.conic_iterations += r.iterations as usize;
             let t2 = Instant::now();
-            self.stats.conic_s += (t2 - t1).as_secs_f64();
+            stats.conic_s += (t2 - t1).as_secs_f64();
             let t3 = Instant::now();
             if nw.dq.iter().any(|d| !d.is_finite()) {
                 return Err(Failure::NonFiniteStep {
@@ -176,8 +174,8 @@ impl Conic {
             }
             // Merit: the step objective plus friction dissipation with the lagged normal
             // forces; the model decrease is the conic optimum's.
-            let ct = &self.ct;
-            let merit = |x: &[f64]| obj.value(x) + ct.dissipation(ground, x);
+            let ct = &*set;
+            let merit = |x: &[f64]| obj.value(x) + ct.dissipation(x);
             let f0 = merit(q);
             let slope = r.predicted_decrease.min(0.0);
             let (dx, dth) = nw.correction_norms();
@@ -197,7 +195,7 @@ impl Conic {
                 .into());
             };
             std::mem::swap(q, &mut nw.trial);
-            std::mem::swap(&mut self.ct.normal, &mut self.ct.pending);
+            std::mem::swap(&mut set.normal, &mut set.pending);
             log::debug!("  it {it}: alpha {alpha:.3e} dx {dx:.3e} dth {dth:.3e} normals_settled {normals_settled} slope {slope:.3e}");
             if alpha == 1.0 && small && normals_settled {
                 return Ok(it);
@@ -216,47 +214,6 @@ impl Conic {
             iterations: cap,
         }
         .into())
-    }
-}
-
-impl ContactModel for Conic {
-    fn begin_step(
-        &mut self,
-        m: &Model,
-        q_start: &[f64],
-        slip_origin: &[f64],
-        _v_start: &[f64],
-        h: f64,
-        q: &mut [f64],
-    ) {
-        self.h = h;
-        self.ct.begin_step(m, q_start, slip_origin);
-        self.normal_saved.clone_from(&self.ct.normal);
-        // Start from a feasible iterate: lift predicted penetrations onto the ground.
-        self.ct.lift(m, q);
-    }
-
-    fn solve(
-        &mut self,
-        nw: &mut Newton,
-        obj: &Potential,
-        q: &mut Vec<f64>,
-    ) -> Result<usize, ContactFailure> {
-        self.iterate(nw, obj, q, obj.model.max_iterations)
-    }
-
-    fn accept(&mut self, _m: &Model, _q: &[f64]) {}
-
-    fn reject(&mut self) {
-        self.restore_normals();
-    }
-
-    fn normal_forces(&self, m: &Model, out: &mut [f64]) {
-        self.ct.normal_forces(m, out);
-    }
-
-    fn stats(&self) -> &ContactStats {
-        &self.stats
     }
 }
 
@@ -297,22 +254,24 @@ pub struct ConicStep {
     pub max_normal_change: f64,
     /// Optimal value of the conic model minus its value at `dq = 0` (J, <= 0).
     pub predicted_decrease: f64,
+    /// Clarabel's interior-point iterations.
+    pub iterations: u32,
 }
 
-impl Contacts {
-    /// Solve the conic subproblem at the iterate `q`: writes the step into `dq` and the new
-    /// normal forces into `pending`.
-    pub fn conic_program(
-        &mut self,
+impl Conic {
+    /// Solve the conic subproblem of the contact set `set` at the iterate `q`: writes the
+    /// step into `dq` and the new normal forces into `set.pending`.
+    pub fn program(
+        &self,
+        set: &mut ContactSet,
         m: &Model,
-        g: &Ground,
         asm: &Assembly,
         q: &[f64],
-        h: f64,
         dq: &mut [f64],
     ) -> Result<ConicStep, ConicError> {
         let n = asm.n();
-        let nc = self.nodes.len();
+        let nc = set.len();
+        let h = set.h;
         // The Hessian's low-rank part `U U^T` (self-contact) as one variable per column,
         // `w_l = u_l . dq`, with the cost `w_l^2 / 2`: the band stays the band.
         let nl = asm.low_rank.len();
@@ -324,12 +283,8 @@ impl Contacts {
                                                       // as displacements (`h u / ls`, ...); the objective multiplied by `k` so that the
                                                       // Hessian's mean diagonal is one.
         let mut disp: f64 = 0.0;
-        for c in 0..nc {
-            let kk = dof::node(self.nodes[c]);
-            disp = disp.max(f::norm(f::sub(
-                [q[kk], q[kk + 1], q[kk + 2]],
-                self.x_start[c],
-            )));
+        for ct in &set.contacts {
+            disp = disp.max(f::norm(f::sub(ct.stencil.position(q), ct.origin)));
         }
         let ls = disp.max(h * h * f::norm(m.gravity)).max(1e-9 * m.diameter);
         let mean_diag = (0..n).map(|k| asm.h(k, k)).sum::<f64>() / n as f64;
@@ -364,7 +319,7 @@ impl Contacts {
             // A tiny cost on sigma, u and w keeps the optimal set bounded where a contact
             // carries no load (otherwise sigma and u = w could grow freely, which stalls the
             // interior-point method); it changes forces by ~1e-9 of the scaled units.
-            lin[var(c, 3)] = ks * ls * self.normal[c] + 1e-9;
+            lin[var(c, 3)] = ks * ls * set.normal[c] + 1e-9;
             lin[var(c, 0)] = 1e-9;
             lin[var(c, 1)] = 1e-9;
         }
@@ -383,21 +338,19 @@ impl Contacts {
             vv.push(v);
         };
         // Zero cone: slip definitions (displacement units, scaled by `ls`).
-        for c in 0..nc {
-            let k = dof::node(self.nodes[c]);
-            let x = [q[k], q[k + 1], q[k + 2]];
-            let d0 = f::sub(x, self.x_start[c]);
-            for (dir, sign_var) in [(self.forward[c], 0usize), (self.side[c], 2usize)] {
-                for a in 0..2 {
-                    if dir[a] != 0.0 {
-                        push(
-                            row,
-                            k + a,
-                            dir[a] * d[k + a] / ls,
-                            &mut ri,
-                            &mut ci,
-                            &mut vv,
-                        );
+        for (c, ct) in set.contacts.iter().enumerate() {
+            let d0 = f::sub(ct.stencil.position(q), ct.origin);
+            let fr = &ct.frame;
+            for (dir, sign_var) in [(fr.forward, 0usize), (fr.side, 2usize)] {
+                // The slip along `dir` is `sum_i w_i dir . x_i`: one entry per node and
+                // direction component.
+                for (i, w) in ct.stencil.iter() {
+                    let k = dof::node(i);
+                    for a in 0..2 {
+                        let coef = w * dir[a];
+                        if coef != 0.0 {
+                            push(row, k + a, coef * d[k + a] / ls, &mut ri, &mut ci, &mut vv);
+                        }
                     }
                 }
                 if sign_var == 0 {
@@ -422,11 +375,13 @@ impl Contacts {
             row += 1;
         }
         let n_zero = row;
-        // Nonnegative: gaps, then u, w >= 0.
-        for c in 0..nc {
-            let k = dof::node(self.nodes[c]);
-            push(row, k + 2, -d[k + 2] / ls, &mut ri, &mut ci, &mut vv);
-            b.push((q[k + 2] - 0.5 * m.diameter) / ls);
+        // Nonnegative: gaps (the stencil's height, `sum_i w_i z_i - a/2`), then u, w >= 0.
+        for ct in &set.contacts {
+            for (i, w) in ct.stencil.iter() {
+                let k = dof::node(i) + 2;
+                push(row, k, -w * d[k] / ls, &mut ri, &mut ci, &mut vv);
+            }
+            b.push(ct.gap(q, m.diameter) / ls);
             row += 1;
         }
         for c in 0..nc {
@@ -438,7 +393,8 @@ impl Contacts {
         }
         let n_nonneg = row - n_zero;
         // Second-order cones (sigma, mu_f u, mu_b w, mu_s y).
-        for c in 0..nc {
+        for (c, ct) in set.contacts.iter().enumerate() {
+            let g = &ct.law;
             for (kk, coef) in [(3usize, 1.0), (0, g.mu_f), (1, g.mu_b), (2, g.mu_s)] {
                 push(row, var(c, kk), -coef, &mut ri, &mut ci, &mut vv);
                 b.push(0.0);
@@ -453,10 +409,10 @@ impl Contacts {
         cones.extend(std::iter::repeat_n(SupportedConeT::SecondOrderConeT(4), nc));
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
-            .tol_gap_abs(self.conic_tolerance)
-            .tol_gap_rel(self.conic_tolerance)
-            .tol_feas(self.conic_tolerance)
-            .max_iter(self.conic_max_iterations)
+            .tol_gap_abs(self.tolerance)
+            .tol_gap_rel(self.tolerance)
+            .tol_feas(self.tolerance)
+            .max_iter(self.max_iterations)
             .direct_solve_method(self.direct_method.clone())
             .build()
             .map_err(|e| ConicError::Setup(format!("Clarabel settings: {e:?}")))?;
@@ -464,8 +420,6 @@ impl Contacts {
             .map_err(|e| ConicError::Setup(format!("Clarabel setup: {e:?}")))?;
         solver.solve();
         let sol = &solver.solution;
-        self.last_iterations = sol.iterations;
-        self.last_time = sol.solve_time;
         if sol.status != SolverStatus::Solved {
             return Err(ConicError::Status {
                 status: format!("{:?}", sol.status),
@@ -478,13 +432,14 @@ impl Contacts {
         let mut change: f64 = 0.0;
         for c in 0..nc {
             let lam = (sol.z[n_zero + c] / (ks * ls)).max(0.0);
-            change = change.max((lam - self.normal[c]).abs());
-            self.pending[c] = lam;
+            change = change.max((lam - set.normal[c]).abs());
+            set.pending[c] = lam;
         }
-        let predicted_decrease = sol.obj_val / ks - self.dissipation(g, q);
+        let predicted_decrease = sol.obj_val / ks - set.dissipation(q);
         Ok(ConicStep {
             max_normal_change: change,
             predicted_decrease,
+            iterations: sol.iterations,
         })
     }
 }

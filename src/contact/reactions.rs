@@ -1,4 +1,4 @@
-//! Contact reactions as functions of the Newton step, for the active-set path.
+//! Contact reactions as functions of the Newton step, for the semi-smooth Newton.
 //!
 //! With a contact's status held, its reaction is the objective's gradient at the held
 //! coordinates (`N_c = dPhi/dz_c`; a sticking contact's friction force at `x_c, y_c`), so it
@@ -6,7 +6,8 @@
 //! That gives two things:
 //!
 //! * **Contact forces inside the Newton system.** A sliding contact's friction force is
-//!   `N_c u_c(q)` (`u_c` the dissipation gradient per unit normal force, from `Contacts::slide_derivatives`).
+//!   `N_c u_c` (`u_c` the friction force per unit normal force of the sliding branch, from
+//!   [`super::semismooth`]).
 //!   Newton's linearisation of the residual `g(q) + sum_c N_c(q) u_c(q)` is
 //!   `(A + sum_c u_c H[z_c, :]) dq = -g`, with `A` the symmetric Hessian the line search
 //!   uses. The non-symmetric rank-`n_s` term reduces to a system in the `n_s` normal-force
@@ -17,16 +18,14 @@
 //!   lagged forces and converged linearly (contraction about 0.3 per iteration); GMRES takes at
 //!   most 4 iterations there.
 //! * **Force residuals in physical units.** The predicted change of every reaction over the
-//!   step is how far the iterate's contact forces are from the solution's: the active-set
-//!   iteration stops when it is below `[solver] normal_force_tolerance * W / n_c`, and a
-//!   contact whose reaction is pulling both now and after the step (or a sticking force
-//!   outside the cone both now and after the step) changes status at once, without first
-//!   converging with the wrong status.
+//!   step gives the iterate's contact forces after the step: the semi-smooth Newton's new force
+//!   variables, and its convergence test (changes below `[solver] normal_force_tolerance * W /
+//!   n_c`).
 
-use super::{Contacts, Mode};
+use super::{ContactSet, Mode};
 use crate::band::Assembly;
 use crate::newton::Newton;
-use crate::rod::dof::{self, HALF_BANDWIDTH as W};
+use crate::rod::dof::HALF_BANDWIDTH as W;
 
 /// One row of the banded Hessian: entries `(k, k - W ..= k + W)` (zero outside `0..n`).
 type Row = [f64; 2 * W + 1];
@@ -95,9 +94,9 @@ impl Reactions {
 
     /// Capture the rows of the assembled Hessian `asm` (before the held coordinates are
     /// fixed) at the held coordinates of the contacts of `ct` with statuses `mode`.
-    pub fn capture(&mut self, ct: &Contacts, mode: &[Mode], asm: &Assembly) {
-        for c in 0..ct.nodes.len() {
-            let k = dof::node(ct.nodes[c]);
+    pub fn capture(&mut self, ct: &ContactSet, mode: &[Mode], asm: &Assembly) {
+        for c in 0..ct.len() {
+            let k = ct.node_dof(c);
             for r in mode[c].held() {
                 asm.row(k + r, &mut self.rows[c][r]);
             }
@@ -112,10 +111,10 @@ impl Reactions {
 
     /// Predicted change of every touching contact's reactions (statuses `mode`) over the step `dq`, into
     /// `change`; returns the largest normal-force change (N).
-    pub fn predict(&mut self, ct: &Contacts, mode: &[Mode], dq: &[f64]) -> f64 {
+    pub fn predict(&mut self, ct: &ContactSet, mode: &[Mode], dq: &[f64]) -> f64 {
         let mut worst: f64 = 0.0;
-        for c in 0..ct.nodes.len() {
-            let k = dof::node(ct.nodes[c]);
+        for c in 0..ct.len() {
+            let k = ct.node_dof(c);
             self.change[c] = [0.0; 3];
             for r in mode[c].held() {
                 self.change[c][r] = row_dot(&self.rows[c][r], k + r, dq);
@@ -145,13 +144,13 @@ impl Reactions {
     /// until its residual is below `tol` (N); then `dq = dq0 - A^-1 U dn`. Held coordinates
     /// (`held`) keep a zero step. Returns the iterations, or [`UNCOUPLED`] when they did not
     /// reach `tol` and the symmetric direction was kept.
-    pub fn couple(&mut self, ct: &Contacts, nw: &mut Newton, held: &[bool], tol: f64) -> usize {
+    pub fn couple(&mut self, ct: &ContactSet, nw: &mut Newton, held: &[bool], tol: f64) -> usize {
         let n = nw.dq.len();
         self.symmetric.clear();
         self.symmetric.extend_from_slice(&nw.dq);
         self.active.clear();
         self.active
-            .extend((0..ct.nodes.len()).filter(|&c| self.unit[c] != [0.0; 2]));
+            .extend((0..ct.len()).filter(|&c| self.unit[c] != [0.0; 2]));
         let ns = self.active.len();
         if ns == 0 {
             return 0;
@@ -172,7 +171,7 @@ impl Reactions {
         grow(&mut self.hess, max_it + 1, max_it);
         // Right-hand side: the normal-force changes of the symmetric direction.
         for (b, &c) in self.basis[0].iter_mut().zip(&self.active) {
-            *b = row_dot(&self.rows[c][2], dof::node(ct.nodes[c]) + 2, &nw.dq);
+            *b = row_dot(&self.rows[c][2], ct.node_dof(c) + 2, &nw.dq);
         }
         let beta = self.basis[0].iter().map(|x| x * x).sum::<f64>().sqrt();
         if beta <= tol {
@@ -190,7 +189,7 @@ impl Reactions {
             let z = &mut self.images[j];
             z.fill(0.0);
             for (i, &c) in self.active.iter().enumerate() {
-                let k = dof::node(ct.nodes[c]);
+                let k = ct.node_dof(c);
                 let u = self.unit[c];
                 for r in 0..2 {
                     if !held[k + r] {
@@ -202,7 +201,7 @@ impl Reactions {
             let w = &mut self.work;
             w.clear();
             w.extend(self.active.iter().enumerate().map(|(i, &c)| {
-                self.basis[j][i] + row_dot(&self.rows[c][2], dof::node(ct.nodes[c]) + 2, z)
+                self.basis[j][i] + row_dot(&self.rows[c][2], ct.node_dof(c) + 2, z)
             }));
             // Modified Gram-Schmidt.
             for i in 0..=j {
@@ -278,7 +277,7 @@ mod tests {
         let path = std::path::Path::new("problems/s_start_coarse.toml");
         let m = Model::new(&crate::problem::load(path).unwrap());
         let s = crate::state::State::initial(&m);
-        let ct = Contacts::new(&m, &s.q);
+        let ct = ContactSet::ground(&m, &s.q);
         let n = m.ndof;
         let mut nw = Newton::new(n);
         let mut seed = 12345u64;
@@ -300,7 +299,7 @@ mod tests {
         for g in nw.asm.grad.iter_mut() {
             *g = rnd();
         }
-        let nc = ct.nodes.len();
+        let nc = ct.len();
         let mode = vec![Mode::Slide; nc];
         let mut re = Reactions::default();
         re.begin(nc);
@@ -311,12 +310,12 @@ mod tests {
                 re.set_slide(c, [150.0 * rnd(), 150.0 * rnd()], 1.0);
             }
         }
-        // As in the active-set iteration: rows captured, then the touching heights held.
+        // As in the semi-smooth iteration: rows captured, then the touching heights held.
         re.capture(&ct, &mode, &nw.asm);
         let mut held = vec![false; n];
-        for &i in &ct.nodes {
-            held[dof::node(i) + 2] = true;
-            nw.asm.fix(dof::node(i) + 2);
+        for c in 0..nc {
+            held[ct.node_dof(c) + 2] = true;
+            nw.asm.fix(ct.node_dof(c) + 2);
         }
         nw.lin.factor(&nw.asm).unwrap();
         nw.solve_direction();
@@ -333,7 +332,7 @@ mod tests {
             })
             .collect();
         for c in 0..nc {
-            let k = dof::node(ct.nodes[c]);
+            let k = ct.node_dof(c);
             let dn = row_dot(&re.rows[c][2], k + 2, &dq);
             r[k] += re.unit[c][0] * dn;
             r[k + 1] += re.unit[c][1] * dn;
@@ -347,13 +346,13 @@ mod tests {
         for _ in 0..50 {
             let mut z = vec![0.0; n];
             for c in 0..nc {
-                let k = dof::node(ct.nodes[c]);
+                let k = ct.node_dof(c);
                 z[k] += re.unit[c][0] * x[c];
                 z[k + 1] += re.unit[c][1] * x[c];
             }
             nw.lin.solve(&mut z);
             let y: Vec<f64> = (0..nc)
-                .map(|c| row_dot(&re.rows[c][2], dof::node(ct.nodes[c]) + 2, &z))
+                .map(|c| row_dot(&re.rows[c][2], ct.node_dof(c) + 2, &z))
                 .collect();
             let norm = |v: &[f64]| v.iter().map(|a| a * a).sum::<f64>().sqrt();
             growth = norm(&y) / norm(&x);

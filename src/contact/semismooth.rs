@@ -36,7 +36,7 @@
 //! contact at the edge of the cone is on one branch or the other and the function is
 //! continuous across the edge, so there is no slip to invent when a contact starts sliding and
 //! no cap on status changes. The eliminated system keeps the banded symmetric Hessian (plus the
-//! sliding contacts' normal-force coupling, solved by GMRES as in the active set). GMRES
+//! sliding contacts' normal-force coupling, solved by GMRES: [`super::reactions`]). GMRES
 //! solves to `1e-2 normal_force_tolerance` (times the mean weight per contact), a hundredth of
 //! what the convergence test resolves, so the convergence stays quadratic down to the
 //! tolerance; far from the solution (`r > 0.1`, `r` the largest relative force-balance
@@ -66,7 +66,7 @@
 //! the cone change branch between iterates, and then creeps at a quarter step per iterate
 //! until the iteration cap. A watchdog keeps it from cycling: after `M` accepted iterates
 //! without a new lowest merit (by the same sufficient decrease) the test is against the last
-//! iterate again. The bending and twist Hessian is kept within a step as in the active set
+//! iterate again. The bending and twist Hessian is kept within a step
 //! (`[solver] hessian_reuse`). Convergence: a full step below the Newton tolerance on positions and
 //! angles, contact forces that change by less than `[solver] normal_force_tolerance`, and at
 //! the new iterate every contact on the same branch or, having changed branch, with its
@@ -77,12 +77,15 @@
 //! Start: the force variables extrapolated linearly over the last two steps (where the
 //! contact touched at both), and with implicit Euler the positions from the velocities
 //! extrapolated likewise ([`super::ContactModel::extrapolated_start`]): on the S-start at 200
-//! elements and 5e-4 s the first 1.5 s take 3.31 instead of 3.96 iterations per step. A failure falls back to the conic program, as the active
-//! set does.
+//! elements and 5e-4 s the first 1.5 s take 3.31 instead of 3.96 iterations per step.
+//!
+//! The solver takes the dispatcher's contact set ([`super::ContactSet`]) and holds each
+//! contact's node coordinates, so it takes contacts at nodes (one-node stencils); a failure,
+//! or a contact between nodes, falls back to the conic program ([`super::Dispatcher`]).
 
 use super::reactions::{Reactions, UNCOUPLED};
 use super::status::Mode;
-use super::{Conic, ContactFailure, Contacts};
+use super::{ContactFailure, ContactSet, ContactStats};
 use crate::model::Model;
 use crate::newton::{Failure, HessianCache, Newton, Objective, Path, Potential};
 use crate::rod::dof::{self, HALF_BANDWIDTH as W};
@@ -90,7 +93,7 @@ use std::collections::VecDeque;
 use std::time::Instant;
 
 mod branches;
-mod model;
+mod step;
 use branches::{norm, status_line};
 
 /// The penalty factors of the retries of a failed step (`[solver] semi_smooth_retries`): on
@@ -115,10 +118,8 @@ struct SlideLin {
     mu: [f64; 2],
 }
 
-/// The semi-smooth Newton contact model (`[solver] contact = "semi-smooth"`).
+/// The semi-smooth Newton contact solver (`[solver] contact = "semi-smooth"`, the default).
 pub struct SemiSmooth {
-    /// Contact data, the conic fallback and the statistics.
-    pub conic: Conic,
     /// Status of every contact at the current iterate.
     mode: Vec<Mode>,
     /// Normal force variable of every contact (N).
@@ -180,13 +181,11 @@ struct Pending {
 }
 
 impl SemiSmooth {
-    /// The semi-smooth model of `m`.
-    pub fn new(m: &Model) -> Self {
-        let conic = Conic::new(m);
-        let nc = conic.ct.nodes.len();
+    /// The semi-smooth Newton of `m` for the contact set `ct`.
+    pub fn new(m: &Model, ct: &ContactSet) -> Self {
+        let nc = ct.len();
         SemiSmooth {
-            lambda: conic.ct.normal.clone(),
-            conic,
+            lambda: ct.normal.clone(),
             mode: vec![Mode::Free; nc],
             force: vec![[0.0; 2]; nc],
             lambda_saved: Vec::new(),
@@ -208,14 +207,13 @@ impl SemiSmooth {
 
     /// The friction force variables after a conic solve (or before any step): normal forces
     /// from the contact data, sliding contacts' friction from their slip, sticking ones zero.
-    fn reset_forces(&mut self, m: &Model, q: &[f64]) {
-        let g = m.ground.as_ref().expect("a contact model needs a ground");
-        let ct = &self.conic.ct;
-        for c in 0..ct.nodes.len() {
+    pub(crate) fn reset_forces(&mut self, ct: &ContactSet, m: &Model, q: &[f64]) {
+        for c in 0..ct.len() {
+            let g = &ct.contacts[c].law;
             self.lambda[c] = ct.normal[c];
             let s = ct.slip(c, q);
             let mu = g.mu_along(s[0]);
-            let u = [mu * s[0], g.mu_s * s[1]];
+            let u = g.scaled_slip(s);
             let r = u[0].hypot(u[1]);
             let n = ct.normal[c];
             self.force[c] = if r > m.solver.contact_tolerance * m.diameter && n > 0.0 {
@@ -227,26 +225,14 @@ impl SemiSmooth {
     }
 }
 
-impl Contacts {
-    /// A force in the contact's `(forward, side)` components as world `(x, y)`.
-    pub(crate) fn to_world(&self, c: usize, fs: [f64; 2]) -> [f64; 2] {
-        let (f, s) = (self.forward[c], self.side[c]);
-        [fs[0] * f[0] + fs[1] * s[0], fs[0] * f[1] + fs[1] * s[1]]
-    }
-
-    /// A world `(x, y)` vector in the contact's `(forward, side)` components.
-    pub(crate) fn to_local(&self, c: usize, xy: [f64; 2]) -> [f64; 2] {
-        let (f, s) = (self.forward[c], self.side[c]);
-        [xy[0] * f[0] + xy[1] * f[1], xy[0] * s[0] + xy[1] * s[1]]
-    }
-}
-
 impl SemiSmooth {
-    /// The semi-smooth Newton iterations from `q` (at most `[solver]
-    /// active_set_max_iterations` assemblies) with the penalty times `penalty_factor` (1 but
+    /// The semi-smooth Newton iterations on the contact set `ct` from `q` (at most `[solver]
+    /// semi_smooth_max_iterations` assemblies) with the penalty times `penalty_factor` (1 but
     /// in a retry). `Err`: the caller retries or falls back to the conic program.
     fn iterate(
         &mut self,
+        ct: &ContactSet,
+        stats: &mut ContactStats,
         nw: &mut Newton,
         obj: &Potential,
         q: &mut [f64],
@@ -254,13 +240,12 @@ impl SemiSmooth {
     ) -> Result<usize, ContactFailure> {
         let m = obj.model;
         let set = &m.solver;
-        let ground = m.ground.as_ref().expect("a contact model needs a ground");
-        let nc = self.conic.ct.nodes.len();
-        let scale = self.conic.ct.weight_scale(m);
+        let nc = ct.len();
+        let scale = ct.weight_scale(m);
         let weight = obj.inertia.map_or(1.0, |i| i.weight);
-        self.prepare(m, weight, penalty_factor);
-        self.conic.stats.residuals.clear();
-        let cap = m.max_iterations.min(set.active_set_max_iterations);
+        self.prepare(ct, m, weight, penalty_factor);
+        stats.residuals.clear();
+        let cap = m.max_iterations.min(set.semi_smooth_max_iterations);
         let mut project = false;
         let mut pending: Option<Pending> = None;
         // The non-monotone test's memory: accepted merits, the lowest and the iterates since.
@@ -273,7 +258,7 @@ impl SemiSmooth {
             it += 1;
             self.spent = it;
             self.scratch.modes_before.copy_from_slice(&self.mode);
-            let theta_c = self.branches(m, ground, q, scale, it > 1);
+            let theta_c = self.branches(ct, m, q, scale, it > 1);
             let switched = it > 1 && self.mode != self.scratch.modes_before;
             if log::log_enabled!(log::Level::Debug) {
                 log::debug!(
@@ -298,12 +283,12 @@ impl SemiSmooth {
             }
             if !f0.is_finite() || nw.asm.grad.iter().any(|g| !g.is_finite()) {
                 return Err(Failure::NonFiniteObjective {
-                    path: Path::ActiveSet,
+                    path: Path::SemiSmooth,
                     iteration: it,
                 }
                 .into());
             }
-            let (theta_q, residual) = self.balance_residual(m, nw, scale);
+            let (theta_q, residual) = self.balance_residual(ct, m, nw, scale);
             let theta = 0.5 * (theta_q + theta_c).max(0.0);
             if let Some(p) = pending.take() {
                 let noise = 1e-20 * (m.ndof + 3 * nc) as f64;
@@ -322,27 +307,27 @@ impl SemiSmooth {
                     let alpha = 0.5 * p.alpha;
                     if alpha < 0.5f64.powi(set.max_backtracks as i32) {
                         return Err(Failure::LineSearch {
-                            path: Path::ActiveSet,
+                            path: Path::SemiSmooth,
                             iteration: it,
                             slope: -2.0 * p.theta0,
                         }
                         .into());
                     }
-                    self.step_from_saved(m, q, alpha);
+                    self.step_from_saved(ct, m, q, alpha);
                     pending = Some(Pending {
                         theta0: p.theta0,
                         alpha,
                     });
-                    self.conic.stats.residuals.push(-1.0);
+                    stats.residuals.push(-1.0);
                     nw.stats.assembly_s += t0.elapsed().as_secs_f64();
                     continue;
                 }
             }
             if switched {
                 // A status change between the last iterate and this one: no Newton pair.
-                self.conic.stats.residuals.push(f64::NAN);
+                stats.residuals.push(f64::NAN);
             }
-            self.conic.stats.residuals.push((2.0 * theta).sqrt());
+            stats.residuals.push((2.0 * theta).sqrt());
             let recent = &mut self.scratch.recent;
             recent.push_back(theta);
             while recent.len() > memory {
@@ -354,8 +339,8 @@ impl SemiSmooth {
             } else {
                 since_best += 1;
             }
-            self.add_sliding(nw, q);
-            self.hold_targets(m, nw, q);
+            self.add_sliding(ct, nw, q);
+            self.hold_targets(ct, m, nw, q);
             let t1 = Instant::now();
             nw.stats.assembly_s += (t1 - t0).as_secs_f64();
             // While self-contact pairs act, an indefinite Hessian is shifted rather than
@@ -372,15 +357,15 @@ impl SemiSmooth {
             }
             let t2 = Instant::now();
             nw.stats.factor_s += (t2 - t1).as_secs_f64();
-            let krylov = self.direction(m, nw, scale, residual, it > FORCING_AFTER);
+            let krylov = self.direction(ct, m, nw, scale, residual, it > FORCING_AFTER);
             if nw.dq.iter().any(|d| !d.is_finite()) {
                 return Err(Failure::NonFiniteStep {
-                    path: Path::ActiveSet,
+                    path: Path::SemiSmooth,
                     iteration: it,
                 }
                 .into());
             }
-            let change = self.new_forces(nw, q);
+            let change = self.new_forces(ct, nw, q);
             let t3 = Instant::now();
             nw.stats.solve_s += (t3 - t2).as_secs_f64();
             let (dx, dth) = nw.correction_norms();
@@ -388,7 +373,7 @@ impl SemiSmooth {
             let settled = change <= set.normal_force_tolerance * scale;
             log::debug!("  semi-smooth it {it}: theta {theta:.3e} dx {dx:.3e} dth {dth:.3e} dF {change:.3e} krylov {krylov}");
             if project || krylov == UNCOUPLED {
-                self.conic.stats.residuals.push(-1.0);
+                stats.residuals.push(-1.0);
             }
             // The longest step (at most 1) that keeps the self-contact's pairs apart.
             let cap = obj.max_step(q, &nw.dq).min(1.0);
@@ -396,9 +381,9 @@ impl SemiSmooth {
                 log::debug!("  semi-smooth it {it}: step capped at {cap:.3e} (self-contact)");
             }
             self.save(q, nw);
-            self.step_from_saved(m, q, cap);
+            self.step_from_saved(ct, m, q, cap);
             let tol_f = set.normal_force_tolerance * scale;
-            if cap == 1.0 && small && settled && self.branches_settled(m, ground, q, tol_f) {
+            if cap == 1.0 && small && settled && self.branches_settled(ct, m, q, tol_f) {
                 nw.stats.line_search_s += t3.elapsed().as_secs_f64();
                 log::debug!("  semi-smooth converged at it {it}");
                 return Ok(it);
@@ -410,7 +395,7 @@ impl SemiSmooth {
             nw.stats.line_search_s += t3.elapsed().as_secs_f64();
         }
         Err(Failure::NotConverged {
-            path: Path::ActiveSet,
+            path: Path::SemiSmooth,
             iterations: cap,
         }
         .into())
@@ -418,18 +403,13 @@ impl SemiSmooth {
 
     /// Size the per-step storage; the penalty `rho` of every contact (`[solver]
     /// semi_smooth_penalty` times `penalty_factor` times the node's inertia stiffness).
-    fn prepare(&mut self, m: &Model, weight: f64, penalty_factor: f64) {
-        let nc = self.conic.ct.nodes.len();
+    fn prepare(&mut self, ct: &ContactSet, m: &Model, weight: f64, penalty_factor: f64) {
+        let nc = ct.len();
         let penalty = m.solver.semi_smooth_penalty * penalty_factor;
         let s = &mut self.scratch;
         s.rho.clear();
-        s.rho.extend(
-            self.conic
-                .ct
-                .nodes
-                .iter()
-                .map(|&i| penalty * m.mass[dof::node(i) + 2] * weight),
-        );
+        s.rho
+            .extend((0..nc).map(|c| penalty * m.mass[ct.node_dof(c) + 2] * weight));
         s.slide.resize(nc, SlideLin::default());
         s.grad.resize(nc, [0.0; 3]);
         s.lambda_new.resize(nc, 0.0);
@@ -440,7 +420,13 @@ impl SemiSmooth {
     /// The force balance's part of `2 theta` with the contact force variables, from the
     /// assembled gradient (saved at the contacts for the reactions), and its largest entry
     /// (both relative to `scale`; angles' torques over `a`).
-    fn balance_residual(&mut self, m: &Model, nw: &Newton, scale: f64) -> (f64, f64) {
+    fn balance_residual(
+        &mut self,
+        ct: &ContactSet,
+        m: &Model,
+        nw: &Newton,
+        scale: f64,
+    ) -> (f64, f64) {
         // Reciprocals: two divisions per coordinate were a third of this function's time.
         let (per_a, per_scale) = (1.0 / m.diameter, 1.0 / scale);
         let grad = &nw.asm.grad;
@@ -451,9 +437,8 @@ impl SemiSmooth {
         let balance = &mut self.scratch.balance;
         balance.clear();
         balance.extend_from_slice(grad);
-        let ct = &self.conic.ct;
-        for c in 0..ct.nodes.len() {
-            let k = dof::node(ct.nodes[c]);
+        for c in 0..ct.len() {
+            let k = ct.node_dof(c);
             self.scratch.grad[c] = [grad[k], grad[k + 1], grad[k + 2]];
             let f = self.force[c];
             balance[k] += f[0];
@@ -474,11 +459,10 @@ impl SemiSmooth {
 
     /// Sliding contacts' friction, linearised on their branch: gradient and Hessian at their
     /// `(x, y)`, and their normal-force coupling.
-    fn add_sliding(&mut self, nw: &mut Newton, q: &[f64]) {
-        let ct = &self.conic.ct;
+    fn add_sliding(&mut self, ct: &ContactSet, nw: &mut Newton, q: &[f64]) {
         let s = &mut self.scratch;
-        s.reactions.begin(ct.nodes.len());
-        for c in 0..ct.nodes.len() {
+        s.reactions.begin(ct.len());
+        for c in 0..ct.len() {
             if self.mode[c] != Mode::Slide {
                 continue;
             }
@@ -499,11 +483,11 @@ impl SemiSmooth {
             let hff = k * mu[0] * mu[0] * (1.0 - dir[0] * dir[0]);
             let hfs = -k * mu[0] * mu[1] * dir[0] * dir[1];
             let hss = k * mu[1] * mu[1] * (1.0 - dir[1] * dir[1]);
-            let (fw, sd) = (ct.forward[c], ct.side[c]);
+            let (fw, sd) = (ct.contacts[c].frame.forward, ct.contacts[c].frame.side);
             let hx = |i: usize, j: usize| {
                 hff * fw[i] * fw[j] + hfs * (fw[i] * sd[j] + sd[i] * fw[j]) + hss * sd[i] * sd[j]
             };
-            let kk = dof::node(ct.nodes[c]);
+            let kk = ct.node_dof(c);
             nw.asm.grad[kk] += gxy[0];
             nw.asm.grad[kk + 1] += gxy[1];
             nw.asm.add_h(kk, kk, hx(0, 0));
@@ -515,14 +499,13 @@ impl SemiSmooth {
 
     /// Hold the touching heights at the ground and the sticking positions at their start
     /// (targets of the step); the reaction rows captured first.
-    fn hold_targets(&mut self, m: &Model, nw: &mut Newton, q: &[f64]) {
-        let ct = &self.conic.ct;
+    fn hold_targets(&mut self, ct: &ContactSet, m: &Model, nw: &mut Newton, q: &[f64]) {
         let s = &mut self.scratch;
         s.reactions.capture(ct, &self.mode, &nw.asm);
         s.held.copy_from_slice(&m.fixed);
         s.target.fill(0.0);
-        for c in 0..ct.nodes.len() {
-            let k = dof::node(ct.nodes[c]);
+        for c in 0..ct.len() {
+            let k = ct.node_dof(c);
             if self.mode[c] == Mode::Free {
                 continue;
             }
@@ -531,15 +514,15 @@ impl SemiSmooth {
             if self.mode[c] == Mode::Stick {
                 for j in 0..2 {
                     s.held[k + j] = true;
-                    s.target[k + j] = ct.x_start[c][j] - q[k + j];
+                    s.target[k + j] = ct.contacts[c].origin[j] - q[k + j];
                 }
             }
         }
         // Free rows see the held coordinates' moves: g_i += H_ik d_k. Only the contacts'
         // coordinates have targets, and their rows are the ones just captured.
         let n = m.ndof;
-        for c in 0..ct.nodes.len() {
-            let k0 = dof::node(ct.nodes[c]);
+        for c in 0..ct.len() {
+            let k0 = ct.node_dof(c);
             for r in self.mode[c].held() {
                 let (k, d) = (k0 + r, s.target[k0 + r]);
                 if d == 0.0 {
@@ -567,6 +550,7 @@ impl SemiSmooth {
     /// coupling did not converge and the symmetric direction is kept).
     fn direction(
         &mut self,
+        ct: &ContactSet,
         m: &Model,
         nw: &mut Newton,
         scale: f64,
@@ -591,7 +575,7 @@ impl SemiSmooth {
                 1e-2 * set.normal_force_tolerance
             };
             let tol = scale * forcing;
-            s.reactions.couple(&self.conic.ct, nw, &s.held, tol)
+            s.reactions.couple(ct, nw, &s.held, tol)
         } else {
             0
         }
@@ -599,12 +583,11 @@ impl SemiSmooth {
 
     /// The force variables after the full step (into the scratch), from the reactions'
     /// predicted change; returns the largest change of a force variable (N).
-    fn new_forces(&mut self, nw: &Newton, q: &[f64]) -> f64 {
-        let ct = &self.conic.ct;
+    fn new_forces(&mut self, ct: &ContactSet, nw: &Newton, q: &[f64]) -> f64 {
         let s = &mut self.scratch;
         s.reactions.predict(ct, &self.mode, &nw.dq);
         let mut worst: f64 = 0.0;
-        for c in 0..ct.nodes.len() {
+        for c in 0..ct.len() {
             let ch = s.reactions.change[c];
             let gr = s.grad[c];
             let (lam, force) = match self.mode[c] {
@@ -613,9 +596,9 @@ impl SemiSmooth {
                 Mode::Slide => {
                     let lam = gr[2] + ch[2];
                     let SlideLin { dir, k, mu } = s.slide[c];
-                    let kk = dof::node(ct.nodes[c]);
+                    let kk = ct.node_dof(c);
                     let x = [q[kk] + nw.dq[kk], q[kk + 1] + nw.dq[kk + 1]];
-                    let x0 = ct.x_start[c];
+                    let x0 = ct.contacts[c].origin;
                     let sl = ct.to_local(c, [x[0] - x0[0], x[1] - x0[1]]);
                     let u = [mu[0] * sl[0], mu[1] * sl[1]];
                     let along = u[0] * dir[0] + u[1] * dir[1];
@@ -649,20 +632,19 @@ impl SemiSmooth {
 
     /// The iterate `alpha` along the saved direction (held coordinates land exactly on their
     /// targets in a full step).
-    fn step_from_saved(&mut self, m: &Model, q: &mut [f64], alpha: f64) {
+    fn step_from_saved(&mut self, ct: &ContactSet, m: &Model, q: &mut [f64], alpha: f64) {
         let s = &self.scratch;
         for k in 0..m.ndof {
             q[k] = s.q0[k] + alpha * s.dq[k];
         }
-        let ct = &self.conic.ct;
-        for c in 0..ct.nodes.len() {
+        for c in 0..ct.len() {
             if alpha == 1.0 {
-                let k = dof::node(ct.nodes[c]);
+                let k = ct.node_dof(c);
                 match self.mode[c] {
                     Mode::Free => {}
                     Mode::Stick => {
-                        q[k] = ct.x_start[c][0];
-                        q[k + 1] = ct.x_start[c][1];
+                        q[k] = ct.contacts[c].origin[0];
+                        q[k + 1] = ct.contacts[c].origin[1];
                         q[k + 2] = 0.5 * m.diameter;
                     }
                     Mode::Slide => q[k + 2] = 0.5 * m.diameter,
@@ -676,9 +658,8 @@ impl SemiSmooth {
     }
 
     /// The contact data's normal forces from the variables (touching contacts only).
-    fn publish_normals(&mut self) {
-        let ct = &mut self.conic.ct;
-        for c in 0..ct.nodes.len() {
+    pub(crate) fn publish_normals(&self, ct: &mut ContactSet) {
+        for c in 0..ct.len() {
             ct.normal[c] = if self.mode[c] == Mode::Free {
                 0.0
             } else {

@@ -18,7 +18,8 @@ use std::f64::consts::PI;
 use std::ops::Range;
 
 /// Ground parameters: kinetic Coulomb coefficients of the anisotropic friction (MODEL 3).
-#[derive(Clone, Debug)]
+/// The friction law of every ground contact ([`crate::contact::Contact::law`]).
+#[derive(Clone, Copy, Debug)]
 pub struct Ground {
     /// Kinetic coefficient against forward sliding.
     pub mu_f: f64,
@@ -39,6 +40,21 @@ impl Ground {
         } else {
             self.mu_b
         }
+    }
+
+    /// A slip `s` in `(forward, side)` components scaled by the law, `(mu(s_f) s_f, mu_s
+    /// s_s)`: the friction dissipation per unit normal force is its length.
+    #[inline]
+    pub fn scaled_slip(&self, s: [f64; 2]) -> [f64; 2] {
+        [self.mu_along(s[0]) * s[0], self.mu_s * s[1]]
+    }
+
+    /// A friction force `G` in `(forward, side)` components scaled by the law, `(G_f /
+    /// mu(G_f), G_s / mu_s)`: inside the friction set exactly when its length is at most the
+    /// normal force.
+    #[inline]
+    pub fn scaled_force(&self, g: [f64; 2]) -> [f64; 2] {
+        [g[0] / self.mu_along(g[0]), g[1] / self.mu_s]
     }
 }
 

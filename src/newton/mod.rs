@@ -53,7 +53,7 @@ pub struct Stats {
     /// Newton iterations (plain and contact) assembled with every stencil's Hessian
     /// projected to positive semi-definite, after the exact Hessian was found indefinite.
     pub projected_iterations: usize,
-    /// Active-set iterations that kept the bending and twist Hessian of an earlier iterate
+    /// Semi-smooth iterations that kept the bending and twist Hessian of an earlier iterate
     /// of the step and assembled only their gradient (`[solver] hessian_reuse`).
     pub hessian_reuses: usize,
 }
@@ -63,21 +63,21 @@ pub struct Stats {
 pub enum Path {
     /// Plain or conic Newton iterations.
     Newton,
-    /// Active-set contact iterations.
-    ActiveSet,
+    /// Semi-smooth Newton contact iterations.
+    SemiSmooth,
 }
 
 impl Path {
     fn iteration(self) -> &'static str {
         match self {
             Path::Newton => "Newton",
-            Path::ActiveSet => "active-set",
+            Path::SemiSmooth => "semi-smooth",
         }
     }
     fn solver(self) -> &'static str {
         match self {
             Path::Newton => "Newton",
-            Path::ActiveSet => "active-set Newton",
+            Path::SemiSmooth => "semi-smooth Newton",
         }
     }
 }

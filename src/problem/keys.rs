@@ -369,8 +369,8 @@ keys! {
         "Times a rejected step may be halved before the run stops (exit 3).";
     SOLVER_INTEGRATOR = "solver.integrator", "", Word("implicit"), Text("\"implicit\", \"bdf2\" or \"explicit\""), "",
         "Time integrator: implicit Euler, second-order BDF2 (same Newton and contact), or velocity Verlet (the explicit reference: no ground, dynamic mode, stable only below a step limit).";
-    SOLVER_CONTACT = "solver.contact", "", Word("semi-smooth"), Text("\"active-set\", \"semi-smooth\" or \"conic\""), "",
-        "Contact model: a semi-smooth Newton on the Alart-Curnier conditions (every status from each iterate; the conic program as fallback), statuses held and verified by an active set (the conic program as fallback; the default before), or one Clarabel program per Newton iterate (`SLITHER_CONTACT=conic` overrides it).";
+    SOLVER_CONTACT = "solver.contact", "", Word("semi-smooth"), Text("\"semi-smooth\" or \"conic\""), "",
+        "Contact solver: a semi-smooth Newton on the Alart-Curnier conditions (every status from each iterate; the conic program as fallback and certificate), or one Clarabel program per Newton iterate (`SLITHER_CONTACT=conic` overrides it). The active set (`\"active-set\"`, the default before) was retired: record `active-set-need`.";
     SOLVER_MAX_BACKTRACKS = "solver.max_backtracks", "", Int(40), Range::Int { lo: 1, hi: 200 }, "",
         "Line search: step halvings per Newton iterate before the step fails.";
     SOLVER_ARMIJO = "solver.armijo", "", Real(1e-4), open(0.0, 0.5), "",
@@ -381,10 +381,8 @@ keys! {
         "First diagonal shift of a Hessian that is only semi-definite (times 10 per retry).";
     SOLVER_SHIFT_TRIES = "solver.shift_tries", "", Int(12), Range::Int { lo: 1, hi: 30 }, "",
         "Diagonal shift retries before the step fails.";
-    SOLVER_ACTIVE_SET_MAX_ITERATIONS = "solver.active_set_max_iterations", "", Int(100), Range::Int { lo: 1, hi: 10_000 }, "",
-        "Active set: Newton iterations before the conic program takes over (capped by `max_iterations`).";
-    SOLVER_ACTIVE_SET_EXTRA_SWITCHES = "solver.active_set_extra_switches", "", Int(8), Range::Int { lo: 0, hi: 10_000 }, "",
-        "Active set: contact status changes per step allowed beyond the number of contacts.";
+    SOLVER_SEMI_SMOOTH_MAX_ITERATIONS = "solver.semi_smooth_max_iterations", "", Int(100), Range::Int { lo: 1, hi: 10_000 }, "",
+        "Semi-smooth contact: Newton iterations of one attempt before it retries or the conic program takes over (capped by `max_iterations`). Replaces `active_set_max_iterations`, retired with the active set.";
     SOLVER_SEMI_SMOOTH_MERIT_MEMORY = "solver.semi_smooth_merit_memory", "", Int(8), Range::Int { lo: 1, hi: 100 }, "",
         "Semi-smooth contact: a full step is accepted when its merit falls enough below the largest of the last this many accepted iterates' (a non-monotone line search); after as many iterates without a new lowest merit the test is against the last iterate again; 1 is the monotone test.";
     SOLVER_SEMI_SMOOTH_PENALTY = "solver.semi_smooth_penalty", "multiple of the node's inertia stiffness", Real(10.0), open_closed(0.0, 1e4), "",
@@ -392,19 +390,17 @@ keys! {
     SOLVER_SEMI_SMOOTH_RETRIES = "solver.semi_smooth_retries", "", Int(2), Range::Int { lo: 0, hi: 4 }, "",
         "Semi-smooth contact: a step whose Newton fails starts again from the step's start this many times, with the penalty times 3, 0.3, 10 and 0.1 in turn, before the conic program takes over.";
     SOLVER_WARM_CONIC_ITERATIONS = "solver.warm_conic_iterations", "", Int(20), Range::Int { lo: 1, hi: 10_000 }, "",
-        "Newton iterations of the conic path started where a failed active-set attempt stopped (then it starts over from the step's start).";
+        "Newton iterations of the conic path started where a failed semi-smooth step stopped (then it starts over from the step's start).";
     SOLVER_NORMAL_FORCE_TOLERANCE = "solver.normal_force_tolerance", "fraction of W / n_c", Real(1e-3), open_closed(0.0, 1.0), "",
-        "Normal forces are settled when they change by less than this times the mean weight per contact (active set: their change predicted over the last Newton step).";
+        "Contact forces are settled when they change by less than this times the mean weight per contact (semi-smooth: their change predicted over the last Newton step).";
     SOLVER_CONTACT_COUPLING = "solver.contact_coupling", "", Flag(true), Text("true or false"), "",
-        "Active set: the sliding contacts' normal forces inside the Newton system (quadratic convergence); false lags them one iterate.";
+        "Semi-smooth contact: the sliding contacts' normal forces inside the Newton system (quadratic convergence); false lags them one iterate.";
     SOLVER_HESSIAN_REUSE = "solver.hessian_reuse", "fraction of an element length (rad for angles)", Real(0.1), closed(0.0, 0.1), "",
-        "Active set and semi-smooth contact: Newton keeps the bending and twist Hessian of an earlier iterate of the step while no position has moved more than this times the shortest element and no angle more than this (in rad), and assembles only their gradient (exact) at the iterates between; 0 assembles it at every iterate.";
+        "Semi-smooth contact: Newton keeps the bending and twist Hessian of an earlier iterate of the step while no position has moved more than this times the shortest element and no angle more than this (in rad), and assembles only their gradient (exact) at the iterates between; 0 assembles it at every iterate.";
     SOLVER_CONTACT_TOLERANCE = "solver.contact_tolerance", "fraction of a", Real(1e-9), open_closed(0.0, 1e-3), "",
         "A contact touches when its gap is below this, and sticks when its slip over the step is below it.";
-    SOLVER_CONTACT_FORCE_TOLERANCE = "solver.contact_force_tolerance", "fraction of W / n_c", Real(1e-9), open_closed(0.0, 1e-3), "",
-        "Pulling and cone-boundary margins of the contact forces.";
     SOLVER_CONIC_CERTIFICATE = "solver.conic_certificate", "", Int(0), Range::Int { lo: 0, hi: 1_000_000_000 }, "",
-        "Semi-smooth and active-set contact: certify every N-th step the Newton solves with one conic program from its solution (0: never); for tests and audits (about 30 ms a solve at 200 elements).";
+        "Semi-smooth contact: certify every N-th step the Newton solves with one conic program from its solution (0: never); for tests and audits (about 30 ms a solve at 200 elements).";
     SOLVER_CONIC_TOLERANCE = "solver.conic_tolerance", "", Real(1e-10), open_closed(0.0, 1e-4), "",
         "Clarabel's absolute and relative gap and feasibility tolerances.";
     SOLVER_CONIC_MAX_ITERATIONS = "solver.conic_max_iterations", "", Int(100), Range::Int { lo: 1, hi: 10_000 }, "",

@@ -20,7 +20,9 @@ pub use gait::{GaitSpec, Kind};
 pub use ground::GroundSpec;
 pub use initial::{InitialSpec, Shape};
 pub use self_contact::SelfContactSpec;
-pub use solver::{set_overrides, ContactKind, IntegratorKind, Overrides, SolverSpec};
+pub use solver::{
+    set_overrides, ContactKind, IntegratorKind, Overrides, SolverSpec, RETIRED_ACTIVE_SET,
+};
 pub use time::Adaptive;
 
 use serde::Deserialize;
@@ -315,6 +317,7 @@ pub fn load(path: &Path) -> Result<Problem, ProblemError> {
 
 /// Parse and validate problem text; `path` is only used in messages.
 pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
+    solver::check_retired(text, path)?;
     let p: Problem = from_toml(text, path)?;
     validate(&p, text, path)?;
     Ok(p)
@@ -709,7 +712,6 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
             "\"implicit\" in static mode (BDF2 only steps in time)",
         ));
     }
-    self_contact::check_solver(p, &c)?;
     if let Err((k, value)) = p.solver.check_settings() {
         return Err(c.fail_key(k, value));
     }

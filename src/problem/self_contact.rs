@@ -1,7 +1,7 @@
 //! `[self_contact]`: two parts of the body cannot pass through each other
 //! ([`crate::energy::self_contact`]), and its checks.
 
-use super::{keys, Checker, ContactKind, Problem, ProblemError};
+use super::{keys, Checker, Problem, ProblemError};
 use serde::Deserialize;
 
 /// `[self_contact]`: two parts of the body cannot pass through each other
@@ -42,17 +42,4 @@ impl Default for SelfContactSpec {
 pub(super) fn check_keys(p: &Problem, c: &Checker) -> Result<(), ProblemError> {
     c.key(&keys::SELF_CONTACT_ACTIVATION, p.self_contact.activation)?;
     c.key(&keys::SELF_CONTACT_STIFFNESS, p.self_contact.stiffness)
-}
-
-/// The active set has no self-contact: refused while self-contact is on.
-pub(super) fn check_solver(p: &Problem, c: &Checker) -> Result<(), ProblemError> {
-    if p.self_contact.enabled && p.ground.is_some() && p.solver.contact == ContactKind::ActiveSet {
-        return Err(c.fail(
-            "solver",
-            "contact",
-            "\"active-set\"".into(),
-            "\"semi-smooth\" or \"conic\" while self_contact.enabled = true (the active set has no self-contact)",
-        ));
-    }
-    Ok(())
 }

@@ -30,11 +30,11 @@ pub struct SolverSpec {
     /// ([`keys::SOLVER_INTEGRATOR`]).
     #[serde(default)]
     pub integrator: IntegratorKind,
-    /// Contact model: "active-set" (contact statuses held and verified, the conic program only
-    /// when the checks fail), "semi-smooth" (every contact's status from each iterate, all at
-    /// once: [`crate::contact::semismooth`]; the conic program as the fallback) or "conic"
-    /// (one Clarabel program per Newton iterate). The CLI's environment variable
-    /// `SLITHER_CONTACT=conic` overrides it ([`keys::SOLVER_CONTACT`]).
+    /// Contact solver: "semi-smooth" (every contact's status from each iterate, all at once:
+    /// [`crate::contact::semismooth`]; the conic program as the fallback and certificate) or
+    /// "conic" (one Clarabel program per Newton iterate). The CLI's environment variable
+    /// `SLITHER_CONTACT=conic` overrides it ([`keys::SOLVER_CONTACT`]). "active-set" was
+    /// retired and is refused by [`check_retired`].
     #[serde(default)]
     pub contact: ContactKind,
     /// Line search: largest number of step halvings (backtracks) per Newton iterate before
@@ -56,14 +56,11 @@ pub struct SolverSpec {
     /// Diagonal shift retries before the step fails ([`keys::SOLVER_SHIFT_TRIES`]).
     #[serde(default = "d_shift_tries")]
     pub shift_tries: usize,
-    /// Active-set contact: Newton iterations before the conic program takes over, capped by
-    /// `max_iterations` ([`keys::SOLVER_ACTIVE_SET_MAX_ITERATIONS`]).
-    #[serde(default = "d_active_iters")]
-    pub active_set_max_iterations: usize,
-    /// Active-set contact: status changes allowed per step beyond the number of contacts
-    /// ([`keys::SOLVER_ACTIVE_SET_EXTRA_SWITCHES`]).
-    #[serde(default = "d_switch_margin")]
-    pub active_set_extra_switches: usize,
+    /// Semi-smooth contact: Newton iterations of one attempt before it retries or the conic
+    /// program takes over, capped by `max_iterations`
+    /// ([`keys::SOLVER_SEMI_SMOOTH_MAX_ITERATIONS`]).
+    #[serde(default = "d_semi_smooth_iters")]
+    pub semi_smooth_max_iterations: usize,
     /// Semi-smooth contact: accepted merits the non-monotone line search compares a full step
     /// with ([`keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY`]).
     #[serde(default = "d_merit_memory")]
@@ -76,15 +73,16 @@ pub struct SolverSpec {
     /// before the conic fallback ([`keys::SOLVER_SEMI_SMOOTH_RETRIES`]).
     #[serde(default = "d_retries")]
     pub semi_smooth_retries: usize,
-    /// Newton iterations of the conic path started where a failed active-set attempt stopped
+    /// Newton iterations of the conic path started where a failed semi-smooth step stopped
     /// (beyond them it starts over from the step's start): the conic path's normal-force fixed
-    /// point contracts by about 0.6 per iteration on the S-start steps the active set stalls
-    /// on, about 17 iterations from its start ([`keys::SOLVER_WARM_CONIC_ITERATIONS`]).
+    /// point contracted by about 0.6 per iteration on the S-start steps that the retired active
+    /// set stalled on, about 17 iterations from their start
+    /// ([`keys::SOLVER_WARM_CONIC_ITERATIONS`]).
     #[serde(default = "d_warm")]
     pub warm_conic_iterations: usize,
     /// Normal forces count as settled when they change by less than this fraction of the mean
-    /// weight per contact `W / n_c`: between iterates on the conic path; on the active-set
-    /// path, their predicted change over the last Newton step (the Hessian row at each held
+    /// weight per contact `W / n_c`: between iterates on the conic path; in the semi-smooth
+    /// Newton, their predicted change over the last Newton step (the Hessian row at each held
     /// coordinate times the step, [`crate::contact::reactions`])
     /// ([`keys::SOLVER_NORMAL_FORCE_TOLERANCE`]).
     #[serde(default = "d_normal_tol")]
@@ -93,25 +91,19 @@ pub struct SolverSpec {
     /// its slip over the step is below it ([`keys::SOLVER_CONTACT_TOLERANCE`]).
     #[serde(default = "d_contact_tol")]
     pub contact_tolerance: f64,
-    /// Contact forces: a normal force below `-contact_force_tolerance * W / n_c` pulls (the
-    /// contact lifts off), a sticking force below it is not tested against the cone, and a
-    /// sticking force beyond `1 + contact_force_tolerance` times the cone's bound slides
-    /// ([`keys::SOLVER_CONTACT_FORCE_TOLERANCE`]).
-    #[serde(default = "d_contact_force_tol")]
-    pub contact_force_tolerance: f64,
-    /// Active-set contact: the sliding contacts' normal forces inside the Newton system (their
+    /// Semi-smooth contact: the sliding contacts' normal forces inside the Newton system (their
     /// change along the step enters the friction force, so Newton converges quadratically);
     /// `false` lags them by one iterate (linear convergence) ([`keys::SOLVER_CONTACT_COUPLING`]).
     #[serde(default = "d_coupling")]
     pub contact_coupling: bool,
-    /// Active set: the bending and twist Hessian of an earlier iterate of the step is kept
+    /// Semi-smooth contact: the bending and twist Hessian of an earlier iterate of the step is kept
     /// while every position stays within this fraction of the shortest element (and every
     /// angle within this many rad) of it; the gradient is exact at every iterate
     /// ([`crate::newton::HessianCache`]; 0: assembled at every iterate)
     /// ([`keys::SOLVER_HESSIAN_REUSE`]).
     #[serde(default = "d_hessian_reuse")]
     pub hessian_reuse: f64,
-    /// Active-set contact: certify every N-th step it solves with one conic program from its
+    /// Semi-smooth contact: certify every N-th step it solves with one conic program from its
     /// solution, whose correction must stay below the Newton tolerance and whose normal-force
     /// change below `normal_force_tolerance` (0: never). For tests and audits: a conic solve
     /// costs about 30 ms at 200 elements ([`keys::SOLVER_CONIC_CERTIFICATE`]).
@@ -149,8 +141,6 @@ pub enum IntegratorKind {
 #[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactKind {
-    /// Active set first, the conic program as the certified fallback.
-    ActiveSet,
     /// The conic program at every Newton iterate.
     Conic,
     /// Semi-smooth Newton on the Alart-Curnier contact conditions, every contact's status
@@ -187,8 +177,8 @@ fn d_shift() -> f64 {
 fn d_shift_tries() -> usize {
     keys::SOLVER_SHIFT_TRIES.int() as usize
 }
-fn d_active_iters() -> usize {
-    keys::SOLVER_ACTIVE_SET_MAX_ITERATIONS.int() as usize
+fn d_semi_smooth_iters() -> usize {
+    keys::SOLVER_SEMI_SMOOTH_MAX_ITERATIONS.int() as usize
 }
 fn d_penalty() -> f64 {
     keys::SOLVER_SEMI_SMOOTH_PENALTY.real()
@@ -199,9 +189,6 @@ fn d_retries() -> usize {
 fn d_merit_memory() -> usize {
     keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY.int() as usize
 }
-fn d_switch_margin() -> usize {
-    keys::SOLVER_ACTIVE_SET_EXTRA_SWITCHES.int() as usize
-}
 fn d_warm() -> usize {
     keys::SOLVER_WARM_CONIC_ITERATIONS.int() as usize
 }
@@ -210,9 +197,6 @@ fn d_normal_tol() -> f64 {
 }
 fn d_contact_tol() -> f64 {
     keys::SOLVER_CONTACT_TOLERANCE.real()
-}
-fn d_contact_force_tol() -> f64 {
-    keys::SOLVER_CONTACT_FORCE_TOLERANCE.real()
 }
 fn d_coupling() -> bool {
     keys::SOLVER_CONTACT_COUPLING.flag()
@@ -243,8 +227,7 @@ impl Default for SolverSpec {
             line_search_noise: d_noise(),
             shift: d_shift(),
             shift_tries: d_shift_tries(),
-            active_set_max_iterations: d_active_iters(),
-            active_set_extra_switches: d_switch_margin(),
+            semi_smooth_max_iterations: d_semi_smooth_iters(),
             semi_smooth_merit_memory: d_merit_memory(),
             semi_smooth_penalty: d_penalty(),
             semi_smooth_retries: d_retries(),
@@ -253,7 +236,6 @@ impl Default for SolverSpec {
             hessian_reuse: d_hessian_reuse(),
             normal_force_tolerance: d_normal_tol(),
             contact_tolerance: d_contact_tol(),
-            contact_force_tolerance: d_contact_force_tol(),
             conic_certificate: d_certificate(),
             conic_tolerance: d_conic_tol(),
             conic_max_iterations: d_conic_iters(),
@@ -266,7 +248,7 @@ impl SolverSpec {
     /// Range checks of every numeric setting and of `clarabel_method` against its key
     /// ([`keys`]): `Err((key, value as written))`.
     pub(crate) fn check_settings(&self) -> Result<(), (&'static Key, String)> {
-        let reals: [(&'static Key, f64); 10] = [
+        let reals: [(&'static Key, f64); 9] = [
             (&keys::SOLVER_TOLERANCE, self.tolerance),
             (&keys::SOLVER_ARMIJO, self.armijo),
             (&keys::SOLVER_LINE_SEARCH_NOISE, self.line_search_noise),
@@ -276,26 +258,18 @@ impl SolverSpec {
                 self.normal_force_tolerance,
             ),
             (&keys::SOLVER_CONTACT_TOLERANCE, self.contact_tolerance),
-            (
-                &keys::SOLVER_CONTACT_FORCE_TOLERANCE,
-                self.contact_force_tolerance,
-            ),
             (&keys::SOLVER_CONIC_TOLERANCE, self.conic_tolerance),
             (&keys::SOLVER_HESSIAN_REUSE, self.hessian_reuse),
             (&keys::SOLVER_SEMI_SMOOTH_PENALTY, self.semi_smooth_penalty),
         ];
-        let ints: [(&'static Key, usize); 11] = [
+        let ints: [(&'static Key, usize); 10] = [
             (&keys::SOLVER_MAX_ITERATIONS, self.max_iterations),
             (&keys::SOLVER_MAX_HALVINGS, self.max_halvings),
             (&keys::SOLVER_MAX_BACKTRACKS, self.max_backtracks),
             (&keys::SOLVER_SHIFT_TRIES, self.shift_tries),
             (
-                &keys::SOLVER_ACTIVE_SET_MAX_ITERATIONS,
-                self.active_set_max_iterations,
-            ),
-            (
-                &keys::SOLVER_ACTIVE_SET_EXTRA_SWITCHES,
-                self.active_set_extra_switches,
+                &keys::SOLVER_SEMI_SMOOTH_MAX_ITERATIONS,
+                self.semi_smooth_max_iterations,
             ),
             (
                 &keys::SOLVER_SEMI_SMOOTH_MERIT_MEMORY,
@@ -366,11 +340,15 @@ impl Overrides {
         let contact = match contact {
             None => None,
             Some("conic") => Some(ContactKind::Conic),
-            Some("active-set") => Some(ContactKind::ActiveSet),
             Some("semi-smooth") => Some(ContactKind::SemiSmooth),
+            Some("active-set") => {
+                return Err(format!(
+                    "SLITHER_CONTACT = \"active-set\" is not allowed: must be \"semi-smooth\" or \"conic\" (or unset); {RETIRED_ACTIVE_SET}"
+                ))
+            }
             Some(v) => {
                 return Err(format!(
-                    "SLITHER_CONTACT = {v:?} is not allowed: must be \"semi-smooth\", \"active-set\" or \"conic\" (or unset)"
+                    "SLITHER_CONTACT = {v:?} is not allowed: must be \"semi-smooth\" or \"conic\" (or unset)"
                 ))
             }
         };
@@ -409,4 +387,58 @@ impl SolverSpec {
         }
         s
     }
+}
+
+/// Why `"active-set"` and its keys are refused, for messages.
+pub const RETIRED_ACTIVE_SET: &str = "the active-set contact solver was retired: no bundled scene needed it (record docs/results/active-set-need/latest.md)";
+
+/// `[solver]` keys retired with the active-set solver: the key, the value refused (`None`:
+/// any), and what to write instead.
+const RETIRED: [(&str, Option<&str>, &str); 4] = [
+    (
+        "contact",
+        Some("active-set"),
+        "\"semi-smooth\" or \"conic\"",
+    ),
+    (
+        "active_set_max_iterations",
+        None,
+        "absent: the semi-smooth Newton's cap is `solver.semi_smooth_max_iterations`",
+    ),
+    (
+        "active_set_extra_switches",
+        None,
+        "absent: only the active set used it",
+    ),
+    (
+        "contact_force_tolerance",
+        None,
+        "absent: only the active set used it",
+    ),
+];
+
+/// Refuse the `[solver]` keys and values retired with the active-set solver, with an error
+/// naming the file, the line, the key, the allowed values and why (before the file is
+/// deserialized, which would only call the key unknown). Text that is not TOML passes here and
+/// fails in the parser with its own message.
+pub(super) fn check_retired(text: &str, path: &std::path::Path) -> Result<(), super::ProblemError> {
+    let Ok(doc) = text.parse::<toml::Table>() else {
+        return Ok(());
+    };
+    let Some(solver) = doc.get("solver").and_then(toml::Value::as_table) else {
+        return Ok(());
+    };
+    for (key, refused, instead) in RETIRED {
+        let Some(v) = solver.get(key) else { continue };
+        if refused.is_none_or(|r| v.as_str() == Some(r)) {
+            return Err(super::ProblemError::Invalid {
+                file: path.into(),
+                line: super::key_line(text, "solver", key),
+                key: format!("solver.{key}"),
+                value: v.to_string(),
+                allowed: format!("{instead} ({RETIRED_ACTIVE_SET})"),
+            });
+        }
+    }
+    Ok(())
 }

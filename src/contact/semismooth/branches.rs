@@ -5,9 +5,8 @@
 
 use super::{SemiSmooth, SlideLin};
 use crate::contact::status::Mode;
-use crate::contact::Ground;
+use crate::contact::ContactSet;
 use crate::model::Model;
-use crate::rod::dof;
 
 /// `|v|` of a force or slip: `sqrt` of the sum of squares, not `hypot`, whose overflow
 /// guard these magnitudes (forces of order the weight, slips of order the step) never need
@@ -15,18 +14,6 @@ use crate::rod::dof;
 #[inline]
 pub(super) fn norm(v: [f64; 2]) -> f64 {
     (v[0] * v[0] + v[1] * v[1]).sqrt()
-}
-
-/// Scaled friction variables `p` of a force `G` in `(forward, side)` components.
-fn scaled(g: &Ground, gf: [f64; 2]) -> [f64; 2] {
-    let mu = g.mu_along(gf[0]);
-    [gf[0] / mu, gf[1] / g.mu_s]
-}
-
-/// Scaled slip `u` of a slip `s` in `(forward, side)` components.
-fn scaled_slip(g: &Ground, s: [f64; 2]) -> [f64; 2] {
-    let mu = g.mu_along(s[0]);
-    [mu * s[0], g.mu_s * s[1]]
 }
 
 /// The contacts' statuses as one character each, head first (`.` free, `#` stick, `~`
@@ -55,15 +42,14 @@ struct Branch {
 
 impl SemiSmooth {
     /// Contact `c`'s branch at `q` with its current force variables.
-    fn branch(&self, m: &Model, g: &Ground, c: usize, q: &[f64], rho: f64) -> Branch {
-        let ct = &self.conic.ct;
-        let k = dof::node(ct.nodes[c]);
-        let gap = q[k + 2] - 0.5 * m.diameter;
+    fn branch(&self, ct: &ContactSet, m: &Model, c: usize, q: &[f64], rho: f64) -> Branch {
+        let g = &ct.contacts[c].law;
+        let gap = ct.contacts[c].gap(q, m.diameter);
         let lam = self.lambda[c];
         let n_hat = (lam - rho * gap).max(0.0);
         let phi_n = lam - n_hat;
-        let p = scaled(g, ct.to_local(c, self.force[c]));
-        let u = scaled_slip(g, ct.slip(c, q));
+        let p = g.scaled_force(ct.to_local(c, self.force[c]));
+        let u = g.scaled_slip(ct.slip(c, q));
         let w = [p[0] + rho * u[0], p[1] + rho * u[1]];
         let wn = norm(w);
         let (proj, mode) = if lam - rho * gap <= 0.0 {
@@ -91,8 +77,8 @@ impl SemiSmooth {
     /// instead of 6.94 iterations per step).
     pub(super) fn branches(
         &mut self,
+        ct: &ContactSet,
         m: &Model,
-        g: &Ground,
         q: &[f64],
         scale: f64,
         within: bool,
@@ -100,9 +86,10 @@ impl SemiSmooth {
         let mut sum = 0.0;
         let trace = log::log_enabled!(log::Level::Trace);
         self.scratch.edge.clear();
-        for c in 0..self.conic.ct.nodes.len() {
+        for c in 0..ct.len() {
+            let g = &ct.contacts[c].law;
             let rho = self.scratch.rho[c];
-            let b = self.branch(m, g, c, q, rho);
+            let b = self.branch(ct, m, c, q, rho);
             let mut mode = b.mode;
             if within && mode == Mode::Slide && self.mode[c] == Mode::Slide {
                 let d = self.scratch.slide[c].dir;
@@ -141,11 +128,18 @@ impl SemiSmooth {
     /// Whether every contact at `q` is on the branch the last direction was computed with, or
     /// has changed branch with its Alart-Curnier residual below `tol` (N): a contact on the
     /// cone's edge, where both branches give the same root.
-    pub(super) fn branches_settled(&mut self, m: &Model, g: &Ground, q: &[f64], tol: f64) -> bool {
-        let mu_x = g.mu_f.max(g.mu_b);
-        (0..self.conic.ct.nodes.len()).all(|c| {
+    pub(super) fn branches_settled(
+        &mut self,
+        ct: &ContactSet,
+        m: &Model,
+        q: &[f64],
+        tol: f64,
+    ) -> bool {
+        (0..ct.len()).all(|c| {
+            let g = &ct.contacts[c].law;
+            let mu_x = g.mu_f.max(g.mu_b);
             let rho = self.scratch.rho[c];
-            let b = self.branch(m, g, c, q, rho);
+            let b = self.branch(ct, m, c, q, rho);
             b.mode == self.mode[c]
                 || b.phi_n.hypot(mu_x * b.phi_t[0]).hypot(g.mu_s * b.phi_t[1]) <= tol
         })

@@ -1,0 +1,174 @@
+//! The contact set: every contact of a run ([`Contact`]) with its normal force, owned by the
+//! dispatcher ([`super::Dispatcher`]) and handed to whichever solver runs the step.
+//!
+//! The ground's contacts are the real nodes that are not clamped in height, each the
+//! one-node stencil of its node. Their frames and slip origins are frozen at the start of
+//! every step; the normal forces are the current value of the lagged fixed point (the conic
+//! program) or the published solution (the semi-smooth Newton).
+
+use super::point::{Contact, Frame, Stencil};
+use crate::model::Model;
+use crate::rod::{dof, vec3::f};
+
+/// Every contact and its normal force.
+pub struct ContactSet {
+    /// The contacts.
+    pub contacts: Vec<Contact>,
+    /// Normal force at each contact (N), the current fixed-point value.
+    pub normal: Vec<f64>,
+    /// Normal forces from the last conic solve, not yet committed.
+    pub pending: Vec<f64>,
+    /// The normal forces at the start of the step (restored by a rejected step).
+    normal_saved: Vec<f64>,
+    /// The step's size `h` (s): the conic program scales its slips with it.
+    pub h: f64,
+}
+
+impl ContactSet {
+    /// The ground's contacts of a model at `q`: one at every real node not clamped in height.
+    /// Initial normal forces: each node's weight if it touches the ground.
+    pub fn ground(m: &Model, q: &[f64]) -> Self {
+        let law = *m.ground.as_ref().expect("a contact set needs a ground");
+        let g = f::norm(m.gravity);
+        let mut contacts = Vec::new();
+        let mut normal = Vec::new();
+        for i in m.real.clone().filter(|&i| !m.fixed[dof::node(i) + 2]) {
+            let z = q[dof::node(i) + 2];
+            normal.push(if z - 0.5 * m.diameter <= 1e-9 * m.diameter {
+                m.mass[dof::node(i)] * g
+            } else {
+                0.0
+            });
+            contacts.push(Contact::new(Stencil::node(i), law));
+        }
+        ContactSet {
+            contacts,
+            pending: normal.clone(),
+            normal,
+            normal_saved: Vec::new(),
+            h: 0.0,
+        }
+    }
+
+    /// A contact set of the given contacts, each with its initial normal force (N).
+    pub fn new(contacts: Vec<(Contact, f64)>) -> Self {
+        let (contacts, normal): (Vec<Contact>, Vec<f64>) = contacts.into_iter().unzip();
+        ContactSet {
+            contacts,
+            pending: normal.clone(),
+            normal,
+            normal_saved: Vec::new(),
+            h: 0.0,
+        }
+    }
+
+    /// Number of contacts.
+    pub fn len(&self) -> usize {
+        self.contacts.len()
+    }
+
+    /// Whether there is no contact.
+    pub fn is_empty(&self) -> bool {
+        self.contacts.is_empty()
+    }
+
+    /// The first coordinate (`x`; `y`, `z` follow) of contact `c`'s node, for a solver that
+    /// holds a contact's coordinates: only a contact at a node has them
+    /// ([`Stencil::single`]; the semi-smooth Newton checks every contact before it starts).
+    pub(crate) fn node_dof(&self, c: usize) -> usize {
+        let i = self.contacts[c]
+            .stencil
+            .single()
+            .expect("a contact at a node (checked by the solver)");
+        dof::node(i)
+    }
+
+    /// Whether every contact sits at a node.
+    pub fn all_at_nodes(&self) -> bool {
+        self.contacts.iter().all(|c| c.stencil.single().is_some())
+    }
+
+    /// Mean weight per contact (N): the scale of normal-force tolerances.
+    pub fn weight_scale(&self, m: &Model) -> f64 {
+        (m.total_mass() * f::norm(m.gravity) / self.len().max(1) as f64).max(1e-300)
+    }
+
+    /// Start a step of size `h`: freeze the contact frames (from `q`) and the slip origins
+    /// (from `origin`), and save the normal forces.
+    pub fn begin_step(&mut self, m: &Model, q: &[f64], origin: &[f64], h: f64) {
+        self.h = h;
+        for c in &mut self.contacts {
+            // Toward the head: from the node after the point to the one before it (ends
+            // one-sided), on the ground.
+            let (lo, hi) = c.stencil.span();
+            let lo = if lo > m.real.start { lo - 1 } else { lo };
+            let hi = if hi + 1 < m.real.end { hi + 1 } else { hi };
+            let x = |k: usize| [q[dof::node(k)], q[dof::node(k) + 1], q[dof::node(k) + 2]];
+            c.frame = Frame::from_tangent(f::sub(x(lo), x(hi)));
+            c.origin = c.stencil.position(origin);
+        }
+        self.normal_saved.clone_from(&self.normal);
+    }
+
+    /// Restore the normal forces saved at the start of the step.
+    pub fn restore_normals(&mut self) {
+        self.normal.clone_from(&self.normal_saved);
+    }
+
+    /// Tangential slip of contact `c` at `q` since the start of the step (m).
+    pub fn slip(&self, c: usize, q: &[f64]) -> [f64; 2] {
+        self.contacts[c].slip(q)
+    }
+
+    /// A force in contact `c`'s `(forward, side)` components as world `(x, y)`.
+    pub fn to_world(&self, c: usize, fs: [f64; 2]) -> [f64; 2] {
+        self.contacts[c].frame.to_world(fs)
+    }
+
+    /// A world `(x, y)` vector in contact `c`'s `(forward, side)` components.
+    pub fn to_local(&self, c: usize, xy: [f64; 2]) -> [f64; 2] {
+        self.contacts[c].frame.to_local(xy)
+    }
+
+    /// Friction dissipation `h D` at `q` with the lagged normal forces (J).
+    pub fn dissipation(&self, q: &[f64]) -> f64 {
+        let mut d = 0.0;
+        for (c, ct) in self.contacts.iter().enumerate() {
+            if self.normal[c] == 0.0 {
+                continue;
+            }
+            let u = ct.law.scaled_slip(ct.slip(q));
+            d += self.normal[c] * (u[0].powi(2) + u[1].powi(2)).sqrt();
+        }
+        d // h D = h N mu |v| = N mu |dx|
+    }
+
+    /// Lift the iterate's predicted penetrations onto the ground (a feasible start): every
+    /// node of a contact's stencil to at least `a/2` (enough for weights that sum to one).
+    pub fn lift(&self, m: &Model, q: &mut [f64]) {
+        for c in &self.contacts {
+            for (i, _) in c.stencil.iter() {
+                let k = dof::node(i) + 2;
+                q[k] = q[k].max(0.5 * m.diameter);
+            }
+        }
+    }
+
+    /// Normal force on every real node (N), into `out`: a contact at a node writes its force
+    /// there, a contact between nodes adds its force spread over its stencil.
+    pub fn normal_forces(&self, m: &Model, out: &mut [f64]) {
+        out.fill(0.0);
+        for (c, ct) in self.contacts.iter().enumerate() {
+            if let Some(i) = ct.stencil.single() {
+                out[i - m.real.start] = self.normal[c];
+            }
+        }
+        for (c, ct) in self.contacts.iter().enumerate() {
+            if ct.stencil.single().is_none() {
+                for (i, w) in ct.stencil.iter() {
+                    out[i - m.real.start] += w * self.normal[c];
+                }
+            }
+        }
+    }
+}
