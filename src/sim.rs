@@ -7,7 +7,8 @@
 //! are the frames every observable and the regime are measured on ([`crate::observe`]): a
 //! grid set by the physics, independent of the output interval, so that asking for fewer
 //! frames never changes a measured value. Its spacing is [`observation_interval`]: the pulse
-//! time `T = L / v_m` (or the duration, if shorter or without a gait) over
+//! time `T = L / v_m` (or the duration, if shorter or without a gait; a gait with a launch
+//! period always `T`, so its per-cycle values do not depend on the run's length) over
 //! [`OBSERVATIONS_PER_PULSE`]; with fixed steps it is rounded to a whole number of steps
 //! (the bundled S-start: 9 steps of 2 ms, 0.018 s); with adaptive steps a frame is taken at
 //! the first accepted step that reaches each grid time. Both series start at t = 0 and end
@@ -127,7 +128,10 @@ pub const OBSERVATIONS_PER_PULSE: f64 = 200.0;
 
 /// Spacing of the observation grid (s): `min(T, duration) / OBSERVATIONS_PER_PULSE`, with the
 /// pulse time `T = L / v_m` of a gait, or the duration without one (static mode: every load
-/// increment is observed). It depends on the physics (rod, gait, duration), never on
+/// increment is observed). A gait with a launch period (sidewinding) is observed every
+/// `T / OBSERVATIONS_PER_PULSE` whatever the duration, so its per-cycle values do not change
+/// with the run's length (in a run shorter than `T` the cycles' end frames would otherwise
+/// move with the duration). It depends on the physics (rod, gait, duration), never on
 /// `[output] interval`.
 pub fn observation_interval(model: &Model) -> f64 {
     let g = &model.gait;
@@ -136,6 +140,9 @@ pub fn observation_interval(model: &Model) -> f64 {
     } else {
         f64::INFINITY
     };
+    if g.kind.has_launch_period() && pulse.is_finite() {
+        return pulse / OBSERVATIONS_PER_PULSE;
+    }
     pulse.min(model.duration) / OBSERVATIONS_PER_PULSE
 }
 

@@ -1,6 +1,7 @@
 //! Ensembles (`slither::design::ensemble`, `slither run --ensemble K`): the statistics are
 //! those of the individual runs, a member is reproduced from its recorded seed, the members
 //! are perturbed as documented, and the unperturbed run's results do not change.
+mod common;
 use slither::design::ensemble::{self, Perturbation, Spec};
 use slither::problem;
 use std::path::{Path, PathBuf};
@@ -51,7 +52,7 @@ fn statistics_are_those_of_the_members_and_a_member_reruns_from_its_seed() {
             "{name}"
         );
         assert!(
-            (s.sd - var.sqrt()).abs() <= 1e-9 * s.sd.max(1e-300),
+            (s.sd.unwrap() - var.sqrt()).abs() <= 1e-9 * s.sd.unwrap().max(1e-300),
             "{name}"
         );
         assert_eq!(
@@ -66,7 +67,10 @@ fn statistics_are_those_of_the_members_and_a_member_reruns_from_its_seed() {
         );
     }
     let speed = &e.stats["v_s_over_v_m"];
-    assert!(speed.sd > 0.0 && speed.min < speed.max, "{speed:?}");
+    assert!(
+        speed.sd.unwrap() > 0.0 && speed.min < speed.max,
+        "{speed:?}"
+    );
     // Votes: one per member, by its label.
     assert_eq!(e.regime_votes.values().sum::<usize>(), 4);
     for (label, n) in &e.regime_votes {
@@ -75,8 +79,8 @@ fn statistics_are_those_of_the_members_and_a_member_reruns_from_its_seed() {
     // The perturbations are the documented ones: a geometric step ladder from dt/2.5 to
     // dt*2.5, friction factors near 1 but not 1, a sideways shape of about 1e-3 a.
     let dt = base.time.dt.unwrap();
-    assert!((e.members[0].dt / (dt / ensemble::STEP) - 1.0).abs() < 1e-12);
-    assert!((e.members[3].dt / (dt * ensemble::STEP) - 1.0).abs() < 1e-12);
+    assert!((e.members[0].dt.unwrap() / (dt / ensemble::STEP) - 1.0).abs() < 1e-12);
+    assert!((e.members[3].dt.unwrap() / (dt * ensemble::STEP) - 1.0).abs() < 1e-12);
     for m in &e.members {
         assert_eq!(m.seed, ensemble::member_seed(11, m.index));
         for f in m.friction_factors {
@@ -119,7 +123,7 @@ fn no_perturbation_gives_identical_members_equal_to_the_plain_run() {
         assert_eq!(m.observables["v_s_over_v_m"], Some(v));
     }
     let s = &e.stats["v_s_over_v_m"];
-    assert_eq!((s.sd, s.min, s.max), (0.0, v, v));
+    assert_eq!((s.sd, s.min, s.max), (Some(0.0), v, v));
 }
 
 #[test]
@@ -207,4 +211,84 @@ fn run_with_ensemble_writes_the_stats_and_keeps_the_plain_results() {
         .unwrap();
     assert_eq!(r.status.code(), Some(2));
     let _ = std::fs::remove_dir_all(&d);
+}
+
+/// What a member records is what it ran: the step cut to the run when the ladder makes it
+/// longer than the run, the error tolerance of an adaptive member (the ladder scales that,
+/// not the step), and in static mode no ladder at all (no time step to perturb).
+#[test]
+fn members_record_the_step_or_tolerance_they_ran_and_static_mode_has_no_ladder() {
+    let spec = Spec {
+        runs: 3,
+        seed: 2,
+        perturbation: Perturbation::default(),
+    };
+    // dt 0.05 s on a 0.1 s run: the last member's step 0.125 s is longer than the run.
+    let mut p = short_s_start();
+    p.time.duration = Some(0.1);
+    p.time.dt = Some(0.05);
+    p.output.interval = Some(0.05);
+    let m = ensemble::run_member(&p, &spec, 2);
+    assert_eq!(m.step_factor, ensemble::STEP);
+    assert_eq!(m.dt, Some(0.1), "the step it ran is the run's length");
+    assert_eq!(m.error_tolerance, None);
+    let m = ensemble::run_member(&p, &spec, 0);
+    assert!((m.dt.unwrap() - 0.05 / ensemble::STEP).abs() < 1e-15);
+    // Adaptive: the tolerance is scaled and recorded; the first step is the file's.
+    let mut a = p.clone();
+    a.time.adaptive = true;
+    a.time.error_tolerance = Some(1e-3);
+    let pr = ensemble::member_problem(&a, &spec.perturbation, 1, 0, 3);
+    assert_eq!(pr.time.dt, Some(0.05));
+    assert!((pr.time.error_tolerance.unwrap() - 1e-3 / ensemble::STEP).abs() < 1e-18);
+    // Static mode: every member at factor 1, its step not perturbed (and recorded as none).
+    let s = problem::load(Path::new("problems/cantilever_sag.toml")).unwrap();
+    assert_eq!(s.time.mode, problem::Mode::Static);
+    for k in 0..3 {
+        assert_eq!(
+            ensemble::applied_step_factor(&s, &spec.perturbation, k, 3),
+            1.0
+        );
+        let pr = ensemble::member_problem(&s, &spec.perturbation, 1, k, 3);
+        assert_eq!(pr.time.dt, s.time.dt);
+    }
+    let m = ensemble::run_member(&s, &spec, 2);
+    assert_eq!((m.step_factor, m.dt), (1.0, None));
+    assert_eq!(m.status, "ok", "{}", m.reason);
+    // One member: the spread is undefined, written as null.
+    let one = ensemble::run(&p, &Spec { runs: 1, ..spec }, &|_, _| {});
+    let v = serde_json::to_value(&one).unwrap();
+    assert!(v["stats"]["v_s"]["sd"].is_null(), "{}", v["stats"]["v_s"]);
+    assert_eq!(v["stats"]["v_s"]["n"], 1);
+}
+
+/// `run --ensemble` of a gait with a launch period: the periodic (sidewinding) observables are
+/// members' observables and have statistics, like the others.
+#[test]
+fn an_ensemble_of_a_sidewinding_has_the_periodic_statistics() {
+    let p = problem::parse(common::TINY_SIDEWINDING, Path::new("<inline>")).unwrap();
+    let e = ensemble::run(&p, &Spec::new(2), &|_, _| {});
+    assert_eq!(e.finished, 2);
+    for key in [
+        "periodic.cycles",
+        "periodic.lateral_speed_over_v_m",
+        "periodic.turn_deg_mean_abs",
+        "periodic.broadside_deg_min",
+        "periodic.stationary_contact_share_min",
+        "periodic.sidewinding",
+    ] {
+        let s = e
+            .stats
+            .get(key)
+            .unwrap_or_else(|| panic!("no {key} in {:?}", e.stats.keys()));
+        assert_eq!(s.n, 2, "{key}");
+    }
+    // The members' values are their own runs' periodic values.
+    assert_eq!(e.stats["periodic.cycles"].mean, 2.0);
+    let lateral: Vec<f64> = e
+        .members
+        .iter()
+        .map(|m| m.observables["periodic.lateral_speed_over_v_m"].unwrap())
+        .collect();
+    assert!(lateral.iter().all(|v| v.abs() > 0.0), "{lateral:?}");
 }

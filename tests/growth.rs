@@ -246,6 +246,27 @@ fn the_verdict_names_where_the_s_start_stops() {
     assert!(l.verdict.contains("stops 2 times"), "{}", l.verdict);
 }
 
+/// A line whose every size failed has no answer: a failure verdict (not "no size
+/// S-starts"), and `all_failed`, on which `phase` and `merge` exit 3.
+#[test]
+fn a_line_whose_every_size_failed_has_a_failure_verdict() {
+    let l = line(&[(None, None), (None, None), (None, None)]);
+    assert!(l.all_failed());
+    assert_eq!(l.failed_sizes, 3);
+    assert!(
+        l.verdict
+            .starts_with("every size between 1 cm and 3 cm failed"),
+        "{}",
+        l.verdict
+    );
+    assert!(!l.verdict.contains("S-starts"), "{}", l.verdict);
+    // One size finished: a verdict on the others, not a failure.
+    let l = line(&[(None, None), (Some(Regime::M), None)]);
+    assert!(!l.all_failed());
+    assert_eq!(l.failed_sizes, 1);
+    assert!(l.verdict.starts_with("no size"), "{}", l.verdict);
+}
+
 fn slither(args: &[&str]) -> std::process::Output {
     Command::new(BIN).args(args).output().unwrap()
 }
@@ -286,6 +307,10 @@ fn a_phase_run_draws_and_resumes_its_growth_line() {
         serde_json::from_str(&std::fs::read_to_string(out.join("growth.json")).unwrap()).unwrap();
     let pts = json["points"].as_array().unwrap();
     assert_eq!(pts.len(), 3);
+    // growth.json records how the sizes were run: no verification, the similar protocol.
+    assert!(json["verify"].is_null(), "{json}");
+    assert_eq!(json["protocol"]["similar"], true);
+    assert_eq!(json["failed_sizes"], 0);
     assert!((pts[2]["diameter"].as_f64().unwrap() - 0.1).abs() < 1e-15);
     assert_eq!(
         std::fs::read_to_string(out.join("growth.csv"))
@@ -333,4 +358,44 @@ fn a_phase_run_draws_and_resumes_its_growth_line() {
             "{bad}: {err}"
         );
     }
+}
+
+/// On the command line: a growth line whose every size failed (steps that would have to
+/// fall below `dt_min`) says so in `growth.json` and on stderr, and exits 3.
+#[test]
+fn a_phase_run_whose_growth_line_failed_exits_3() {
+    let d = scratch("all-failed");
+    let base = common::TINY_S_START.replace(
+        "dt = 1e-2\n",
+        "dt = 1e-2\nadaptive = true\nerror_tolerance = 1e-9\ndt_min = 1e-2\n",
+    );
+    std::fs::write(d.join("base.toml"), base).unwrap();
+    let file = d.join("phase.toml");
+    std::fs::write(
+        &file,
+        "[phase]\nbase = \"base.toml\"\nweight = [300.0]\ntorque = [15.0]\ngrowth = { diameters = [0.01, 0.02] }\n",
+    )
+    .unwrap();
+    let out = d.join("out");
+    let o = slither(&[
+        "phase",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("every size of the growth line failed (2 sizes)"),
+        "{err}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("growth.json")).unwrap()).unwrap();
+    assert_eq!(json["failed_sizes"], 2);
+    let verdict = json["verdict"].as_str().unwrap();
+    assert!(
+        verdict.contains("failed") && !verdict.contains("S-starts"),
+        "{verdict}"
+    );
 }

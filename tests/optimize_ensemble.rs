@@ -101,19 +101,37 @@ fn optimum_json_compares_the_best_and_the_runner_up_as_ensembles() {
     }
     assert_eq!(c["runner_up"]["eval"].as_u64().unwrap(), top_eval);
     assert_eq!(c["runner_up"]["v_s"].as_f64().unwrap(), top);
-    // The verdict follows from the two ensembles' statistics.
-    let s = |who: &str, k: &str| c[who]["ensemble_v_s"][k].as_f64().unwrap();
-    assert_eq!(c["best"]["ensemble_v_s"]["n"], 3);
-    assert_eq!(c["runner_up"]["ensemble_v_s"]["n"], 3);
+    // The verdict follows from the two ensembles' statistics of the study's objective (here
+    // "v_s": the objective is -v_s, lower is better), as recorded in optimum.json.
+    assert_eq!(c["objective"], "v_s");
+    assert_eq!(opt["settings"]["objective"], "v_s");
+    assert_eq!(opt["settings"]["ensemble"]["runs"], 3);
+    assert!(opt["settings"]["max_heading_deg"].is_null());
+    assert!(opt["settings"]["turn_penalty"].is_null());
+    let s = |who: &str, k: &str| c[who]["ensemble_objective"][k].as_f64().unwrap();
+    let v = |who: &str, k: &str| c[who]["ensemble_v_s"][k].as_f64().unwrap();
+    assert_eq!(c["best"]["ensemble_objective"]["n"], 3);
+    assert_eq!(c["runner_up"]["ensemble_objective"]["n"], 3);
     assert!(s("best", "sd") > 0.0, "the members differ");
-    let improvement = s("best", "mean") - s("runner_up", "mean");
-    assert!((c["improvement"].as_f64().unwrap() - improvement).abs() < 1e-15);
-    assert!(
-        (c["spread"].as_f64().unwrap() - s("best", "sd").hypot(s("runner_up", "sd"))).abs() < 1e-15
+    // For v_s the objective's statistics are those of -v_s.
+    assert!((s("best", "mean") + v("best", "mean")).abs() < 1e-12);
+    assert_eq!(s("best", "min"), -v("best", "max"));
+    assert_eq!(
+        c["best"]["objective"].as_f64().unwrap(),
+        -opt["best"]["v_s"].as_f64().unwrap()
     );
+    let improvement = s("runner_up", "mean") - s("best", "mean");
+    assert!((c["improvement"].as_f64().unwrap() - improvement).abs() < 1e-15);
+    let spread = s("best", "sd").hypot(s("runner_up", "sd"));
+    assert!((c["spread"].as_f64().unwrap() - spread).abs() < 1e-15);
+    // "improvement exceeds spread" means what it says; the ranges' overlap is its own key.
     assert_eq!(
         c["improvement_exceeds_spread"].as_bool().unwrap(),
-        s("best", "min") > s("runner_up", "max")
+        improvement > spread
+    );
+    assert_eq!(
+        c["ranges_separate"].as_bool().unwrap(),
+        s("best", "max") < s("runner_up", "min")
     );
     let gain = opt["v_s_gain"].as_f64().unwrap();
     assert_eq!(c["gain_over_initial"].as_f64().unwrap(), gain);

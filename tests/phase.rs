@@ -488,9 +488,10 @@ fn refine_bisects_the_boundaries_resumes_and_merges() {
     assert_eq!(count_before(m, "simulated"), simulated, "{m}");
     assert_eq!(ordered_rows(&merged.join("refine.csv")), first);
     assert_eq!(json(&merged.join("boundaries.json")), bounds);
-    // Merge refuses to refine with a base file that changed since the shards ran ...
+    // Merge refuses to refine with a base problem that changed since the shards ran (a value;
+    // a comment is no change, tests/study_settings.rs) ...
     let base = dir.join("base.toml");
-    std::fs::write(&base, format!("{BASE}\n# edited\n")).unwrap();
+    std::fs::write(&base, BASE.replace("duration = 0.1", "duration = 0.12")).unwrap();
     let o = merge(&dirs, &dir.join("merged-edited"));
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");

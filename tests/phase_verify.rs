@@ -442,3 +442,28 @@ fn weight_via_and_similar_are_recorded_keyed_apart_and_checked() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Verification of a gait with a launch period compares the sidewinding verdict as well as
+/// the regime label: a run that crawls with the same label but does not sidewind disagrees.
+#[test]
+fn verification_of_a_sidewinding_compares_its_sidewinding_verdict() {
+    let p = slither::problem::parse(common::TINY_SIDEWINDING, Path::new("<inline>")).unwrap();
+    let c = phase::simulate(&p, 300.0, 14.4);
+    assert_eq!(c.status, Status::Ok, "{}", c.reason);
+    let periodic = c
+        .periodic
+        .expect("a sidewinding cell has its periodic values");
+    assert!(phase::cell::agrees(&c, &c));
+    let mut other = c.clone();
+    other.periodic = Some(slither::design::PeriodicColumns {
+        sidewinding: !periodic.sidewinding,
+        ..periodic
+    });
+    assert!(
+        !phase::cell::agrees(&other, &c),
+        "the sidewinding verdicts differ"
+    );
+    let mut failed = c.clone();
+    failed.regime = None;
+    assert!(!phase::cell::agrees(&failed, &c));
+}

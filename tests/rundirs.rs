@@ -118,14 +118,17 @@ fn phase_reruns_one_cell_into_a_run_directory() {
     let w = run["dimensionless"]["scaled_weight"].as_f64().unwrap();
     assert!((w - 600.0).abs() < 1e-9 * 600.0, "{w}");
 
-    // A cell off the grid is refused with the allowed values; nothing is written.
+    // A cell off the grid is refused with the nearest grid values; nothing is written.
     let (o, e) = slither(
         &["phase", "phase.toml", "--cell", "450,15", "--out", "off"],
         &dir,
     );
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(
-        e.contains("W = 450") && e.contains("phase.weight: 300, 600"),
+        e.contains("W = 450")
+            && e.contains("phase.weight")
+            && e.contains("300 (index 0)")
+            && e.contains("600 (index 1)"),
         "{e}"
     );
     let (o, e) = slither(
@@ -134,7 +137,7 @@ fn phase_reruns_one_cell_into_a_run_directory() {
     );
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(
-        e.contains("G = 16") && e.contains("phase.torque: 15"),
+        e.contains("G = 16") && e.contains("phase.torque") && e.contains("15 (index 0)"),
         "{e}"
     );
     let (o, e) = slither(

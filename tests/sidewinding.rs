@@ -178,3 +178,34 @@ fn the_broadside_objective_is_checked_on_load() {
         .to_string();
     assert!(e.contains("study.turn_penalty"), "{e}");
 }
+
+/// The per-cycle values of a sidewinding do not depend on the run's length: two runs of the
+/// tiny sidewinding shorter than its pulse time `L / v_m` (2 s), of 1.2 s and 1.6 s, measure
+/// their common cycles identically. (The observation spacing was `min(T, duration) / 200`:
+/// 6 and 8 ms here, three and four steps of 2 ms, so the cycles' end frames moved with the length.)
+#[test]
+fn per_cycle_values_do_not_depend_on_the_runs_length() {
+    let at = |duration: f64| {
+        let text = common::TINY_SIDEWINDING
+            .replace("dt = 1e-2", "dt = 2e-3")
+            .replace("duration = 1.2", &format!("duration = {duration}"));
+        let p = slither::problem::parse(&text, Path::new("<inline>")).unwrap();
+        let (m, o) = common::run_problem(&p);
+        assert!(o.error.is_none());
+        (
+            sim::observation_interval(&m),
+            periodic::of_outcome(&m, &o).unwrap(),
+        )
+    };
+    let (h1, short) = at(1.2);
+    let (h2, long) = at(1.6);
+    assert_eq!(
+        h1, h2,
+        "the observation spacing follows the gait, not the duration"
+    );
+    assert_eq!(short.cycles.len(), 2);
+    assert_eq!(long.cycles.len(), 3);
+    for (a, b) in short.cycles.iter().zip(&long.cycles) {
+        assert_eq!(a, b, "cycle {}", a.index);
+    }
+}

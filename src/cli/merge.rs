@@ -1,6 +1,6 @@
 //! `slither merge`: combine the output directories of sharded `slither phase` runs.
 use super::lock_out;
-use super::phase::{growth_line, growth_summary, refine_line, refine_summary};
+use super::phase::{growth_failed, growth_line, growth_summary, refine_line, refine_summary};
 use slither::design;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -46,6 +46,9 @@ pub fn merge(args: &Args) -> ExitCode {
             }
             if let Some((g, simulated)) = &m.growth {
                 eprintln!("{}", growth_summary(g, *simulated));
+                if let Err(code) = growth_failed(g, &out.join("growth.csv")) {
+                    return code;
+                }
             }
             ExitCode::SUCCESS
         }

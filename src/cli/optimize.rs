@@ -228,6 +228,7 @@ pub fn optimize(args: &Args) -> ExitCode {
         path,
         &out.join("best"),
         quiet,
+        true,
         "best evaluation",
     );
     if let Err(code) = best_run {
@@ -242,7 +243,7 @@ pub fn optimize(args: &Args) -> ExitCode {
         }
         if r.rows_other_base > 0 {
             eprintln!(
-                "note: {} rows of {} were written for another version of the base file and were not reused",
+                "note: {} rows of {} were written for another base problem (its effective content) or under another objective, turn_penalty or stationary_penalty, and were not reused: those points are simulated again",
                 r.rows_other_base,
                 history.display()
             );
@@ -285,32 +286,41 @@ pub fn optimize(args: &Args) -> ExitCode {
         }
         if let Some(c) = &r.check {
             let say = |e: &design::EnsembleOf| {
-                e.ensemble_v_s
+                e.ensemble_objective
                     .map_or("no finished member".to_string(), |s| {
                         format!(
-                            "v_s {:.5} ± {:.5} m/s (min {:.5}, max {:.5})",
-                            s.mean, s.sd, s.min, s.max
+                            "objective {:.5} ± {} (min {:.5}, max {:.5})",
+                            s.mean,
+                            s.sd.map_or("undefined".into(), |sd| format!("{sd:.5}")),
+                            s.min,
+                            s.max
                         )
                     })
             };
             eprintln!(
-                "ensemble of {} (best, eval {}): {}",
+                "ensemble of {} (best, eval {}), objective \"{}\" (lower is better): {}",
                 c.runs,
                 c.best.eval,
+                c.objective,
                 say(&c.best)
             );
-            match (&c.runner_up, c.improvement, c.improvement_exceeds_spread) {
-                (Some(u), Some(imp), Some(exceeds)) => eprintln!(
-                    "ensemble of {} (runner-up, eval {}): {}; improvement {:.5} m/s against spread {:.5} m/s: {}",
+            match (&c.runner_up, c.improvement, c.ranges_separate) {
+                (Some(u), Some(imp), Some(separate)) => eprintln!(
+                    "ensemble of {} (runner-up, eval {}): {}; improvement {:.5} against spread {}: {}; {}",
                     c.runs,
                     u.eval,
                     say(u),
                     imp,
-                    c.spread.unwrap_or(f64::NAN),
-                    if exceeds {
-                        "every perturbed run of the best is faster than every one of the runner-up"
+                    c.spread.map_or("undefined".into(), |s| format!("{s:.5}")),
+                    match c.improvement_exceeds_spread {
+                        Some(true) => "the improvement exceeds the spread",
+                        Some(false) => "the improvement is within the spread",
+                        None => "no spread to compare with",
+                    },
+                    if separate {
+                        "every perturbed run of the best scores better than every one of the runner-up"
                     } else {
-                        "the two ensembles overlap: the ranking is within the spread"
+                        "the two ensembles overlap"
                     }
                 ),
                 _ => eprintln!("no runner-up to compare with"),

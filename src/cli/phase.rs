@@ -25,58 +25,84 @@ pub struct Args {
     /// Run even above the size limits (10 000 cells, 2e7 time steps in all).
     #[arg(long)]
     pub force: bool,
-    /// Re-run one cell of the grid, W,G (values of phase.weight and phase.torque), into the
-    /// run directory --out, as `slither run` would: the model the study builds for that cell,
-    /// with trajectory, summary, figures, tracks and movie.
-    #[arg(long, value_name = "W,G", conflicts_with = "shard")]
+    /// Re-run one cell of the grid, W,G (values of phase.weight and phase.torque, each within
+    /// 1e-3 relative of exactly one grid value), into the run directory --out, as `slither
+    /// run` would: the model the study builds for that cell, with trajectory, summary,
+    /// figures, tracks and movie.
+    #[arg(long, value_name = "W,G", conflicts_with_all = ["shard", "cell_index", "growth_size"])]
     pub cell: Option<String>,
+    /// As --cell, the cell given by its indices i,j in phase.weight and phase.torque (from 0).
+    #[arg(long, value_name = "i,j", conflicts_with_all = ["shard", "growth_size"])]
+    pub cell_index: Option<String>,
+    /// As --cell, one size of the growth line (`growth = { ... }`): its diameter D (m), within
+    /// 1e-3 relative of exactly one of the line's diameters.
+    #[arg(long, value_name = "D", conflicts_with = "shard")]
+    pub growth_size: Option<String>,
+    /// With --cell, --cell-index or --growth-size: write the results without the figures,
+    /// tracks and movie.
+    #[arg(long)]
+    pub no_plots: bool,
     /// Also write phase_gallery.png: each cell simulated again to picture the body at its
     /// writhe snapshot (top and side views on the W, G grid; about one more sweep's time).
-    #[arg(long, conflicts_with_all = ["shard", "cell"])]
+    #[arg(long, conflicts_with_all = ["shard", "cell", "cell_index", "growth_size"])]
     pub gallery: bool,
 }
 
-/// `--cell W,G`: the grid's weight and torque equal (to 1e-9 relative) to the values given;
-/// errors name the allowed values.
-fn grid_cell(ph: &design::phase::Phase, text: &str) -> Result<(f64, f64), String> {
-    let file = ph.file.display();
-    let (w, g) = text
-        .split_once(',')
-        .and_then(|(w, g)| Some((w.trim().parse::<f64>().ok()?, g.trim().parse::<f64>().ok()?)))
-        .ok_or_else(|| format!("--cell {text:?}: not W,G (two numbers, e.g. --cell 0.5,2)"))?;
-    let find = |v: f64, grid: &[f64]| {
-        grid.iter()
-            .copied()
-            .find(|&x| (x - v).abs() <= 1e-9 * x.abs().max(v.abs()))
-    };
-    let list = |grid: &[f64]| {
-        grid.iter()
-            .map(|x| x.to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let w = find(w, &ph.weight).ok_or_else(|| {
-        format!(
-            "--cell {text}: W = {w} is not on the grid of {file} (phase.weight: {})",
-            list(&ph.weight)
+/// What `--cell`, `--cell-index` or `--growth-size` selects: the cell's `(W, G)` and protocol,
+/// and its name for messages.
+fn selected(
+    args: &Args,
+    ph: &design::phase::Phase,
+) -> Option<Result<(f64, f64, design::phase::Protocol, String), String>> {
+    use design::phase::select;
+    let grid = |(i, j): (usize, usize)| {
+        let (w, g) = (ph.weight[i], ph.torque[j]);
+        (
+            w,
+            g,
+            ph.protocol,
+            format!("cell W = {w}, G = {g} (index {i},{j})"),
         )
-    })?;
-    let g = find(g, &ph.torque).ok_or_else(|| {
-        format!(
-            "--cell {text}: G = {g} is not on the grid of {file} (phase.torque: {})",
-            list(&ph.torque)
+    };
+    if let Some(text) = &args.cell {
+        return Some(select::cell(&ph.weight, &ph.torque, text).map(grid));
+    }
+    if let Some(text) = &args.cell_index {
+        return Some(select::cell_index(&ph.weight, &ph.torque, text).map(grid));
+    }
+    let text = args.growth_size.as_ref()?;
+    let Some(growth) = &ph.growth else {
+        return Some(Err(format!(
+            "--growth-size {text}: {} has no growth line (phase.growth)",
+            ph.file.display()
+        )));
+    };
+    Some(select::growth_size(&growth.diameters, text).map(|k| {
+        let p = growth.points(&ph.base)[k];
+        (
+            p.weight,
+            p.torque,
+            design::phase::growth::PROTOCOL,
+            format!(
+                "growth size {} m (W = {}, G = {})",
+                p.diameter, p.weight, p.torque
+            ),
         )
-    })?;
-    Ok((w, g))
+    }))
 }
 
-/// `slither phase FILE --cell W,G --out DIR`: the cell's problem (after the file's
-/// `[accuracy]`, as the study does) run into the run directory `out`.
-fn rerun_cell(args: &Args, mut ph: design::phase::Phase, text: &str) -> ExitCode {
-    let (w, g) = match grid_cell(&ph, text) {
+/// `slither phase FILE --cell W,G --out DIR` (or `--cell-index`, `--growth-size`): the
+/// selected cell's problem (after the file's `[accuracy]`, as the study does) run into the run
+/// directory `out`.
+fn rerun_cell(
+    args: &Args,
+    mut ph: design::phase::Phase,
+    chosen: Result<(f64, f64, design::phase::Protocol, String), String>,
+) -> ExitCode {
+    let (w, g, protocol, name) = match chosen {
         Ok(c) => c,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}: {e}", ph.file.display());
             return ExitCode::from(2);
         }
     };
@@ -92,9 +118,9 @@ fn rerun_cell(args: &Args, mut ph: design::phase::Phase, text: &str) -> ExitCode
             return code;
         }
     }
-    let p = design::phase::cell_problem_with(&ph.base, w, g, ph.protocol);
-    let what = format!("{}: cell W = {w}, G = {g}", args.file.display());
-    match super::run::rerun_into(&p, &args.file, out, args.quiet, &what) {
+    let p = design::phase::cell_problem_with(&ph.base, w, g, protocol);
+    let what = format!("{}: {name}", args.file.display());
+    match super::run::rerun_into(&p, &args.file, out, args.quiet, !args.no_plots, &what) {
         Ok(_) => ExitCode::SUCCESS,
         Err(code) => code,
     }
@@ -114,8 +140,12 @@ pub fn phase(args: &Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    if let Some(text) = &args.cell {
-        return rerun_cell(args, ph, text);
+    if let Some(chosen) = selected(args, &ph) {
+        return rerun_cell(args, ph, chosen);
+    }
+    if args.no_plots {
+        eprintln!("error: --no-plots is for rerunning one cell (--cell, --cell-index, --growth-size); a study's figures are its results");
+        return ExitCode::from(2);
     }
     let cells = ph.weight.len() * ph.torque.len();
     let steps = slither::problem::limits::run_size(&ph.base).steps;
@@ -269,6 +299,9 @@ pub fn phase(args: &Args) -> ExitCode {
     }
     if let Some((g, simulated)) = &sw.growth {
         eprintln!("{}", growth_summary(g, *simulated));
+        if let Err(code) = growth_failed(g, &out.join("growth.csv")) {
+            return code;
+        }
     }
     if args.gallery {
         match design::phase::gallery::write_gallery(&ph, &sw.cells, out) {
@@ -322,6 +355,23 @@ pub fn growth_summary(g: &design::phase::growth::GrowthLine, simulated: usize) -
         g.points.len(),
         g.verdict
     )
+}
+
+/// Exit 3 (after an error line) when every size of the growth line failed: the line has no
+/// verdict, and a job script must not take it for "no size S-starts".
+pub fn growth_failed(
+    g: &design::phase::growth::GrowthLine,
+    csv: &std::path::Path,
+) -> Result<(), ExitCode> {
+    if g.all_failed() {
+        eprintln!(
+            "error: every size of the growth line failed ({} sizes); see {}",
+            g.points.len(),
+            csv.display()
+        );
+        return Err(ExitCode::from(3));
+    }
+    Ok(())
 }
 
 /// The refinement's counts, for the last lines of `phase` and `merge`.

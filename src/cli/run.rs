@@ -54,6 +54,11 @@ pub struct Args {
     /// filled in; with an accuracy target, the model it chose) to FILE as a problem file.
     #[arg(long, value_name = "FILE")]
     pub dump_problem: Option<PathBuf>,
+    /// With --ensemble K: run only member M (from 0, as `members[].index` in summary.json) of
+    /// that ensemble, perturbed exactly as it was, as an ordinary run into --out (its
+    /// figures, tracks and movie; --no-plots skips them).
+    #[arg(long, value_name = "M", requires = "ensemble")]
+    pub member: Option<usize>,
 }
 
 /// Write `p` to `file` as a problem file with a header naming where it came from.
@@ -116,6 +121,29 @@ pub fn run(args: &Args) -> ExitCode {
             return ExitCode::from(2);
         }
     }
+    // `--member M`: the member's problem (friction and step perturbed) and, on the model
+    // below, its initial shape.
+    let member = match (args.member, args.ensemble) {
+        (Some(m), Some(k)) if m >= k => {
+            eprintln!(
+                "error: --member {m} is not a member of --ensemble {k}: members are 0 to {}",
+                k - 1
+            );
+            return ExitCode::from(2);
+        }
+        (Some(m), Some(k)) => {
+            use slither::design::ensemble;
+            let seed = ensemble::member_seed(args.ensemble_seed, m);
+            Some((m, k, seed, ensemble::Perturbation::default()))
+        }
+        _ => None,
+    };
+    let p = match member {
+        Some((m, k, seed, pert)) => {
+            slither::design::ensemble::member_problem(&p, &pert, seed, m, k)
+        }
+        None => p,
+    };
     let target = accuracy
         .map(|t| (t, p.accuracy.as_ref().map_or(400, |a| a.max_elements)))
         .or(p.accuracy.as_ref().map(|a| (a.target, a.max_elements)));
@@ -126,6 +154,16 @@ pub fn run(args: &Args) -> ExitCode {
         }
     }
     let mut model = Model::new(&p);
+    if let Some((m, k, seed, pert)) = member {
+        slither::design::ensemble::perturb_model(&mut model, &pert, seed);
+        if !quiet {
+            eprintln!(
+                "{}: member {m} of an ensemble of {k} (seed {seed}, step factor {:.4})",
+                path.display(),
+                slither::design::ensemble::applied_step_factor(&p, &pert, m, k)
+            );
+        }
+    }
     let _lock = match lock_out(out) {
         Ok(l) => l,
         Err(code) => return code,
@@ -258,7 +296,7 @@ pub fn run(args: &Args) -> ExitCode {
     }
     let mut summary = output::Summary::new(path, &model, &o);
     summary.accuracy = report;
-    if let (Some(k), false) = (args.ensemble, o.interrupted) {
+    if let (Some(k), false, None) = (args.ensemble, o.interrupted, member) {
         use slither::design::ensemble;
         let spec = ensemble::Spec {
             seed: args.ensemble_seed,
@@ -479,11 +517,12 @@ pub fn rerun_into(
     label: &Path,
     dir: &Path,
     quiet: bool,
+    plots: bool,
     what: &str,
 ) -> Result<output::rundir::RunDir, ExitCode> {
     let _lock = lock_out(dir)?;
     super::guard::check_writer(dir, super::guard::Writer::Run)?;
-    match output::rundir::write_run_dir(p, label, dir, true) {
+    match output::rundir::write_run_dir(p, label, dir, plots) {
         Ok(r) => {
             if !quiet {
                 let ob = r.summary.observables.as_ref();

@@ -15,7 +15,9 @@
 //!   re-made perpendicular to the new edges;
 //! * **step**: the fixed step is multiplied by `step^(2k/(K-1) - 1)`, a geometric ladder from
 //!   `dt/step` to `dt*step` (default [`STEP`] = 2.5; an adaptive run scales its error tolerance
-//!   by the same factor; `K = 1`: factor 1).
+//!   by the same factor, recorded as `members[].error_tolerance`; `K = 1`: factor 1). Static
+//!   mode has no time step: the ladder is skipped (factor 1, `dt` null), friction and shape
+//!   are still perturbed.
 //!
 //! Why these sizes. On the 50-element S-start (`problems/s_start.toml`) at dt 5e-4, changes
 //! of all three friction coefficients by 1e-7 to 1e-3 move `v_s/v_m` by at most 1.3e-4 (the
@@ -33,7 +35,8 @@
 //!
 //! # The statistics
 //!
-//! For every scalar (numeric) observable of [`crate::observe::Observables`], over the members
+//! For every scalar (numeric) observable of [`crate::observe::Observables`] and, for a gait
+//! with a launch period, every periodic one ([`periodic_scalars`], `periodic.*`), over the members
 //! that finished and measured a finite value: `mean`, `sd` (sample standard deviation, `n - 1`
 //! in the denominator; 0 for one value), `min`, `max` and `n`. `regime_votes` counts the
 //! members per regime label, `"-"` for a member whose run failed.
@@ -94,6 +97,43 @@ pub fn step_factor(step: f64, k: usize, runs: usize) -> f64 {
     }
 }
 
+/// The step factor member `k` of `runs` runs with: [`step_factor`], or 1 in static mode (no
+/// time step: the ladder is skipped there, every member at the file's load increments).
+pub fn applied_step_factor(base: &Problem, p: &Perturbation, k: usize, runs: usize) -> f64 {
+    if base.time.mode == crate::problem::Mode::Static {
+        1.0
+    } else {
+        step_factor(p.step, k, runs)
+    }
+}
+
+/// The periodic observables of a run (a gait with a launch period) as member observables,
+/// named as in `summary.json`'s `periodic` block (`periodic.lateral_speed_over_v_m`, ...;
+/// `periodic.sidewinding` 1 or 0, so its mean is the share of sidewinding members).
+pub fn periodic_scalars(p: &observe::periodic::Periodic) -> BTreeMap<String, Option<f64>> {
+    let finite = |x: f64| x.is_finite().then_some(x);
+    [
+        ("cycles", p.cycles.len() as f64),
+        ("lateral_speed_over_v_m", p.lateral_speed_over_v_m),
+        ("turn_deg_mean_abs", p.turn_deg_mean_abs),
+        ("broadside_deg_min", p.broadside_deg_min),
+        ("turn_deg_max_abs", p.turn_deg_max_abs),
+        (
+            "displacement_over_length_min",
+            p.displacement_over_length_min,
+        ),
+        (
+            "stationary_contact_share_min",
+            p.stationary_contact_share_min,
+        ),
+        ("sidewinding_margin", p.sidewinding_margin),
+        ("sidewinding", if p.sidewinding { 1.0 } else { 0.0 }),
+    ]
+    .into_iter()
+    .map(|(k, v)| (format!("periodic.{k}"), finite(v)))
+    .collect()
+}
+
 /// A standard normal number (Box-Muller on two uniform numbers in (0, 1]).
 fn normal(rng: &mut Xoshiro256PlusPlus) -> f64 {
     let u =
@@ -138,7 +178,7 @@ pub fn member_problem(
         g.mu_backward *= d.friction[1];
         g.mu_sideways *= d.friction[2];
     }
-    let f = step_factor(p.step, k, runs);
+    let f = applied_step_factor(base, p, k, runs);
     if f != 1.0 {
         if pr.time.adaptive {
             let tol = pr
@@ -232,11 +272,20 @@ pub fn run_member(base: &Problem, spec: &Spec, k: usize) -> Member {
     let p = &spec.perturbation;
     let pr = member_problem(base, p, seed, k, spec.runs);
     let d = draws(seed, p);
+    let duration = pr.time.duration.unwrap_or(f64::INFINITY);
     let mut member = Member {
         index: k,
         seed,
-        dt: pr.time.dt.unwrap_or(f64::NAN),
-        step_factor: step_factor(p.step, k, spec.runs),
+        dt: match pr.time.mode {
+            crate::problem::Mode::Static => None,
+            crate::problem::Mode::Dynamic => pr.time.dt.map(|dt| dt.min(duration)),
+        },
+        error_tolerance: pr.time.adaptive.then(|| {
+            pr.time
+                .error_tolerance
+                .unwrap_or(crate::problem::time::DEFAULT_TOLERANCE)
+        }),
+        step_factor: applied_step_factor(base, p, k, spec.runs),
         friction_factors: if base.ground.is_some() {
             d.friction
         } else {
@@ -253,12 +302,13 @@ pub fn run_member(base: &Problem, spec: &Spec, k: usize) -> Member {
         let mut model = Model::new(&pr);
         let rms = perturb_model(&mut model, p, seed);
         let o = observe::evaluate(&model, Measure::Full, &mut |_| {}, &mut |_| {})?;
-        Ok::<_, crate::integrator::explicit::Unsupported>((rms, o))
+        let periodic = observe::periodic::of_outcome(&model, &o.outcome);
+        Ok::<_, crate::integrator::explicit::Unsupported>((rms, o, periodic))
     }));
     match run {
         Err(_) => member.reason = "the simulation panicked".into(),
         Ok(Err(e)) => member.reason = e.to_string(),
-        Ok(Ok((rms, o))) => {
+        Ok(Ok((rms, o, periodic))) => {
             member.shape_rms_over_a = rms;
             if let Some(e) = &o.outcome.error {
                 member.reason = e.to_string();
@@ -268,6 +318,9 @@ pub fn run_member(base: &Problem, spec: &Spec, k: usize) -> Member {
                 member.status = "ok".into();
                 member.regime = o.observables.regime.to_string();
                 member.observables = scalars(&o.observables);
+                if let Some(p) = &periodic {
+                    member.observables.extend(periodic_scalars(p));
+                }
             }
         }
     }
@@ -327,8 +380,11 @@ pub fn run(base: &Problem, spec: &Spec, report: &(dyn Fn(usize, usize) + Sync)) 
 pub fn describe(e: &Ensemble) -> String {
     let speed = match e.stats.get("v_s_over_v_m") {
         Some(s) => format!(
-            "v_s/v_m {:.4} ± {:.4} (sd; min {:.4}, max {:.4})",
-            s.mean, s.sd, s.min, s.max
+            "v_s/v_m {:.4} ± {} (min {:.4}, max {:.4})",
+            s.mean,
+            s.sd.map_or("sd undefined, one value".into(), |sd| format!("{sd:.4} sd")),
+            s.min,
+            s.max
         ),
         None => "v_s/v_m not measured".into(),
     };
@@ -355,8 +411,9 @@ mod tests {
         let s = Stat::of([1.0, 2.0, f64::NAN, 3.0, 6.0]).unwrap();
         assert_eq!((s.n, s.min, s.max, s.mean), (4, 1.0, 6.0, 3.0));
         // sum of squares 4 + 1 + 0 + 9 = 14 over 3.
-        assert!((s.sd - (14.0f64 / 3.0).sqrt()).abs() < 1e-15);
-        assert_eq!(Stat::of([2.5]).unwrap().sd, 0.0);
+        assert!((s.sd.unwrap() - (14.0f64 / 3.0).sqrt()).abs() < 1e-15);
+        // One value: the spread is undefined (null), not zero.
+        assert_eq!(Stat::of([2.5]).unwrap().sd, None);
         assert!(Stat::of([f64::NAN]).is_none());
     }
 
@@ -386,6 +443,6 @@ mod tests {
         let z: Vec<f64> = (0..20000).map(|_| normal(&mut rng)).collect();
         let s = Stat::of(z).unwrap();
         assert!(s.mean.abs() < 0.03, "{s:?}");
-        assert!((s.sd - 1.0).abs() < 0.03, "{s:?}");
+        assert!((s.sd.unwrap() - 1.0).abs() < 0.03, "{s:?}");
     }
 }

@@ -37,8 +37,14 @@
 //!
 //! Every simulation is appended to `history.csv` (and flushed) as soon as it ends. A rerun with
 //! the same output directory reads the file and answers any evaluation whose exact parameter
-//! values (bit for bit, as written), duration and base file (an FNV-1a hash of its text) match a
-//! row from the row instead of simulating. Nelder-Mead is deterministic, and the particle
+//! values (bit for bit, as written), duration and row key match a row from the row instead of
+//! simulating. The row key ([`Study::row_hash`]) is the hash of the effective base problem
+//! ([`problem_hash`]: parsed, defaults filled in, so a comment does not count) mixed with the
+//! objective's settings (`objective`, `turn_penalty`, `stationary_penalty`), which decide the
+//! row's `objective` value: a study resumed after one of them changed **re-evaluates** (simulates
+//! again) every point whose row was written under other settings, and the command line says
+//! how many rows it left aside. The heading limit and the out-of-bounds penalty are applied
+//! when a row is read, so changing them reuses the rows. Nelder-Mead is deterministic, and the particle
 //! swarm and the extra starts draw their random numbers from a generator seeded by
 //! `[optimize] seed` (xoshiro256++), so a rerun replays the interrupted study from the rows and
 //! continues where it stopped.
@@ -62,7 +68,7 @@
 //!
 //! # Layout
 //!
-//! `study.rs` the study file (schema, validation, the search space); `history.rs` the
+//! `objective.rs` what a study minimises and its rows' key; `digest.rs` the resume keys' hashes (of the effective problem, not its text); `study.rs` the study file (schema, validation, the search space); `history.rs` the
 //! evaluations and `history.csv`; `simulate.rs` one evaluation (a simulation); `search.rs` the
 //! argmin glue (cost function, budgeted solvers, iteration observer) and [`optimize`];
 //! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram (with
@@ -70,8 +76,10 @@
 //! (the model chosen once for every run).
 
 pub mod accuracy;
+mod digest;
 pub mod ensemble;
 mod history;
+mod objective;
 pub mod phase;
 mod report;
 mod search;
@@ -80,7 +88,9 @@ mod simulate;
 mod space;
 mod study;
 
+pub use digest::*;
 pub use history::*;
+pub use objective::*;
 use report::*;
 pub use report::{check_optimum, on_bound, EnsembleOf, OptimumCheck};
 pub use search::*;
@@ -168,14 +178,15 @@ pub struct Report {
     pub failed: usize,
     /// Rows in `history.csv` before this run (all base files).
     pub rows_before: usize,
-    /// Rows before this run that were written for another base file (never reused).
+    /// Rows before this run written under another key ([`Study::row_hash`]: another base
+    /// problem or objective settings; never reused).
     pub rows_other_base: usize,
     /// An incomplete last row of `history.csv` was dropped.
     pub dropped_partial_row: bool,
     /// The starting point's evaluation.
     pub initial: Evaluation,
-    /// The finished evaluation with the largest `v_s` among those visited in this run, if any
-    /// finished.
+    /// The finished evaluation within the heading limit with the lowest objective among those
+    /// visited in this run, if any.
     pub best: Option<Evaluation>,
     /// Every evaluation of this run in order, with the cost the optimiser saw (penalty
     /// included).

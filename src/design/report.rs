@@ -7,7 +7,12 @@ use super::*;
 pub(super) struct Optimum<'a> {
     study: String,
     base: String,
+    /// Hash of the effective base problem (with `[accuracy]`, of the chosen model).
     base_hash: &'a str,
+    /// The rows' resume key in `history.csv` ([`Study::row_hash`]).
+    row_hash: String,
+    /// What the study minimised, its penalties and heading limit, and the ensemble check.
+    settings: Settings,
     /// The optimised parameters and their bounds.
     optimized: &'a [Dim],
     /// Fastest finished evaluation within the heading limit (null if there is none).
@@ -51,6 +56,38 @@ pub(super) struct Optimum<'a> {
     ensemble: Option<&'a OptimumCheck>,
 }
 
+/// `optimum.json`'s `settings`: what the study minimised and how, so a reader (and a resumed
+/// study) can tell what the numbers mean.
+#[derive(Serialize)]
+pub(super) struct Settings {
+    /// `[study] objective`: "v_s", "broadside" or "sidewinding".
+    objective: &'static str,
+    /// `turn_penalty` (m/s per degree per cycle; null unless the objective is "broadside").
+    turn_penalty: Option<f64>,
+    /// `stationary_penalty` (m/s per unit share; null unless the objective is "broadside").
+    stationary_penalty: Option<f64>,
+    /// `max_heading_deg` (degrees; null: no heading limit).
+    max_heading_deg: Option<f64>,
+    /// `penalty`: out-of-bounds and heading penalty (m/s per unit).
+    penalty: f64,
+    /// `--ensemble K` (runs, seed, perturbation; null without).
+    ensemble: Option<super::ensemble::Spec>,
+}
+
+impl Settings {
+    pub(super) fn of(study: &Study) -> Settings {
+        let broadside = study.objective == Objective::Broadside;
+        Settings {
+            objective: study.objective.as_str(),
+            turn_penalty: broadside.then_some(study.turn_penalty),
+            stationary_penalty: broadside.then_some(study.stationary_penalty),
+            max_heading_deg: study.max_heading_deg,
+            penalty: study.penalty,
+            ensemble: study.ensemble,
+        }
+    }
+}
+
 /// One evaluated point re-run as an ensemble ([`super::ensemble`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct EnsembleOf {
@@ -58,8 +95,14 @@ pub struct EnsembleOf {
     pub eval: usize,
     /// Its `v_s` (m/s) in the search.
     pub v_s: f64,
+    /// Its objective in the search (the study's, lower is better; `objective` in
+    /// `history.csv`).
+    pub objective: f64,
     /// `v_s` over the ensemble's members (m/s): mean, sd, min, max, n.
     pub ensemble_v_s: Option<super::ensemble::Stat>,
+    /// The study's objective over the members (the same function as the search's,
+    /// [`Study::objective_of`]): mean, sd, min, max, n.
+    pub ensemble_objective: Option<super::ensemble::Stat>,
     /// Members per regime label.
     pub regime_votes: std::collections::BTreeMap<String, usize>,
     /// The members' seeds, in order.
@@ -83,17 +126,39 @@ pub struct OptimumCheck {
     pub best: EnsembleOf,
     /// The runner-up's ensemble (null when no other point finished).
     pub runner_up: Option<EnsembleOf>,
-    /// `best.ensemble_v_s.mean - runner_up.ensemble_v_s.mean` (m/s).
+    /// The study's objective (`settings.objective`), which all comparisons below use.
+    pub objective: &'static str,
+    /// How much lower the best's mean objective is than the runner-up's:
+    /// `runner_up.ensemble_objective.mean - best.ensemble_objective.mean` (for "v_s" the gain
+    /// in mean `v_s`, m/s).
     pub improvement: Option<f64>,
-    /// `sqrt(sd_best^2 + sd_runner_up^2)` (m/s).
+    /// `sqrt(sd_best^2 + sd_runner_up^2)` of the objective (null when either sd is undefined).
     pub spread: Option<f64>,
-    /// Every member of the best's ensemble is faster than every member of the runner-up's
-    /// (`best.min > runner_up.max`): the ranking holds under the perturbations.
+    /// `improvement > spread`: the lead is larger than the combined spread.
     pub improvement_exceeds_spread: Option<bool>,
-    /// `v_s_gain` of the search (best over the start, m/s).
+    /// Every member of the best's ensemble scores better than every member of the runner-up's
+    /// (`best.max < runner_up.min` of the objective): the ranges do not overlap.
+    pub ranges_separate: Option<bool>,
+    /// The search's gain in objective over the start (`initial - best`, lower is better).
     pub gain_over_initial: f64,
-    /// The gain exceeds the best's ensemble range (`max - min`).
+    /// The gain exceeds the best's ensemble range of the objective (`max - min`).
     pub gain_exceeds_spread: Option<bool>,
+}
+
+/// The comparison of the best's and the runner-up's ensembles of the objective `b` and `u`
+/// (lower is better): improvement, spread, improvement > spread, ranges separate.
+pub fn compare_ensembles(
+    b: &super::ensemble::Stat,
+    u: &super::ensemble::Stat,
+) -> (f64, Option<f64>, Option<bool>, bool) {
+    let improvement = u.mean - b.mean;
+    let spread = b.sd.zip(u.sd).map(|(x, y)| x.hypot(y));
+    (
+        improvement,
+        spread,
+        spread.map(|s| improvement > s),
+        b.max < u.min,
+    )
 }
 
 /// Re-run the best point of `r` and its runner-up as ensembles `spec` (the runner-up seeded
@@ -112,11 +177,26 @@ pub fn check_optimum(
         .max_by(|a, b| b.objective().total_cmp(&a.objective()));
     let of = |e: &Evaluation, seed: u64| {
         let s = super::ensemble::Spec { seed, ..*spec };
-        let en = super::ensemble::run(&study.problem_at(&e.point), &s, &|_, _| {});
+        let pr = study.problem_at(&e.point);
+        let en = super::ensemble::run(&pr, &s, &|_, _| {});
+        let objective =
+            super::ensemble::Stat::of(en.members.iter().filter(|m| m.status == "ok").map(|m| {
+                let get = |k: &str| m.observables.get(k).copied().flatten().unwrap_or(f64::NAN);
+                study.objective_of(&ObjectiveInputs {
+                    v_s: get("v_s"),
+                    v_m: pr.gait.speed,
+                    lateral_speed_over_v_m: get("periodic.lateral_speed_over_v_m"),
+                    turn_deg_mean_abs: get("periodic.turn_deg_mean_abs"),
+                    stationary_contact_share_min: get("periodic.stationary_contact_share_min"),
+                    sidewinding_margin: get("periodic.sidewinding_margin"),
+                })
+            }));
         EnsembleOf {
             eval: e.eval,
             v_s: e.v_s,
+            objective: e.objective(),
             ensemble_v_s: en.stats.get("v_s").copied(),
+            ensemble_objective: objective,
             regime_votes: en.regime_votes,
             seeds: en.members.iter().map(|m| m.seed).collect(),
             wall_time_s: en.wall_time_s,
@@ -124,15 +204,21 @@ pub fn check_optimum(
     };
     let b = of(best, spec.seed);
     let u = runner_up.map(|e| of(e, spec.seed.wrapping_add(1)));
-    let (sb, su) = (b.ensemble_v_s, u.as_ref().and_then(|u| u.ensemble_v_s));
-    let gain = best.v_s - r.initial.v_s;
+    let (sb, su) = (
+        b.ensemble_objective,
+        u.as_ref().and_then(|u| u.ensemble_objective),
+    );
+    let cmp = sb.zip(su).map(|(b, u)| compare_ensembles(&b, &u));
+    let gain = r.initial.objective() - best.objective();
     Some(OptimumCheck {
         runs: spec.runs,
         seed: spec.seed,
         perturbation: spec.perturbation,
-        improvement: sb.zip(su).map(|(b, u)| b.mean - u.mean),
-        spread: sb.zip(su).map(|(b, u)| b.sd.hypot(u.sd)),
-        improvement_exceeds_spread: sb.zip(su).map(|(b, u)| b.min > u.max),
+        objective: study.objective.as_str(),
+        improvement: cmp.map(|c| c.0),
+        spread: cmp.and_then(|c| c.1),
+        improvement_exceeds_spread: cmp.and_then(|c| c.2),
+        ranges_separate: cmp.map(|c| c.3),
         gain_over_initial: gain,
         gain_exceeds_spread: sb.map(|b| gain > b.max - b.min),
         best: b,
@@ -164,6 +250,8 @@ pub(super) struct Summary<'a> {
     /// Net displacement's angle from the initial head direction (degrees).
     displacement_angle_deg: f64,
     regime: &'a str,
+    /// The study's objective at this point (lower is better; `objective` in `history.csv`).
+    objective: f64,
     /// The periodic observables (a gait with a launch period).
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     periodic: Option<PeriodicColumns>,
@@ -204,6 +292,7 @@ pub(super) fn summary(e: &Evaluation) -> Summary<'_> {
         writhe_mean: e.writhe_mean,
         displacement_angle_deg: e.displacement_angle_deg,
         regime: &e.regime,
+        objective: e.objective(),
         periodic: e.periodic,
         status: e.status,
     }
@@ -236,6 +325,8 @@ pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(),
         study: study.path.display().to_string(),
         base: study.base_path.display().to_string(),
         base_hash: &study.base_hash,
+        row_hash: study.row_hash(),
+        settings: Settings::of(study),
         optimized: &study.space.dims,
         best: r.best.as_ref().map(summary),
         initial: summary(&r.initial),
@@ -341,28 +432,22 @@ pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(),
         }
     }
     let path = out.join("history.png");
-    let mut best = f64::NEG_INFINITY;
-    let mut each = Vec::new();
-    let mut running = Vec::new();
-    for (k, (e, _)) in r.visited.iter().enumerate() {
-        let x = (k + 1) as f64;
-        if e.status == Status::Ok {
-            each.push((x, e.v_s));
-            best = best.max(e.v_s);
-        } else {
-            each.push((x, f64::NAN));
-        }
-        running.push((x, if best.is_finite() { best } else { f64::NAN }));
-    }
-    if each.iter().any(|p| p.1.is_finite()) {
-        let series = [("v_s of the evaluation", each), ("best so far", running)];
+    let (y_label, series) = history_series(study, r);
+    if series[0].1.iter().any(|p| p.1.is_finite()) {
+        let s: Vec<(&str, Vec<(f64, f64)>)> = series
+            .iter()
+            .map(|(n, p)| (n.as_str(), p.clone()))
+            .collect();
         for path in [path.clone(), plot::svg_twin(&path)] {
             plot::xy(
                 &path,
-                "Gait design: objective per evaluation",
+                &format!(
+                    "Gait design: objective \"{}\" per evaluation",
+                    study.objective.as_str()
+                ),
                 "evaluation (this run)",
-                "forward speed v_s (m/s)",
-                &series,
+                &y_label,
+                &s,
                 false,
                 false,
             )
@@ -370,4 +455,161 @@ pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(),
         }
     }
     Ok(())
+}
+
+/// A named curve of a figure: its legend and its points.
+pub(super) type Series = (String, Vec<(f64, f64)>);
+
+/// The curves of `history.png`: the y label and, per evaluation of this run, the quantity the
+/// study maximised (minus its objective: `v_s`, the broadside speed less penalties, or the
+/// sidewinding margin; NaN for a failed run) and its best so far among the finished runs
+/// within the heading limit, the rule `optimum.json`'s `best` follows; with a heading limit,
+/// the runs beyond it as a third series.
+pub(super) fn history_series(study: &Study, r: &Report) -> (String, Vec<Series>) {
+    let mut best = f64::NEG_INFINITY;
+    let (mut each, mut running, mut beyond) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, (e, _)) in r.visited.iter().enumerate() {
+        let x = (k + 1) as f64;
+        let y = if e.status == Status::Ok {
+            -e.objective()
+        } else {
+            f64::NAN
+        };
+        each.push((x, y));
+        if e.status == Status::Ok && study.meets_heading(e) {
+            best = best.max(y);
+        } else if e.status == Status::Ok {
+            beyond.push((x, y));
+        }
+        running.push((x, if best.is_finite() { best } else { f64::NAN }));
+    }
+    let what = study.objective.maximised();
+    let mut series = vec![
+        (format!("{what} of the evaluation"), each),
+        match study.max_heading_deg {
+            Some(max) => (
+                format!("best so far within {max} deg of the head direction"),
+                running,
+            ),
+            None => ("best so far".to_string(), running),
+        },
+    ];
+    if let (Some(max), false) = (study.max_heading_deg, beyond.is_empty()) {
+        series.push((
+            format!("more than {max} deg off the head direction"),
+            beyond,
+        ));
+    }
+    (what.to_string(), series)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stat(mean: f64, sd: Option<f64>, min: f64, max: f64) -> super::super::ensemble::Stat {
+        super::super::ensemble::Stat {
+            mean,
+            sd,
+            min,
+            max,
+            n: 4,
+        }
+    }
+
+    #[test]
+    fn improvement_exceeds_spread_only_when_it_is_larger() {
+        // The audit's case: a lead of 0.0105 beside a spread of 0.0112, the ranges apart
+        // (objective, lower is better). It was reported as exceeding the spread.
+        let (sd_b, sd_u) = (0.0112 * 0.6, 0.0112 * 0.8);
+        let b = stat(-0.3105, Some(sd_b), -0.3200, -0.3020);
+        let u = stat(-0.3000, Some(sd_u), -0.3005, -0.2900);
+        let (imp, spread, exceeds, separate) = compare_ensembles(&b, &u);
+        assert!((imp - 0.0105).abs() < 1e-12, "{imp}");
+        assert!((spread.unwrap() - 0.0112).abs() < 1e-12);
+        assert_eq!(exceeds, Some(false));
+        assert!(separate, "the ranges do not overlap");
+        // A lead larger than the spread, ranges overlapping.
+        let (_, _, exceeds, separate) =
+            compare_ensembles(&stat(-0.33, Some(0.001), -0.40, -0.30), &u);
+        assert_eq!((exceeds, separate), (Some(true), false));
+        // One member each: no spread, no verdict on it.
+        let one = |m: f64| stat(m, None, m, m);
+        let (_, spread, exceeds, _) = compare_ensembles(&one(-0.31), &one(-0.30));
+        assert_eq!((spread, exceeds), (None, None));
+    }
+
+    fn eval(eval: usize, v_s: f64, objective: f64, angle: f64) -> Evaluation {
+        Evaluation {
+            eval,
+            point: GaitParams {
+                stress: 1.0,
+                sigma: 0.1,
+                speed: 0.1,
+                period: 1.0,
+                spacing: 0.2,
+                lift: 0.1,
+            },
+            duration: 1.0,
+            g: 1.0,
+            w: 1.0,
+            v_s,
+            v_s_over_v_m: v_s / 0.1,
+            writhe_max: 0.0,
+            writhe_mean: 0.0,
+            displacement_angle_deg: angle,
+            regime: "S".into(),
+            periodic: None,
+            status: Status::Ok,
+            wall_time_s: 0.0,
+            reason: String::new(),
+            objective_value: objective,
+        }
+    }
+
+    #[test]
+    fn history_plots_the_objective_and_the_best_within_the_heading_limit() {
+        let text = std::fs::read_to_string("problems/optimize_sidewinding.toml").unwrap();
+        let mut study =
+            parse_study(&text, Path::new("problems/optimize_sidewinding.toml")).unwrap();
+        assert_eq!(study.objective, Objective::Sidewinding);
+        study.max_heading_deg = Some(30.0);
+        // The fastest run (v_s 0.9) has the worst objective; the best objective (-0.5, margin
+        // 0.5) heads 60 degrees off and cannot be the optimum; the optimum is eval 2.
+        let visited = vec![
+            (eval(1, 0.9, -0.1, 0.0), 0.0),
+            (eval(2, 0.2, -0.3, 10.0), 0.0),
+            (eval(3, 0.1, -0.5, 60.0), 0.0),
+        ];
+        let r = Report {
+            evaluations: 3,
+            simulations: 3,
+            reused: 0,
+            repeats: 0,
+            failed: 0,
+            rows_before: 0,
+            rows_other_base: 0,
+            dropped_partial_row: false,
+            initial: visited[0].0.clone(),
+            best: Some(visited[1].0.clone()),
+            visited,
+            iterations: Vec::new(),
+            termination: String::new(),
+            wall_time_s: 0.0,
+            check: None,
+        };
+        let (label, series) = history_series(&study, &r);
+        assert_eq!(label, Objective::Sidewinding.maximised());
+        let ys = |k: usize| series[k].1.iter().map(|p| p.1).collect::<Vec<f64>>();
+        // The plotted quantity is the objective maximised (the margin), not v_s.
+        assert_eq!(ys(0), vec![0.1, 0.3, 0.5]);
+        // Best so far follows optimum.json's rule: within the heading limit.
+        assert_eq!(ys(1), vec![0.1, 0.3, 0.3]);
+        assert_eq!(
+            *ys(1).last().unwrap(),
+            -r.best.as_ref().unwrap().objective()
+        );
+        assert!(series[1].0.contains("within 30 deg"), "{}", series[1].0);
+        assert_eq!(series[2].1, vec![(3.0, 0.5)]);
+    }
 }

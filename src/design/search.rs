@@ -129,7 +129,7 @@ impl Evaluator<'_> {
         for (mut e, (_, k)) in results.into_iter().zip(runs) {
             e.eval = sh.next_eval;
             sh.next_eval += 1;
-            let row = e.csv_row(&study.base_hash) + "\n";
+            let row = e.csv_row(&study.row_hash()) + "\n";
             let written = sh
                 .history
                 .write_all(row.as_bytes())
@@ -398,9 +398,10 @@ pub fn optimize(
     let mut rows_other_base = 0;
     let mut next_eval = 1;
     let mut rows = old.rows;
+    let row_hash = study.row_hash();
     for (e, hash) in &mut rows {
         next_eval = next_eval.max(e.eval + 1);
-        if *hash == study.base_hash {
+        if *hash == row_hash {
             // A legacy row (no period, spacing or lift recorded) ran the base file's.
             let p = &mut e.point;
             let f = &study.space.fixed;

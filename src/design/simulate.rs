@@ -54,20 +54,11 @@ pub fn simulate(study: &Study, p: &GaitParams, progress: &mut dyn FnMut(f64)) ->
             e.displacement_angle_deg = ob.displacement_angle_deg;
             e.regime = ob.regime.to_string();
             e.periodic = periodic.as_ref().map(PeriodicColumns::of);
-            let value = match study.objective {
-                Objective::Vs => -ob.v_s,
-                Objective::Broadside => periodic.as_ref().map_or(f64::NAN, |p| {
-                    -p.lateral_speed_over_v_m * model.gait.speed
-                        + study.turn_penalty * p.turn_deg_mean_abs
-                        + study.stationary_penalty
-                            * (observe::periodic::STATIONARY_SHARE_MIN
-                                - p.stationary_contact_share_min)
-                                .max(0.0)
-                }),
-                Objective::Sidewinding => periodic
-                    .as_ref()
-                    .map_or(f64::NAN, |p| -p.sidewinding_margin()),
-            };
+            let value = study.objective_of(&ObjectiveInputs::of(
+                ob.v_s,
+                model.gait.speed,
+                periodic.as_ref(),
+            ));
             e.objective_value = value;
             if !ob.v_s.is_finite() {
                 e.reason = "v_s is not finite".into();

@@ -64,22 +64,6 @@ pub struct StudyTable {
     pub stationary_penalty: Option<f64>,
 }
 
-/// Default `turn_penalty` (m/s per degree per cycle): a turn of 5 degrees per cycle costs
-/// 0.01 m/s, about a sixth of the bundled sidewinding's lateral speed.
-pub const DEFAULT_TURN_PENALTY: f64 = 0.002;
-
-/// What a study maximises (`[study] objective`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
-pub enum Objective {
-    /// The mean forward speed `v_s`.
-    #[default]
-    Vs,
-    /// The mean lateral speed per cycle less `turn_penalty` times the mean |turn| per cycle.
-    Broadside,
-    /// The sidewinding margin ([`crate::observe::periodic::Periodic::sidewinding_margin`]): how
-    /// far the worst cycle lies inside the four sidewinding criteria (dimensionless).
-    Sidewinding,
-}
 pub(super) fn d_max_evaluations() -> usize {
     30
 }
@@ -194,8 +178,9 @@ pub struct Study {
     pub base_path: PathBuf,
     /// The base problem.
     pub base: Problem,
-    /// FNV-1a 64 hash of the base file's text (16 hex digits): resume only reuses rows whose
-    /// hash matches.
+    /// Hash of the effective base problem ([`problem_hash`], 16 hex digits; after
+    /// `[accuracy]`, of the chosen model): resume only reuses rows whose key
+    /// ([`Study::row_hash`]) matches.
     pub base_hash: String,
     /// Evaluation budget.
     pub max_evaluations: usize,
@@ -327,9 +312,8 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
     };
     let s = &spec.study;
     let base_path = path.parent().unwrap_or_else(|| Path::new("")).join(&s.base);
-    let base_text =
-        problem::read(&base_path).and_then(|t| problem::parse(&t, &base_path).map(|p| (t, p)));
-    let (base_text, base) = base_text.map_err(|source| StudyError::Base {
+    let base = problem::read(&base_path).and_then(|t| problem::parse(&t, &base_path));
+    let base = base.map_err(|source| StudyError::Base {
         file: path.into(),
         line: key_line(text, "study", "base"),
         value: s.base.clone(),
@@ -617,7 +601,7 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
     let study = Study {
         path: path.into(),
         base_path,
-        base_hash: format!("{:016x}", fnv1a(base_text.as_bytes())),
+        base_hash: format!("{:016x}", problem_hash(&base)),
         base,
         max_evaluations: s.max_evaluations,
         duration_pulses,
@@ -687,14 +671,4 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
         ));
     }
     Ok(study)
-}
-
-/// FNV-1a, 64 bit (stable across Rust versions, unlike `DefaultHasher`).
-pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
 }

@@ -3,7 +3,8 @@
 //!
 //! Cycle `k` is the interval `[k P, (k + 1) P]` of the gait's launch period `P`, its ends the
 //! frames nearest to those instants (the observation frames, [`crate::sim::Outcome::observed`],
-//! `T / 200` apart). The first [`SETTLING_CYCLES`] cycles are the start-up and are not measured.
+//! `T / 200` apart whatever the run's length, so a cycle's values do not depend on how
+//! long the run lasts: [`crate::sim::observation_interval`]). The first [`SETTLING_CYCLES`] cycles are the start-up and are not measured.
 //! Per cycle, in the ground plane:
 //!
 //! * the **axis**: the mean over the cycle's frames of the unit tail-to-head direction

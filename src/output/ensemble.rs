@@ -48,8 +48,9 @@ impl Perturbation {
 pub struct Stat {
     /// Mean.
     pub mean: f64,
-    /// Sample standard deviation (`n - 1`; 0 for one value).
-    pub sd: f64,
+    /// Sample standard deviation (`n - 1`); `None` (`null`) for one value, where it is
+    /// undefined (not zero: one run says nothing about the spread).
+    pub sd: Option<f64>,
     /// Smallest value.
     pub min: f64,
     /// Largest value.
@@ -67,11 +68,8 @@ impl Stat {
         }
         let n = v.len();
         let mean = v.iter().sum::<f64>() / n as f64;
-        let sd = if n > 1 {
-            (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt()
-        } else {
-            0.0
-        };
+        let sd = (n > 1)
+            .then(|| (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt());
         Some(Stat {
             mean,
             sd,
@@ -89,9 +87,13 @@ pub struct Member {
     pub index: usize,
     /// Its seed.
     pub seed: u64,
-    /// Its step (s; for an adaptive run its first step) and error tolerance (adaptive only).
-    pub dt: f64,
-    /// The step factor of the ladder.
+    /// Its step (s): the fixed step it ran with (at most the run's duration: a step longer
+    /// than the run is cut to it), for an adaptive run its first step; `null` in static mode.
+    pub dt: Option<f64>,
+    /// Adaptive runs: the error tolerance it ran with (the ladder scales it, not the step).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_tolerance: Option<f64>,
+    /// The step factor of the ladder applied to it (1 in static mode, which has no step).
     pub step_factor: f64,
     /// Factors of `mu_forward`, `mu_backward`, `mu_sideways`.
     pub friction_factors: [f64; 3],

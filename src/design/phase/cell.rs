@@ -55,7 +55,8 @@ pub struct Cell {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Verification {
     /// Fraction of the cell's runs (the study's, the finer one, the perturbed ones) whose label
-    /// is the cell's reported label (a failed run agrees with nothing).
+    /// is the cell's reported label, and for a gait with a launch period whose sidewinding
+    /// verdict is the reported one's too ([`agrees`]; a failed run agrees with nothing).
     pub label_agreement: f64,
     /// Smallest `v_s/v_m` over the runs that finished.
     pub v_s_over_v_m_min: f64,
@@ -182,10 +183,7 @@ pub fn simulate_verified(
         .collect();
     let finer = v.finer.then(|| runs[1].clone());
     let mut cell = finer.clone().unwrap_or_else(|| runs[0].clone());
-    let agree = runs
-        .iter()
-        .filter(|r| r.regime.is_some() && r.regime == cell.regime)
-        .count();
+    let agree = runs.iter().filter(|r| agrees(r, &cell)).count();
     let speeds = runs
         .iter()
         .filter(|r| r.status == Status::Ok)
@@ -205,6 +203,16 @@ pub fn simulate_verified(
         seed,
     });
     cell
+}
+
+/// Whether a verification run agrees with the cell's reported run: the same regime label and,
+/// for a gait with a launch period, the same sidewinding verdict (the periodic sub-label), so
+/// a cell whose runs sidewind and crawl obliquely by turns is not confident. A failed run
+/// agrees with nothing.
+pub fn agrees(run: &Cell, reported: &Cell) -> bool {
+    run.regime.is_some()
+        && run.regime == reported.regime
+        && run.periodic.map(|p| p.sidewinding) == reported.periodic.map(|p| p.sidewinding)
 }
 
 /// One run of a cell's problem `p` (with the shape perturbation of an ensemble member, if

@@ -23,7 +23,8 @@ pub struct Phase {
     pub base_path: PathBuf,
     /// The base problem.
     pub base: Problem,
-    /// Hash of the base problem's text (resume key).
+    /// Hash of the effective base problem ([`crate::design::problem_hash`]: parsed, defaults
+    /// filled in; a comment does not count), the rows' resume key.
     pub base_hash: u64,
     /// Scaled weights `W` (dimensionless).
     pub weight: Vec<f64>,
@@ -422,7 +423,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         accuracy: f.accuracy,
         chosen: None,
         file: path.into(),
-        base_hash: crate::design::fnv1a(base_text.as_bytes()),
+        base_hash: crate::design::problem_hash(&base),
         base_path,
         base,
         weight,

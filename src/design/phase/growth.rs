@@ -60,8 +60,23 @@ pub struct GrowthLine {
     pub stops: Vec<Stop>,
     /// The diameters (m) with a confident S label.
     pub s_diameters: Vec<f64>,
+    /// Sizes whose simulation failed (every one of them: no verdict, and `slither phase` and
+    /// `merge` exit 3).
+    pub failed_sizes: usize,
     /// The answer in one sentence.
     pub verdict: String,
+    /// The cells' verification the line ran with (`null`: none), as the phase file's
+    /// `verify`.
+    pub verify: Option<Verify>,
+    /// How the sizes' problems are made (always [`PROTOCOL`]: `W` through `B`, similar).
+    pub protocol: Protocol,
+}
+
+impl GrowthLine {
+    /// Whether every size failed: the line has no answer (exit 3 on the command line).
+    pub fn all_failed(&self) -> bool {
+        !self.points.is_empty() && self.failed_sizes == self.points.len()
+    }
 }
 
 /// One size of `growth.json`.
@@ -141,7 +156,14 @@ impl GrowthLine {
                 format!("{} (not confident)", r.regime)
             }
         };
-        let verdict = if s_diameters.is_empty() {
+        let failed_sizes = cells.iter().filter(|(_, c)| c.status != Status::Ok).count();
+        let verdict = if failed_sizes == points.len() && !points.is_empty() {
+            format!(
+                "every size between {} and {} failed (see growth.csv's reasons): no verdict",
+                cm(first),
+                cm(last)
+            )
+        } else if s_diameters.is_empty() {
             format!(
                 "no size between {} and {} S-starts (confidently)",
                 cm(first),
@@ -194,7 +216,10 @@ impl GrowthLine {
             points,
             stops,
             s_diameters,
+            failed_sizes,
             verdict,
+            verify: None,
+            protocol: PROTOCOL,
         }
     }
 }
@@ -247,7 +272,10 @@ pub fn run(
     }
     let cells: Vec<(GrowthPoint, Cell)> =
         points.iter().map(|p| (*p, done[&key(p)].clone())).collect();
-    let line = GrowthLine::new(base, growth, &cells);
+    let line = GrowthLine {
+        verify: verify.copied(),
+        ..GrowthLine::new(base, growth, &cells)
+    };
     let json = out.join("growth.json");
     let text = serde_json::to_string_pretty(&line).expect("serialisable") + "\n";
     std::fs::write(&json, text).map_err(io(&json))?;

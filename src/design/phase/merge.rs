@@ -4,7 +4,7 @@ use super::csv::{comparable_row, read_phase_csv, Format};
 use super::refine::Refinement;
 use super::sweep::{finish, write_info, RunInfo};
 use super::PhaseError;
-use crate::design::fnv1a;
+use crate::design::problem_hash;
 use crate::problem;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -26,10 +26,14 @@ pub struct Merged {
 /// with their `phase.json`) into `out`: the same `phase.csv` (rows in grid order),
 /// `phase.json` and figures as an unsharded run. Refuses directories of other grids or base
 /// files, cells found twice with different results, and a grid with missing cells (listed).
-/// When the shards ran a phase file with `refine = true` (their `phase.json`), the boundaries
+/// The phase file named in the shards' `phase.json` is read again: merge follows it, and
+/// refuses (naming each difference) when its settings no longer are the shards' ([`changes`]:
+/// the base problem by its effective content, the grid, `refine`, `verify`, the protocol,
+/// `growth`, `[accuracy]`). When it cannot be read (a merge from another directory), the
+/// shards' record is followed. When the phase file asks for `refine = true`, the boundaries
 /// are bisected here, into `out/refine.csv` (resumable as in an unsharded run), with the base
-/// problem read again from the file named in `phase.json` (refused if its text changed since:
-/// hash). `refine_report(done, cell)` is called after each refinement simulation.
+/// problem read again (refused if its effective content changed since: [`problem_hash`]).
+/// `refine_report(done, cell)` is called after each refinement simulation.
 pub fn merge(
     dirs: &[PathBuf],
     out: &Path,
@@ -200,6 +204,19 @@ pub fn merge(
                 .join(", "),
         });
     }
+    // The current phase file, when readable, must still be the one the shards ran.
+    if let Ok(ph) = super::file::load(Path::new(&info.phase_file)) {
+        let diff = changes(&info, &ph);
+        if !diff.is_empty() {
+            return Err(PhaseError::Merge {
+                dir: PathBuf::from(&info.phase_file),
+                why: format!(
+                    "the phase file changed since the shards ran: {}; re-run the shards with the current file (or restore it) before merging",
+                    diff.join("; ")
+                ),
+            });
+        }
+    }
     let base_hash = u64::from_str_radix(&info.base_hash, 16).expect("checked above");
     let hash = info.protocol.row_hash(base_hash);
     let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
@@ -229,14 +246,14 @@ pub fn merge(
                 ),
                 None => (Some(base_hash), info.base_hash.clone()),
             };
-            if Some(fnv1a(text.as_bytes())) != file_hash {
+            let base = problem::parse(&text, &path).map_err(|e| refuse(e.to_string()))?;
+            if Some(problem_hash(&base)) != file_hash {
                 return Err(refuse(format!(
                     "the base problem changed since the shards ran (hash {:016x}, the shards' {})",
-                    fnv1a(text.as_bytes()),
+                    problem_hash(&base),
                     shards_hash
                 )));
             }
-            let base = problem::parse(&text, &path).map_err(|e| refuse(e.to_string()))?;
             // Rows of the shards and of the refinement or growth line written here have the
             // same columns.
             if base.gait.kind.has_launch_period() != info.periodic {
@@ -307,4 +324,63 @@ pub fn merge(
         refinement,
         growth,
     })
+}
+
+/// How the phase file `ph` (as read now) differs from what the shards recorded in `info`, one
+/// phrase per setting ("refine: the file now says refine = false, the shards ran refine =
+/// true, refine_steps = 3"); empty when it is the file they ran.
+pub fn changes(info: &RunInfo, ph: &super::Phase) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut differ = |what: &str, now: String, then: String| {
+        if now != then {
+            out.push(format!(
+                "{what}: the file now says {now}, the shards ran {then}"
+            ));
+        }
+    };
+    let shards_file_hash = info
+        .accuracy
+        .as_ref()
+        .map_or(info.base_hash.clone(), |c| c.base_file_hash.clone());
+    differ(
+        "base problem",
+        format!("{} (hash {:016x})", ph.base_path.display(), ph.base_hash),
+        format!("{} (hash {shards_file_hash})", info.base_file),
+    );
+    differ(
+        "grid",
+        format!("W {:?} x G {:?}", ph.weight, ph.torque),
+        format!("W {:?} x G {:?}", info.weight, info.torque),
+    );
+    let refine = |k: Option<usize>| {
+        k.map_or("refine = false".to_string(), |k| {
+            format!("refine = true, refine_steps = {k}")
+        })
+    };
+    differ("refine", refine(ph.refine), refine(info.refine_steps));
+    let verify = |v: Option<super::Verify>| {
+        v.map_or("no verification".to_string(), |v| format!("verify = {v:?}"))
+    };
+    differ("verify", verify(ph.verify), verify(info.verify));
+    differ(
+        "protocol",
+        format!("{:?}", ph.protocol),
+        format!("{:?}", info.protocol),
+    );
+    differ(
+        "growth",
+        format!("{:?}", ph.growth),
+        format!("{:?}", info.growth),
+    );
+    let accuracy = |a: Option<(f64, usize)>| {
+        a.map_or("no [accuracy]".to_string(), |(t, m)| {
+            format!("[accuracy] target = {t}, max_elements = {m}")
+        })
+    };
+    differ(
+        "accuracy",
+        accuracy(ph.accuracy.as_ref().map(|a| (a.target, a.max_elements))),
+        accuracy(info.accuracy.as_ref().map(|c| (c.target, c.max_elements))),
+    );
+    out
 }

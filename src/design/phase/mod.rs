@@ -60,6 +60,7 @@ pub mod gallery;
 pub mod growth;
 pub mod merge;
 pub mod refine;
+pub mod select;
 pub mod sweep;
 
 pub use boundaries::{boundaries, fit_boundaries, Boundary};

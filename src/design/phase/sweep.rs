@@ -74,7 +74,8 @@ pub struct RunInfo {
     pub phase_file: String,
     /// The base problem file.
     pub base_file: String,
-    /// Hash of the base problem's text (hex).
+    /// Hash of the effective base problem ([`crate::design::problem_hash`], hex; with
+    /// `[accuracy]` the chosen model's key).
     pub base_hash: String,
     /// Scaled weights of the grid.
     pub weight: Vec<f64>,
@@ -88,8 +89,8 @@ pub struct RunInfo {
     /// The model chosen for the phase file's `[accuracy]` (absent without one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub accuracy: Option<StudyAccuracy>,
-    /// The cells' verification (`verify = { ... }`; absent without one).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// The cells' verification (`verify = { ... }`; `null` without one).
+    #[serde(default)]
     pub verify: Option<Verify>,
     /// How the cells are made (`weight_via`, `similar`; absent: the default).
     #[serde(default, skip_serializing_if = "Protocol::is_default")]
