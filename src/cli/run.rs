@@ -69,7 +69,10 @@ pub fn dump_problem(file: &Path, p: &problem::Problem, from: &str) -> Result<(),
         p.to_toml()
     );
     std::fs::write(file, text).map_err(|e| {
-        eprintln!("error: --dump-problem {}: cannot write: {e}", file.display());
+        eprintln!(
+            "error: --dump-problem {}: cannot write: {e}",
+            file.display()
+        );
         ExitCode::from(1)
     })
 }
@@ -240,7 +243,11 @@ pub fn run(args: &Args) -> ExitCode {
                 (None, None) => unreachable!("a chosen model has a step or a tolerance"),
             };
             let chosen = slither::design::selection::accuracy_problem(&p, r.elements, res);
-            if let Err(code) = dump_problem(file, &chosen, &format!("{from} (the model accuracy {} chose)", r.target)) {
+            if let Err(code) = dump_problem(
+                file,
+                &chosen,
+                &format!("{from} (the model accuracy {} chose)", r.target),
+            ) {
                 return code;
             }
         }

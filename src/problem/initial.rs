@@ -90,18 +90,28 @@ pub(super) fn check(p: &Problem, c: &Checker) -> Result<(), ProblemError> {
     c.key_finite(&INITIAL_VELOCITY, &i.velocity)?;
     c.key_finite(&INITIAL_ANGULAR_VELOCITY, &i.angular_velocity)?;
     let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let (v, w) = (norm(&i.velocity), norm(&i.angular_velocity) * r.length / 2.0);
+    let (v, w) = (
+        norm(&i.velocity),
+        norm(&i.angular_velocity) * r.length / 2.0,
+    );
     if !(v + w <= MAX_INITIAL_SPEED) {
         let (key, value, rule) = if v >= w {
             ("velocity", &i.velocity, INITIAL_VELOCITY.rule)
         } else {
-            ("angular_velocity", &i.angular_velocity, INITIAL_ANGULAR_VELOCITY.rule)
+            (
+                "angular_velocity",
+                &i.angular_velocity,
+                INITIAL_ANGULAR_VELOCITY.rule,
+            )
         };
         return Err(c.fail(
             "initial",
             key,
             format!("[{}]", value.map(num).join(", ")),
-            &format!("an array of 3 finite numbers with {rule}; it is {}", num(v + w)),
+            &format!(
+                "an array of 3 finite numbers with {rule}; it is {}",
+                num(v + w)
+            ),
         ));
     }
     c.key(&INITIAL_HEADING_DEG, i.heading_deg)?;

@@ -53,8 +53,20 @@ pub fn check_scaled_groups(p: &Problem, text: &str, path: &Path) -> Result<(), P
     let (lo, hi) = SCALED_GROUP_RANGE;
     let (w, g) = scaled_groups(p);
     for (what, v, table, key, value) in [
-        ("scaled weight W = rho g a^2 L^3 / B", w, "gravity", "g", p.gravity.g),
-        ("scaled torque G = Gamma a^3 L / B", g, "gait", "stress", p.gait.stress),
+        (
+            "scaled weight W = rho g a^2 L^3 / B",
+            w,
+            "gravity",
+            "g",
+            p.gravity.g,
+        ),
+        (
+            "scaled torque G = Gamma a^3 L / B",
+            g,
+            "gait",
+            "stress",
+            p.gait.stress,
+        ),
     ] {
         if v != 0.0 && !(lo..=hi).contains(&v) {
             return Err(ProblemError::Invalid {

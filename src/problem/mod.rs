@@ -337,8 +337,33 @@ pub fn parse_with(
         Err(e) => match set::attribute(e, settings, path) {
             e @ ProblemError::Set { .. } => Err(e),
             // Not a key a setting changed: the file's own error, with its own lines, when the
-            // file alone has it.
-            e => Err(parse(text, path).err().unwrap_or(e)),
+            // file alone has it; else an error the settings caused through another key.
+            e => Err(match (parse(text, path), e) {
+                (Err(own), _) => own,
+                (
+                    Ok(_),
+                    ProblemError::Invalid {
+                        file,
+                        line,
+                        key,
+                        value,
+                        allowed,
+                    },
+                ) => {
+                    let by: String = settings
+                        .iter()
+                        .map(|s| format!(" --set {}", s.arg))
+                        .collect();
+                    ProblemError::Invalid {
+                        file,
+                        line,
+                        key,
+                        value,
+                        allowed: format!("{allowed} (the file as changed by{by})"),
+                    }
+                }
+                (Ok(_), e) => e,
+            }),
         },
     }
 }

@@ -45,7 +45,8 @@ impl std::str::FromStr for Setting {
     type Err = String;
     /// Parse `KEY=VALUE`; `Err` says what is wrong with the argument.
     fn from_str(arg: &str) -> Result<Self, String> {
-        let form = "must be KEY=VALUE with a dotted key, e.g. rod.length=1.5 or gait.centers[1]=0.3";
+        let form =
+            "must be KEY=VALUE with a dotted key, e.g. rod.length=1.5 or gait.centers[1]=0.3";
         let (key, value) = arg
             .split_once('=')
             .ok_or_else(|| format!("--set {arg:?}: no '='; {form}"))?;
@@ -59,7 +60,9 @@ impl std::str::FromStr for Setting {
                     .chars()
                     .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
             {
-                return Err(format!("--set {arg:?}: key part {part:?} is not a key name; {form}"));
+                return Err(format!(
+                    "--set {arg:?}: key part {part:?} is not a key name; {form}"
+                ));
             }
             steps.push(Step::Key(name.to_string()));
             while !rest.is_empty() {
@@ -85,7 +88,9 @@ impl std::str::FromStr for Setting {
             Err(e) => {
                 let why = e.to_string();
                 let why = why.lines().last().unwrap_or("").trim();
-                return Err(format!("--set {arg:?}: {value:?} is not a TOML value ({why})"));
+                return Err(format!(
+                    "--set {arg:?}: {value:?} is not a TOML value ({why})"
+                ));
             }
         };
         Ok(Setting {
@@ -97,6 +102,13 @@ impl std::str::FromStr for Setting {
     }
 }
 
+/// Settings split between a study or phase file and its base problem: those whose first table
+/// is one of the file's `own` tables (`[phase]`, `[study]`, its `[accuracy]`) edit that file,
+/// the rest (`rod`, `gait`, `ground`, ...) edit the base problem.
+pub fn split<'a>(settings: &[&'a Setting], own: &[&str]) -> (Vec<&'a Setting>, Vec<&'a Setting>) {
+    settings.iter().partition(|s| own.contains(&s.table()))
+}
+
 /// `text` with `settings` applied in order, or the argument that cannot be applied
 /// (`--set KEY=VALUE`) and why (an index beyond its array, a key inside a value that is not a
 /// table; the text is not TOML).
@@ -104,9 +116,12 @@ pub fn apply(text: &str, settings: &[&Setting]) -> Result<String, (String, Strin
     if settings.is_empty() {
         return Ok(text.to_string());
     }
-    let mut doc: DocumentMut = text
-        .parse()
-        .map_err(|e: toml_edit::TomlError| ("--set".to_string(), format!("the file is not a TOML document: {e}")))?;
+    let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| {
+        (
+            "--set".to_string(),
+            format!("the file is not a TOML document: {e}"),
+        )
+    })?;
     for s in settings {
         set_one(doc.as_item_mut(), &s.steps, &s.value)
             .map_err(|why| (format!("--set {}", s.arg), why))?;
@@ -125,7 +140,10 @@ fn set_one(mut item: &mut Item, steps: &[Step], value: &Value) -> Result<(), Str
                 }
                 path.push_str(k);
                 let table = item.as_table_like_mut().ok_or_else(|| {
-                    format!("`{}` is a value, not a table", path.rsplit_once('.').map_or("", |p| p.0))
+                    format!(
+                        "`{}` is a value, not a table",
+                        path.rsplit_once('.').map_or("", |p| p.0)
+                    )
                 })?;
                 if last {
                     let old = table.get(k).and_then(Item::as_value);
@@ -165,7 +183,9 @@ fn set_one(mut item: &mut Item, steps: &[Step], value: &Value) -> Result<(), Str
                     *slot = coerce(Some(slot), value, &dotted(steps));
                     return Ok(());
                 }
-                return Err(format!("`{path}`: only the last part of a key may be an index"));
+                return Err(format!(
+                    "`{path}`: only the last part of a key may be an index"
+                ));
             }
         }
     }
@@ -239,9 +259,9 @@ pub fn attribute(e: ProblemError, settings: &[&Setting], path: &Path) -> Problem
                 .lines()
                 .map(str::trim)
                 .filter(|l| {
-                    let quoted = l.split_once('|').is_some_and(|(n, _)| {
-                        n.trim().chars().all(|c| c.is_ascii_digit())
-                    });
+                    let quoted = l
+                        .split_once('|')
+                        .is_some_and(|(n, _)| n.trim().chars().all(|c| c.is_ascii_digit()));
                     !l.is_empty() && !quoted && !l.starts_with("TOML parse error")
                 })
                 .collect();
@@ -268,12 +288,27 @@ mod tests {
     fn keys_indices_and_values_are_parsed() {
         let s: Setting = "gait.centers[1]=0.3".parse().unwrap();
         assert_eq!(s.key, "gait.centers");
-        assert_eq!(s.steps, vec![Step::Key("gait".into()), Step::Key("centers".into()), Step::Index(1)]);
+        assert_eq!(
+            s.steps,
+            vec![
+                Step::Key("gait".into()),
+                Step::Key("centers".into()),
+                Step::Index(1)
+            ]
+        );
         let w: Setting = "gait.kind=s-start".parse().unwrap();
         assert_eq!(w.value.as_str(), Some("s-start"));
         let b: Setting = "self_contact.enabled=false".parse().unwrap();
         assert_eq!(b.value.as_bool(), Some(false));
-        for bad in ["rod.length", "=1", "rod..length=1", "a[x]=1", "a[1=2", "rod.length=", "a=[1,"] {
+        for bad in [
+            "rod.length",
+            "=1",
+            "rod..length=1",
+            "a[x]=1",
+            "a[1=2",
+            "rod.length=",
+            "a=[1,",
+        ] {
             assert!(bad.parse::<Setting>().is_err(), "{bad} was accepted");
         }
     }
@@ -281,7 +316,11 @@ mod tests {
     #[test]
     fn a_setting_edits_only_its_key() {
         let text = "# comment\n[rod]\nlength = 1.0 # m\nelements = 50\n\n[gait]\ncenters = [0.1, 0.2, 0.3]\n";
-        let out = set(&["rod.length=2", "gait.centers[2]=0.9", "rod.elements=80"], text).unwrap();
+        let out = set(
+            &["rod.length=2", "gait.centers[2]=0.9", "rod.elements=80"],
+            text,
+        )
+        .unwrap();
         assert!(out.contains("length = 2.0 # m"), "{out}");
         assert!(out.contains("elements = 80\n"), "{out}");
         assert!(out.contains("centers = [0.1, 0.2, 0.9]"), "{out}");
@@ -302,8 +341,16 @@ mod tests {
 
     #[test]
     fn a_problem_written_by_to_toml_reads_back_to_itself() {
-        for file in ["s_start.toml", "coil.toml", "sidewinding.toml", "cantilever_sag.toml", "incline.toml"] {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(file);
+        for file in [
+            "s_start.toml",
+            "coil.toml",
+            "sidewinding.toml",
+            "cantilever_sag.toml",
+            "incline.toml",
+        ] {
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("problems")
+                .join(file);
             let p = crate::problem::load(&path).unwrap();
             let text = p.to_toml();
             let q = crate::problem::parse(&text, &path).unwrap();
