@@ -224,6 +224,7 @@ fn uncertain_cells_of_a_synthetic_study_are_left_out_of_the_fits_and_counted() {
         protocol: phase::Protocol::default(),
         growth: None,
         periodic: false,
+        settings: Vec::new(),
     };
     std::fs::write(
         shard.join("phase.json"),

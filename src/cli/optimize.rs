@@ -25,6 +25,12 @@ pub struct Args {
     /// Seed of `--ensemble` (the runner-up's ensemble uses seed + 1).
     #[arg(long, default_value_t = slither::design::ensemble::SEED, requires = "ensemble")]
     pub ensemble_seed: u64,
+    /// Change a key for this study, validated like the file: keys of `[study]`,
+    /// `[optimize]` and `[accuracy]` edit the study file (`--set study.max_evaluations=60`),
+    /// every other key its base problem (`--set rod.elements=100`). Repeatable. Rows of
+    /// `history.csv` simulated under other settings are simulated again.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<slither::problem::set::Setting>,
 }
 
 /// Progress of a study: an indicatif bar over evaluations on a terminal, else one line per
@@ -101,7 +107,8 @@ impl design::EvaluationObserver for StudyProgress {
 
 pub fn optimize(args: &Args) -> ExitCode {
     let (path, out, quiet) = (args.study.as_path(), args.out.as_path(), args.quiet);
-    let mut study = match design::load_study(path) {
+    let settings: Vec<&slither::problem::set::Setting> = args.set.iter().collect();
+    let mut study = match design::load_study_with(path, &settings) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");

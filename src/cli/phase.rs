@@ -46,6 +46,16 @@ pub struct Args {
     /// writhe snapshot (top and side views on the W, G grid; about one more sweep's time).
     #[arg(long, conflicts_with_all = ["shard", "cell", "cell_index", "growth_size"])]
     pub gallery: bool,
+    /// Change a key for this study, validated like the file: keys of `[phase]` and
+    /// `[accuracy]` edit the phase file (`--set phase.refine=false`), every other key its base
+    /// problem (`--set rod.elements=100`). Repeatable; recorded in `phase.json`, so `merge`
+    /// reads the file with them.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<slither::problem::set::Setting>,
+    /// With --cell, --cell-index or --growth-size: write that cell's problem (the model the
+    /// study builds for it, every default filled in) to FILE as a problem file.
+    #[arg(long, value_name = "FILE")]
+    pub dump_problem: Option<PathBuf>,
 }
 
 /// What `--cell`, `--cell-index` or `--growth-size` selects: the cell's `(W, G)` and protocol,
@@ -120,6 +130,12 @@ fn rerun_cell(
     }
     let p = design::phase::cell_problem_with(&ph.base, w, g, protocol);
     let what = format!("{}: {name}", args.file.display());
+    if let Some(file) = &args.dump_problem {
+        let from = format!("{what}{}", super::run::settings_label(&args.set));
+        if let Err(code) = super::run::dump_problem(file, &p, &from) {
+            return code;
+        }
+    }
     match super::run::rerun_into(&p, &args.file, out, args.quiet, !args.no_plots, &what) {
         Ok(_) => ExitCode::SUCCESS,
         Err(code) => code,
@@ -133,7 +149,8 @@ pub fn phase(args: &Args) -> ExitCode {
         args.quiet,
         args.shard,
     );
-    let mut ph = match design::phase::load(path) {
+    let settings: Vec<&slither::problem::set::Setting> = args.set.iter().collect();
+    let mut ph = match design::phase::load_with(path, &settings) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");
@@ -142,6 +159,10 @@ pub fn phase(args: &Args) -> ExitCode {
     };
     if let Some(chosen) = selected(args, &ph) {
         return rerun_cell(args, ph, chosen);
+    }
+    if args.dump_problem.is_some() {
+        eprintln!("error: --dump-problem is for one cell (--cell, --cell-index, --growth-size): a study has a problem per cell");
+        return ExitCode::from(2);
     }
     if args.no_plots {
         eprintln!("error: --no-plots is for rerunning one cell (--cell, --cell-index, --growth-size); a study's figures are its results");

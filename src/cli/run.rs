@@ -45,6 +45,15 @@ pub struct Args {
     /// Seed of `--ensemble` (each member's own seed is recorded in `summary.json`).
     #[arg(long, default_value_t = slither::design::ensemble::SEED, requires = "ensemble")]
     pub ensemble_seed: u64,
+    /// Change a key of the problem file for this run, validated like the file:
+    /// `--set rod.length=1.5`, `--set gait.centers[1]=0.3`, `--set gait.kind=s-start`.
+    /// Repeatable; applied in order.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<problem::set::Setting>,
+    /// Write the problem this run simulates (the file with `--set` applied, every default
+    /// filled in; with an accuracy target, the model it chose) to FILE as a problem file.
+    #[arg(long, value_name = "FILE")]
+    pub dump_problem: Option<PathBuf>,
     /// With --ensemble K: run only member M (from 0, as `members[].index` in summary.json) of
     /// that ensemble, perturbed exactly as it was, as an ordinary run into --out (its
     /// figures, tracks and movie; --no-plots skips them).
@@ -52,10 +61,32 @@ pub struct Args {
     pub member: Option<usize>,
 }
 
+/// Write `p` to `file` as a problem file with a header naming where it came from.
+pub fn dump_problem(file: &Path, p: &problem::Problem, from: &str) -> Result<(), ExitCode> {
+    let text = format!(
+        "# The effective problem of {from}, written by slither {} (every key, defaults filled in).\n{}",
+        env!("CARGO_PKG_VERSION"),
+        p.to_toml()
+    );
+    std::fs::write(file, text).map_err(|e| {
+        eprintln!(
+            "error: --dump-problem {}: cannot write: {e}",
+            file.display()
+        );
+        ExitCode::from(1)
+    })
+}
+
+/// How `--set` changed a file, for messages: ` with --set a=1 --set b=2`, or "".
+pub fn settings_label(set: &[problem::set::Setting]) -> String {
+    set.iter().map(|s| format!(" --set {}", s.arg)).collect()
+}
+
 pub fn run(args: &Args) -> ExitCode {
     let (path, out) = (args.problem.as_path(), args.out.as_path());
     let (quiet, no_plots, force, accuracy) = (args.quiet, args.no_plots, args.force, args.accuracy);
-    let p = match problem::load_for_run(path, force) {
+    let settings: Vec<&problem::set::Setting> = args.set.iter().collect();
+    let p = match problem::load_for_run_with(path, force, &settings) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");
@@ -119,6 +150,12 @@ pub fn run(args: &Args) -> ExitCode {
     let target = accuracy
         .map(|t| (t, p.accuracy.as_ref().map_or(400, |a| a.max_elements)))
         .or(p.accuracy.as_ref().map(|a| (a.target, a.max_elements)));
+    let from = format!("{}{}", path.display(), settings_label(&args.set));
+    if let (Some(file), None) = (&args.dump_problem, target) {
+        if let Err(code) = dump_problem(file, &p, &from) {
+            return code;
+        }
+    }
     let mut model = Model::new(&p);
     if let Some((m, k, seed, pert)) = member {
         slither::design::ensemble::perturb_model(&mut model, &pert, seed);
@@ -198,6 +235,22 @@ pub fn run(args: &Args) -> ExitCode {
         );
         model = sel.model;
         let r = sel.report;
+        if let Some(file) = &args.dump_problem {
+            use slither::design::selection::Resolution;
+            let res = match (r.error_tolerance, r.dt) {
+                (Some(tol), _) => Resolution::Tolerance(tol),
+                (None, Some(h)) => Resolution::Step(h),
+                (None, None) => unreachable!("a chosen model has a step or a tolerance"),
+            };
+            let chosen = slither::design::selection::accuracy_problem(&p, r.elements, res);
+            if let Err(code) = dump_problem(
+                file,
+                &chosen,
+                &format!("{from} (the model accuracy {} chose)", r.target),
+            ) {
+                return code;
+            }
+        }
         if !quiet {
             eprintln!(
                 "accuracy {}: chose {} elements, {}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs of {:.1} s in all, {:.1} s of them probes, {:.1} s elapsed",
@@ -399,8 +452,25 @@ pub fn run(args: &Args) -> ExitCode {
             );
         }
     }
+    if let Some(r) = summary.accuracy.as_ref().filter(|r| !r.met) {
+        // Printed even under --quiet: the answer is written, but not to the accuracy asked.
+        eprintln!(
+            "{}: accuracy target {} NOT met: estimated error {:.2e} with {} elements, {} (refinement limits reached); results written to {} (exit {ACCURACY_NOT_MET})",
+            path.display(),
+            r.target,
+            r.estimated_error,
+            r.elements,
+            model_label(r.dt, r.error_tolerance),
+            out.display()
+        );
+        return ExitCode::from(ACCURACY_NOT_MET);
+    }
     ExitCode::SUCCESS
 }
+
+/// Exit code of a run whose accuracy target was not met (its results are written, with
+/// `"met": false` in `summary.json`'s `accuracy` block).
+pub const ACCURACY_NOT_MET: u8 = 4;
 
 /// A progress bar on stderr that appears once its task has run for a second (never when
 /// `show` is false): the task's start is given, or taken at the first report.

@@ -293,11 +293,37 @@ pub enum StudyError {
 
 /// Read, parse and validate a study file (and its base problem).
 pub fn load_study(path: &Path) -> Result<Study, StudyError> {
-    parse_study(&problem::read(path)?, path)
+    load_study_with(path, &[])
+}
+
+/// The tables of a study file; `--set` keys below any other table edit the base problem.
+pub const STUDY_TABLES: [&str; 3] = ["study", "optimize", "accuracy"];
+
+/// [`load_study`] with command-line settings (`--set`): those of [`STUDY_TABLES`] edit the
+/// study file, the others its base problem, each validated as if written there.
+pub fn load_study_with(
+    path: &Path,
+    settings: &[&problem::set::Setting],
+) -> Result<Study, StudyError> {
+    let (own, base) = problem::set::split(settings, &STUDY_TABLES);
+    let text = problem::edit(&problem::read(path)?, path, &own)?;
+    parse_study_with(&text, path, &base).map_err(|e| match e {
+        StudyError::File(e) => StudyError::File(problem::set::attribute(e, &own, path)),
+        e => e,
+    })
 }
 
 /// Parse and validate study text; `path` locates the base file and names the study in messages.
 pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
+    parse_study_with(text, path, &[])
+}
+
+/// [`parse_study`] with command-line settings applied to the base problem.
+pub fn parse_study_with(
+    text: &str,
+    path: &Path,
+    base_settings: &[&problem::set::Setting],
+) -> Result<Study, StudyError> {
     let spec: StudySpec = problem::from_toml(text, path)?;
     problem::ranges::check_lengths(text, path)?;
     let fail = |table: &str, key: &str, value: String, allowed: String| {
@@ -312,7 +338,8 @@ pub fn parse_study(text: &str, path: &Path) -> Result<Study, StudyError> {
     };
     let s = &spec.study;
     let base_path = path.parent().unwrap_or_else(|| Path::new("")).join(&s.base);
-    let base = problem::read(&base_path).and_then(|t| problem::parse(&t, &base_path));
+    let base = problem::read(&base_path)
+        .and_then(|t| problem::parse_with(&t, &base_path, base_settings).map(|(_, p)| p));
     let base = base.map_err(|source| StudyError::Base {
         file: path.into(),
         line: key_line(text, "study", "base"),

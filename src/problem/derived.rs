@@ -100,11 +100,19 @@ pub(super) fn check(p: &Problem, c: &Checker) -> Result<(), ProblemError> {
         ));
     }
     let gait = &p.gait;
-    if gait.kind != Kind::None && gait.stress > 0.0 {
+    // The largest couple: `gait.scales` multiply `Gamma a^3` (`scales = [1e300, 1, 1]` used to
+    // pass and overflow in the first step).
+    let scale = gait.scales.iter().fold(0.0_f64, |m, s| m.max(s.abs()));
+    if gait.kind != Kind::None && gait.stress * scale > 0.0 {
         let k_s = key("gait.stress", gait.stress);
-        let couple = gait.stress * a.powi(3);
+        let couple = gait.stress * a.powi(3) * scale.max(1.0);
         quantities.extend([
-            ("muscle couple Gamma a^3", couple, "N m", vec![k_s, k_a]),
+            (
+                "largest muscle couple Gamma a^3 max(1, |scales|)",
+                couple,
+                "N m",
+                vec![k_s, k_a, key("gait.scales", scale)],
+            ),
             (
                 "imposed curvature Gamma a^3 / B",
                 couple / b,

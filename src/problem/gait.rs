@@ -29,7 +29,7 @@ impl Kind {
 
 /// `[gait]`: muscle activation pattern (SI units; positions as fractions of L). Defaults and
 /// ranges of every field: the `GAIT_*` keys of [`keys`].
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GaitSpec {
     /// "none" (default), "s-start", "sidewinding" or "serpenoid".

@@ -5,7 +5,7 @@ use serde::Deserialize;
 
 /// `[ground]`: a plane `z = 0` with anisotropic kinetic Coulomb friction. Defaults and ranges
 /// of every field: [`keys`].
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GroundSpec {
     /// Coefficient resisting forward (toward the head) sliding ([`keys::GROUND_MU_FORWARD`]).

@@ -4,7 +4,7 @@ use super::{keys, num, Checker, Clamp, Problem, ProblemError};
 use serde::Deserialize;
 
 /// Initial shape.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum Shape {
     /// Straight along the heading; head (s = 0) at x = L, tail at the origin.
@@ -17,7 +17,7 @@ pub enum Shape {
 
 /// `[initial]`: initial configuration and velocity. Units, defaults and ranges: [`keys`]
 /// (`INITIAL_*`).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSpec {
     /// Shape: "straight" (default): along +x, head (s = 0) at x = L, tail at x = 0,
@@ -77,12 +77,43 @@ impl Default for InitialSpec {
     }
 }
 
+/// Fastest initial material speed, `|v| + |omega| L/2` (m/s): beyond the speed of sound in
+/// tissue (about 1.5e3 m/s) the body is not a snake, and far beyond it the first step's
+/// inertia overflows or its contact program has no solution (`velocity = [1e20, 0, 0]` used to
+/// start and fail in the conic solve).
+pub const MAX_INITIAL_SPEED: f64 = 1e3;
+
 /// Range checks of `[initial]`, and the coil's rules (free ends; turns apart; radius above `a`).
 pub(super) fn check(p: &Problem, c: &Checker) -> Result<(), ProblemError> {
     use keys::*;
     let (i, r) = (&p.initial, &p.rod);
     c.key_finite(&INITIAL_VELOCITY, &i.velocity)?;
     c.key_finite(&INITIAL_ANGULAR_VELOCITY, &i.angular_velocity)?;
+    let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let (v, w) = (
+        norm(&i.velocity),
+        norm(&i.angular_velocity) * r.length / 2.0,
+    );
+    if !(v + w <= MAX_INITIAL_SPEED) {
+        let (key, value, rule) = if v >= w {
+            ("velocity", &i.velocity, INITIAL_VELOCITY.rule)
+        } else {
+            (
+                "angular_velocity",
+                &i.angular_velocity,
+                INITIAL_ANGULAR_VELOCITY.rule,
+            )
+        };
+        return Err(c.fail(
+            "initial",
+            key,
+            format!("[{}]", value.map(num).join(", ")),
+            &format!(
+                "an array of 3 finite numbers with {rule}; it is {}",
+                num(v + w)
+            ),
+        ));
+    }
     c.key(&INITIAL_HEADING_DEG, i.heading_deg)?;
     c.key(&INITIAL_HEIGHT, i.height)?;
     c.key(&INITIAL_COIL_RADIUS, i.coil_radius)?;

@@ -283,9 +283,9 @@ keys! {
     // [initial]
     INITIAL_SHAPE = "initial.shape", "", Word("straight"), Text("\"straight\" or \"coil\""), "",
         "Initial shape: \"straight\" along the heading, head (`s = 0`) at `x = L`, tail at the origin, centreline at `z = a/2 + height`; \"coil\": a helix about the vertical axis through the origin, tail at the bottom (centreline at `z = a/2 + height`) winding up to the head.";
-    INITIAL_VELOCITY = "initial.velocity", "m/s", Reals3([0.0, 0.0, 0.0]), Text("an array of 3 finite numbers (m/s)"), "",
+    INITIAL_VELOCITY = "initial.velocity", "m/s", Reals3([0.0, 0.0, 0.0]), Text("an array of 3 finite numbers (m/s)"), "the fastest material speed |v| + |angular_velocity| L/2 at most 1000 m/s (a body faster than sound in tissue is not a snake)",
         "Uniform initial velocity.";
-    INITIAL_ANGULAR_VELOCITY = "initial.angular_velocity", "rad/s", Reals3([0.0, 0.0, 0.0]), Text("an array of 3 finite numbers (rad/s)"), "",
+    INITIAL_ANGULAR_VELOCITY = "initial.angular_velocity", "rad/s", Reals3([0.0, 0.0, 0.0]), Text("an array of 3 finite numbers (rad/s)"), "the fastest material speed |velocity| + |angular_velocity| L/2 at most 1000 m/s",
         "Initial rigid angular velocity about the centroid.";
     INITIAL_HEADING_DEG = "initial.heading_deg", "degrees", Real(0.0), Finite, "",
         "Rotation of the straight rod about z; 0 puts the head toward +x.";
@@ -321,11 +321,11 @@ keys! {
     OUTPUT_MOVIE = "output.movie", "", Flag(true), Text("true or false"), "",
         "Whether `slither run` writes `movie.gif` beside its figures (not with `--no-plots`; `--movie` writes it even when this is false).";
     // [ground]
-    GROUND_MU_FORWARD = "ground.mu_forward", "", Real(0.11), NonNegative, "",
+    GROUND_MU_FORWARD = "ground.mu_forward", "", Real(0.11), closed(0.0, 100.0), "" ,
         "Coulomb coefficient resisting forward (toward the head) sliding. Without a `[ground]` table there is no ground.";
-    GROUND_MU_BACKWARD = "ground.mu_backward", "", Real(0.14), NonNegative, "",
+    GROUND_MU_BACKWARD = "ground.mu_backward", "", Real(0.14), closed(0.0, 100.0), "" ,
         "Coulomb coefficient resisting backward sliding.";
-    GROUND_MU_SIDEWAYS = "ground.mu_sideways", "", Real(0.20), NonNegative, "",
+    GROUND_MU_SIDEWAYS = "ground.mu_sideways", "", Real(0.20), closed(0.0, 100.0), "" ,
         "Coulomb coefficient resisting sideways sliding.";
     GROUND_INCLINE_DEG = "ground.incline_deg", "degrees", Real(0.0), open(-90.0, 90.0), "",
         "Incline: gravity is tilted about y so that the slope rises along +x.";
@@ -347,7 +347,7 @@ keys! {
         "Travelling speed `v_m` of the couples, head to tail relative to the body.";
     GAIT_CENTERS = "gait.centers", "fraction of rod.length", Reals3([0.15, 0.25, 0.35]), Text("an array of 3 numbers in [0, 1] (fractions of rod.length)"), "",
         "Initial centres `s0` of the couples a, b, c (0 is the head).";
-    GAIT_SCALES = "gait.scales", "", Reals3([1.0, 1.0, 1.0]), Text("an array of 3 finite numbers"), "",
+    GAIT_SCALES = "gait.scales", "", Reals3([1.0, 1.0, 1.0]), Text("an array of 3 finite numbers"), "with gait.stress, each couple's products stay finite (see the derived quantities)",
         "Multipliers of `Gamma a^3` for a, b, c (sign included; a positive b presses the middle down).";
     GAIT_PERIOD = "gait.period", "s", Real(0.5), Positive, "",
         "Sidewinding: time between launched triplets.";

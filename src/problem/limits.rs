@@ -15,7 +15,7 @@
 //!   and its local densities cost about `frames x 0.6 N^2` pair evaluations at `N` elements;
 //!   roughly 50 ns each: about 15 minutes at the limit).
 
-use super::{key_line, Mode, Problem, ProblemError};
+use super::{key_line, Kind, Mode, Problem, ProblemError};
 use std::path::Path;
 
 /// Most time steps a run may take without `--force`.
@@ -26,6 +26,63 @@ pub const MAX_FRAMES: f64 = 1.0e5;
 pub const MAX_FRAME_VALUES: f64 = 5.0e6;
 /// Most segment-pair evaluations of the post-processing (`frames x 0.6 N^2`) without `--force`.
 pub const MAX_TOPOLOGY_PAIRS: f64 = 2.0e10;
+
+/// Range of the scaled weight `W` and the scaled torque `G` when they are not zero (zero stays
+/// valid: no gravity, or no muscles). Outside it the scene is no snake on the ground: at
+/// `W = 1e-30` a "phase cell" ran 110 s and reported `v_s/v_m = 5.2e8`. `--force` runs it
+/// anyway. The bundled scenes and studies span `W` 0.3 to 1e5 and `G` 1 to 1e3.
+pub const SCALED_GROUP_RANGE: (f64, f64) = (1e-6, 1e9);
+
+/// The scaled weight `W = rho g a^2 L^3 / B` and scaled torque `G = Gamma a^3 L / B` (0 without
+/// gravity or muscles).
+pub fn scaled_groups(p: &Problem) -> (f64, f64) {
+    let r = &p.rod;
+    let w = r.density * p.gravity.g * r.diameter.powi(2) * r.length.powi(3) / r.bending_stiffness;
+    let g = if p.gait.kind == Kind::None {
+        0.0
+    } else {
+        p.gait.stress * r.diameter.powi(3) * r.length / r.bending_stiffness
+    };
+    (w, g)
+}
+
+/// Refuse a scaled weight or torque that is neither zero nor within [`SCALED_GROUP_RANGE`]: the
+/// error names the key that sets it (`gravity.g`, `gait.stress`) and says that `--force` runs
+/// it anyway.
+pub fn check_scaled_groups(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
+    let (lo, hi) = SCALED_GROUP_RANGE;
+    let (w, g) = scaled_groups(p);
+    for (what, v, table, key, value) in [
+        (
+            "scaled weight W = rho g a^2 L^3 / B",
+            w,
+            "gravity",
+            "g",
+            p.gravity.g,
+        ),
+        (
+            "scaled torque G = Gamma a^3 L / B",
+            g,
+            "gait",
+            "stress",
+            p.gait.stress,
+        ),
+    ] {
+        if v != 0.0 && !(lo..=hi).contains(&v) {
+            return Err(ProblemError::Invalid {
+                file: path.into(),
+                line: key_line(text, table, key),
+                key: format!("{table}.{key}"),
+                value: super::num(value),
+                allowed: format!(
+                    "a value for which the {what} is 0 or in [{lo:e}, {hi:e}]; it is {:.3e} (or run with --force)",
+                    v
+                ),
+            });
+        }
+    }
+    Ok(())
+}
 
 /// Estimated size of a run.
 #[derive(Clone, Copy, Debug, PartialEq)]

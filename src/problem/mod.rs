@@ -12,6 +12,7 @@ pub mod keys;
 pub mod limits;
 pub mod ranges;
 mod self_contact;
+pub mod set;
 mod solver;
 pub mod time;
 
@@ -28,7 +29,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// A whole problem file.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Problem {
     /// The rod (required table).
@@ -60,8 +61,16 @@ pub struct Problem {
     pub accuracy: Option<AccuracySpec>,
 }
 
+impl Problem {
+    /// The problem as a problem file, every key written with defaults filled in: what
+    /// `--dump-problem` writes. It reads back to the same problem ([`parse`]).
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a validated problem is representable in TOML")
+    }
+}
+
 /// `[accuracy]`: run the cheapest model whose estimated error of `v_s/v_m` is below a target.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct AccuracySpec {
     /// Relative error of `v_s/v_m` allowed (time and mesh together), e.g. 0.01
@@ -100,7 +109,7 @@ pub fn check_accuracy(a: &AccuracySpec, p: &Problem) -> Result<(), (&'static str
 }
 
 /// Which end of the rod is clamped (position and material frame held).
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum Clamp {
     /// Both ends free.
@@ -114,7 +123,7 @@ pub enum Clamp {
 
 /// `[rod]`: geometry and material of the snake. Units, defaults and ranges of every field:
 /// [`keys`] (`ROD_*`).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RodSpec {
     /// Length `L` (m). Required.
@@ -154,7 +163,7 @@ fn d_natural_twist() -> f64 {
 }
 
 /// `[gravity]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GravitySpec {
     /// Gravitational acceleration along -z (m/s^2); 0 disables ([`keys::GRAVITY_G`]).
@@ -171,7 +180,7 @@ impl Default for GravitySpec {
 }
 
 /// Integration mode.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum Mode {
     /// Variational implicit Euler in time.
@@ -182,7 +191,7 @@ pub enum Mode {
 }
 
 /// `[time]`. Units, defaults and ranges: [`keys`] (`TIME_*`).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeSpec {
     /// "dynamic" (default) or "static".
@@ -221,7 +230,7 @@ fn d_adaptive() -> bool {
 }
 
 /// `[output]`.
-#[derive(Clone, Debug, Default, Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Interval between recorded frames (s); absent: [`OutputSpec::interval_for`]
@@ -274,6 +283,17 @@ pub enum ProblemError {
         /// toml's message (line, column, snippet, key).
         message: String,
     },
+    /// A command-line setting (`--set KEY=VALUE`) that cannot be applied, or whose value is
+    /// not allowed.
+    #[error("{file}: {arg}: {message}")]
+    Set {
+        /// The file the setting edits.
+        file: PathBuf,
+        /// The argument, `--set KEY=VALUE`.
+        arg: String,
+        /// What is wrong, with the allowed range.
+        message: String,
+    },
     /// A value outside its allowed range.
     #[error("{file}:{line}: `{key}` = {value} is not allowed: must be {allowed}")]
     Invalid {
@@ -303,13 +323,77 @@ pub fn parse(text: &str, path: &Path) -> Result<Problem, ProblemError> {
     Ok(p)
 }
 
+/// Parse and validate problem text edited by command-line settings ([`set`]): an error about
+/// a key a setting changed names the setting; an error of the file itself keeps its line.
+pub fn parse_with(
+    text: &str,
+    path: &Path,
+    settings: &[&set::Setting],
+) -> Result<(String, Problem), ProblemError> {
+    let edited = edit(text, path, settings)?;
+    match parse(&edited, path) {
+        Ok(p) => Ok((edited, p)),
+        Err(e) if settings.is_empty() => Err(e),
+        Err(e) => match set::attribute(e, settings, path) {
+            e @ ProblemError::Set { .. } => Err(e),
+            // Not a key a setting changed: the file's own error, with its own lines, when the
+            // file alone has it; else an error the settings caused through another key.
+            e => Err(match (parse(text, path), e) {
+                (Err(own), _) => own,
+                (
+                    Ok(_),
+                    ProblemError::Invalid {
+                        file,
+                        line,
+                        key,
+                        value,
+                        allowed,
+                    },
+                ) => {
+                    let by: String = settings
+                        .iter()
+                        .map(|s| format!(" --set {}", s.arg))
+                        .collect();
+                    ProblemError::Invalid {
+                        file,
+                        line,
+                        key,
+                        value,
+                        allowed: format!("{allowed} (the file as changed by{by})"),
+                    }
+                }
+                (Ok(_), e) => e,
+            }),
+        },
+    }
+}
+
+/// `text` with `settings` applied, or a [`ProblemError::Set`] naming the one that cannot be.
+pub fn edit(text: &str, path: &Path, settings: &[&set::Setting]) -> Result<String, ProblemError> {
+    set::apply(text, settings).map_err(|(arg, message)| ProblemError::Set {
+        file: path.into(),
+        arg,
+        message,
+    })
+}
+
 /// Read, parse and validate a problem file for `slither run`: also refuses a run above the
 /// size limits of [`limits`] unless `force`.
 pub fn load_for_run(path: &Path, force: bool) -> Result<Problem, ProblemError> {
-    let text = read(path)?;
-    let p = parse(&text, path)?;
+    load_for_run_with(path, force, &[])
+}
+
+/// [`load_for_run`] with command-line settings applied to the file first.
+pub fn load_for_run_with(
+    path: &Path,
+    force: bool,
+    settings: &[&set::Setting],
+) -> Result<Problem, ProblemError> {
+    let (text, p) = parse_with(&read(path)?, path, settings)?;
     if !force {
-        limits::check_run_size(&p, &text, path)?;
+        limits::check_run_size(&p, &text, path)
+            .and_then(|_| limits::check_scaled_groups(&p, &text, path))
+            .map_err(|e| set::attribute(e, settings, path))?;
     }
     Ok(p)
 }
@@ -633,7 +717,7 @@ fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
                 "solver",
                 "integrator",
                 "\"explicit\"".into(),
-                "\"implicit\" when a [ground] is present (the explicit integrator has no contact)",
+                "\"implicit\" or \"bdf2\" when a [ground] is present (the explicit integrator has no contact)",
             ));
         }
         if t.mode == Mode::Static {

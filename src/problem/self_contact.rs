@@ -6,7 +6,7 @@ use serde::Deserialize;
 
 /// `[self_contact]`: two parts of the body cannot pass through each other
 /// ([`crate::energy::self_contact`]). Defaults and ranges: [`keys`] (`SELF_CONTACT_*`).
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SelfContactSpec {
     /// On or off ([`keys::SELF_CONTACT_ENABLED`]).

@@ -8,7 +8,7 @@ use super::keys::{self, Key};
 use serde::Deserialize;
 
 /// `[solver]`: solver settings (defaults and ranges: the `SOLVER_*` keys of [`keys`]).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
     /// Convergence: the last Newton correction is below `tolerance * a` on every position and
@@ -138,7 +138,7 @@ pub enum IntegratorKind {
 }
 
 /// `[solver] contact`.
-#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactKind {
     /// The conic program at every Newton iterate.

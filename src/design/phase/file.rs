@@ -45,6 +45,9 @@ pub struct Phase {
     pub chosen: Option<StudyAccuracy>,
     /// `growth = { ... }`: the base snake grown along a line of sizes ([`super::growth`]).
     pub growth: Option<super::allometry::Growth>,
+    /// The command-line settings (`--set KEY=VALUE`, as `KEY=VALUE`) the file was read with:
+    /// recorded in `phase.json`, and applied again when `merge` re-reads the file.
+    pub settings: Vec<String>,
 }
 
 #[derive(Deserialize)]
@@ -244,9 +247,32 @@ impl Phase {
     }
 }
 
+use crate::problem::limits::SCALED_GROUP_RANGE;
+
 /// Read and validate a phase file and its base problem.
 pub fn load(path: &Path) -> Result<Phase, ProblemError> {
-    let text = problem::read(path)?;
+    load_with(path, &[])
+}
+
+/// The tables of a phase file; `--set` keys below any other table edit the base problem.
+pub const TABLES: [&str; 2] = ["phase", "accuracy"];
+
+/// [`load`] with command-line settings (`--set`): those of [`TABLES`] edit the phase file,
+/// the others its base problem, each validated as if written there.
+pub fn load_with(path: &Path, settings: &[&problem::set::Setting]) -> Result<Phase, ProblemError> {
+    let (own, base) = problem::set::split(settings, &TABLES);
+    let text = problem::edit(&problem::read(path)?, path, &own)?;
+    let mut ph = parse(&text, path, &base).map_err(|e| problem::set::attribute(e, &own, path))?;
+    ph.settings = settings.iter().map(|s| s.arg.clone()).collect();
+    Ok(ph)
+}
+
+fn parse(
+    text: &str,
+    path: &Path,
+    base_settings: &[&problem::set::Setting],
+) -> Result<Phase, ProblemError> {
+    let text = text.to_string();
     let f: PhaseFile = problem::from_toml(&text, path)?;
     let t = f.phase;
     let invalid = |key: &str, value: String, allowed: &str| ProblemError::Invalid {
@@ -290,14 +316,14 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
     check(
         "weight",
         &weight,
-        |x| x.is_finite() && x > 0.0,
-        "scaled weights W > 0",
+        |x| (SCALED_GROUP_RANGE.0..=SCALED_GROUP_RANGE.1).contains(&x),
+        "scaled weights W in [1e-6, 1e9] (problem::limits::SCALED_GROUP_RANGE: outside it the scene is no snake on the ground)",
     )?;
     check(
         "torque",
         &torque,
-        |x| x.is_finite() && x >= 0.0,
-        "scaled torques G >= 0",
+        |x| x == 0.0 || (SCALED_GROUP_RANGE.0..=SCALED_GROUP_RANGE.1).contains(&x),
+        "scaled torques G = 0 or in [1e-6, 1e9] (problem::limits::SCALED_GROUP_RANGE)",
     )?;
     let steps = match &t.refine_steps {
         None => DEFAULT_STEPS,
@@ -393,7 +419,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         }
         Err(e) => return Err(e),
     };
-    let base = problem::parse(&base_text, &base_path)?;
+    let (_, base) = problem::parse_with(&base_text, &base_path, base_settings)?;
     if base.gait.kind == crate::gait::Kind::None {
         return Err(invalid(
             "base",
@@ -420,6 +446,7 @@ pub fn load(path: &Path) -> Result<Phase, ProblemError> {
         }
     }
     Ok(Phase {
+        settings: Vec::new(),
         accuracy: f.accuracy,
         chosen: None,
         file: path.into(),

@@ -205,7 +205,12 @@ pub fn merge(
         });
     }
     // The current phase file, when readable, must still be the one the shards ran.
-    if let Ok(ph) = super::file::load(Path::new(&info.phase_file)) {
+    let settings = info.parsed_settings().map_err(|why| PhaseError::Merge {
+        dir: PathBuf::from(&info.phase_file),
+        why: format!("phase.json's settings: {why}"),
+    })?;
+    let settings: Vec<&problem::set::Setting> = settings.iter().collect();
+    if let Ok(ph) = super::file::load_with(Path::new(&info.phase_file), &settings) {
         let diff = changes(&info, &ph);
         if !diff.is_empty() {
             return Err(PhaseError::Merge {
@@ -246,7 +251,10 @@ pub fn merge(
                 ),
                 None => (Some(base_hash), info.base_hash.clone()),
             };
-            let base = problem::parse(&text, &path).map_err(|e| refuse(e.to_string()))?;
+            let (_, base_settings) = problem::set::split(&settings, &super::file::TABLES);
+            let base = problem::parse_with(&text, &path, &base_settings)
+                .map(|(_, p)| p)
+                .map_err(|e| refuse(e.to_string()))?;
             if Some(problem_hash(&base)) != file_hash {
                 return Err(refuse(format!(
                     "the base problem changed since the shards ran (hash {:016x}, the shards' {})",

@@ -70,8 +70,8 @@ pub use csv::{
     PERIODIC_COLUMNS, VERIFY_COLUMNS,
 };
 pub use file::{
-    cell_problem, cell_problem_with, finer_problem, load, prepare_accuracy, Phase, Protocol,
-    Verify, WeightVia,
+    cell_problem, cell_problem_with, finer_problem, load, load_with, prepare_accuracy, Phase,
+    Protocol, Verify, WeightVia,
 };
 pub use merge::{merge, Merged};
 pub use sweep::{confident_labels, sweep, sweep_shard, Exclusions, RunInfo, Shard, Sweep};

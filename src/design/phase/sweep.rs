@@ -101,6 +101,17 @@ pub struct RunInfo {
     /// The rows carry the periodic columns: the base gait has a launch period (absent: no).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub periodic: bool,
+    /// The command-line settings the phase file was read with (`--set KEY=VALUE`, as
+    /// `KEY=VALUE`; absent: none): `merge` reads the file again with them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub settings: Vec<String>,
+}
+
+impl RunInfo {
+    /// The recorded settings, parsed again (`Err`: one that no longer parses).
+    pub fn parsed_settings(&self) -> Result<Vec<crate::problem::set::Setting>, String> {
+        self.settings.iter().map(|s| s.parse()).collect()
+    }
 }
 
 pub(super) fn write_info(out: &Path, info: &RunInfo) -> Result<(), PhaseError> {
@@ -165,6 +176,7 @@ pub fn sweep_shard(
             protocol: ph.protocol,
             growth: ph.growth.clone(),
             periodic: format.periodic,
+            settings: ph.settings.clone(),
         },
     )?;
     let grid: Vec<(f64, f64)> = ph
