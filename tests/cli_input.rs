@@ -727,7 +727,7 @@ fn explicit_integrator_with_ground() {
         &text,
         "solver.integrator",
         "integrator",
-        "\"implicit\" when a [ground] is present",
+        "\"implicit\" or \"bdf2\" when a [ground] is present",
     );
     assert!(err.contains("no contact"), "{err}");
 }

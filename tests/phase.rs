@@ -126,7 +126,7 @@ fn bad_phase_files_exit_2_naming_the_key() {
     rejects(
         "negative-weight",
         "base = \"base.toml\"\nweight = [-1.0, 3.0]\ntorque = [1.0]\n",
-        &[":5:", "phase.weight", "W > 0"],
+        &[":5:", "phase.weight", "W in [1e-6, 1e9]"],
     );
     rejects(
         "decreasing-torque",

@@ -24,11 +24,16 @@ fn base() -> String {
 #[test]
 fn a_phase_study_in_which_every_cell_fails_exits_3() {
     let dir = scratch("allfail");
-    // The repro: a scaled torque whose muscle couple overflows, so every cell fails.
-    std::fs::write(dir.join("base.toml"), base()).unwrap();
+    // Every cell fails: one Newton iteration a step and no halving. (The repro, a
+    // scaled torque of 1e308 whose couple overflows, is now refused by the grid's range.)
+    std::fs::write(
+        dir.join("base.toml"),
+        base() + "\n[solver]\nmax_iterations = 1\nmax_halvings = 0\n",
+    )
+    .unwrap();
     std::fs::write(
         dir.join("phase.toml"),
-        "[phase]\nbase = \"base.toml\"\nweight = [300.0, 1000.0]\ntorque = [1e308]\n",
+        "[phase]\nbase = \"base.toml\"\nweight = [300.0, 1000.0]\ntorque = [15.0]\n",
     )
     .unwrap();
     let out = dir.join("out");

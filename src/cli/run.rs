@@ -150,7 +150,15 @@ pub fn run(args: &Args) -> ExitCode {
     let target = accuracy
         .map(|t| (t, p.accuracy.as_ref().map_or(400, |a| a.max_elements)))
         .or(p.accuracy.as_ref().map(|a| (a.target, a.max_elements)));
-    let from = format!("{}{}", path.display(), settings_label(&args.set));
+    let mut from = format!("{}{}", path.display(), settings_label(&args.set));
+    if let Some((m, k, seed, _)) = member {
+        // The member's friction and step are in its problem; its initial shape's perturbation
+        // is drawn on the model from the seed, so the file alone is not the member.
+        from += &format!(
+            ", member {m} of --ensemble {k} (seed {seed}; its initial-shape perturbation is not in this file: rerun the member with --ensemble {k} --member {m} --ensemble-seed {})",
+            args.ensemble_seed
+        );
+    }
     if let (Some(file), None) = (&args.dump_problem, target) {
         if let Err(code) = dump_problem(file, &p, &from) {
             return code;

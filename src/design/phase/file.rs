@@ -291,7 +291,7 @@ fn parse(
             ));
         }
         if let Some(x) = v.iter().find(|&&x| !ok(x)) {
-            return Err(invalid(key, format!("[.. {x} ..]"), what));
+            return Err(invalid(key, format!("[.. {} ..]", problem::num(*x)), what));
         }
         if v.windows(2).any(|w| w[1] <= w[0]) {
             return Err(invalid(

@@ -155,11 +155,22 @@ mod tests {
     /// the scale.)
     #[test]
     fn the_text_fits_every_size_and_leaves_room_for_the_scene() {
-        for size in [(160, 120), (200, 150), (240, 160), (320, 200), (480, 300), (640, 400), (1280, 720)] {
+        for size in [
+            (160, 120),
+            (200, 150),
+            (240, 160),
+            (320, 200),
+            (480, 300),
+            (640, 400),
+            (1280, 720),
+        ] {
             let l = layout(size);
             let room = size.0 as i32 - 2 * EDGE;
             if l.split_clock {
-                assert!(CLOCK_HALVES.iter().all(|s| text_width(s, l.big) <= room), "{size:?}");
+                assert!(
+                    CLOCK_HALVES.iter().all(|s| text_width(s, l.big) <= room),
+                    "{size:?}"
+                );
             } else {
                 assert!(text_width(CLOCK, l.big) <= room, "{size:?}");
             }
@@ -171,16 +182,27 @@ mod tests {
                 // Every item inside the picture, none overlapping another on its row.
                 let widths: Vec<i32> = items.iter().copied().chain([scale]).collect();
                 for (k, (&(x, r), &w)) in placed.iter().zip(&widths).enumerate() {
-                    assert!(x >= EDGE && x + w <= size.0 as i32 - EDGE, "{size:?} item {k}");
+                    assert!(
+                        x >= EDGE && x + w <= size.0 as i32 - EDGE,
+                        "{size:?} item {k}"
+                    );
                     for (&(x2, r2), &w2) in placed[..k].iter().zip(&widths) {
                         assert!(r2 != r || x2 + w2 <= x, "{size:?}: items overlap");
                     }
                 }
             }
             let scene = size.1 as i32 - l.top as i32 - l.bottom as i32;
-            assert!(4 * scene >= size.1 as i32, "{size:?}: scene {scene} px of {}", size.1);
+            assert!(
+                4 * scene >= size.1 as i32,
+                "{size:?}: scene {scene} px of {}",
+                size.1
+            );
             if size.0 >= 320 {
-                assert!(2 * scene >= size.1 as i32, "{size:?}: scene {scene} px of {}", size.1);
+                assert!(
+                    2 * scene >= size.1 as i32,
+                    "{size:?}: scene {scene} px of {}",
+                    size.1
+                );
             }
         }
         // The default picture keeps its one-line clock and one-row legend.

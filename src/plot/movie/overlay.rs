@@ -71,12 +71,19 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
     let ym_of = |row: u32| yb + (row * lay.row + lay.row / 2) as i32;
     let sw = fs as i32 * 6 / 7;
     let swatch = |root: &DrawingArea<BitMapBackend, _>, x: i32, ym: i32, c: RGBColor| {
-        root.draw(&Rectangle::new([(x, ym - sw / 2), (x + sw, ym + sw / 2)], c.filled()))
-            .map_err(draw_err)
+        root.draw(&Rectangle::new(
+            [(x, ym - sw / 2), (x + sw, ym + sw / 2)],
+            c.filled(),
+        ))
+        .map_err(draw_err)
     };
     let label = |root: &DrawingArea<BitMapBackend, _>, x: i32, ym: i32, s: &str| {
-        root.draw(&Text::new(s.to_string(), (x, ym - fs as i32 * 4 / 7), small.clone()))
-            .map_err(draw_err)
+        root.draw(&Text::new(
+            s.to_string(),
+            (x, ym - fs as i32 * 4 / 7),
+            small.clone(),
+        ))
+        .map_err(draw_err)
     };
     let tw = |s: &str| text_width(s, fs);
     // The scale: a bar of 0.25 L (shorter when that would take more than a quarter of the
@@ -107,7 +114,14 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
                 swatch(&root, x, ym_of(row), rgb(*c))?;
                 label(&root, x + SWATCH, ym_of(row), s)?;
             }
-            draw_scale(&root, plan, placed[items.len()], ym_of(placed[items.len()].1), (bar_px, &bar_text), &small)?;
+            draw_scale(
+                &root,
+                plan,
+                placed[items.len()],
+                ym_of(placed[items.len()].1),
+                (bar_px, &bar_text),
+                &small,
+            )?;
         }
         Colouring::Elevation | Colouring::Lambda => {
             let (name, lo, hi) = if plan.opts.colour == Colouring::Elevation {
@@ -138,7 +152,14 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
             }
             x += wbar + 6;
             label(&root, x, ym, &hi)?;
-            draw_scale(&root, plan, placed[2], ym_of(placed[2].1), (bar_px, &bar_text), &small)?;
+            draw_scale(
+                &root,
+                plan,
+                placed[2],
+                ym_of(placed[2].1),
+                (bar_px, &bar_text),
+                &small,
+            )?;
         }
     }
     // In the 3D view, a 0.5 L ruler on the ground below the scene's centre.
@@ -215,6 +236,10 @@ fn ruler(
         ))
         .map_err(draw_err)?;
     }
-    root.draw(&Text::new("0.5 L".to_string(), (b.0 + 6, b.1 - 8), small.clone()))
-        .map_err(draw_err)
+    root.draw(&Text::new(
+        "0.5 L".to_string(),
+        (b.0 + 6, b.1 - 8),
+        small.clone(),
+    ))
+    .map_err(draw_err)
 }

@@ -72,12 +72,18 @@ fn ground_forward(cam: &Camera) -> [f64; 2] {
 /// The rows `[a, b)` of a picture `h` rows high that show the ground panel: the points of the
 /// plane within `half_depth` (m) of `centre` along the camera's viewing direction. The
 /// camera's right vector is horizontal, so a row's rays all meet the ground at the same depth.
-pub(super) fn panel_rows(cam: &Camera, centre: [f64; 3], half_depth: f64, h: usize) -> (usize, usize) {
+pub(super) fn panel_rows(
+    cam: &Camera,
+    centre: [f64; 3],
+    half_depth: f64,
+    h: usize,
+) -> (usize, usize) {
     let fh = ground_forward(cam);
     let inside = |py: usize| {
-        cam.ground_hit(cam.cx, py as f64 + 0.5).is_some_and(|(g, _)| {
-            ((g[0] - centre[0]) * fh[0] + (g[1] - centre[1]) * fh[1]).abs() <= half_depth
-        })
+        cam.ground_hit(cam.cx, py as f64 + 0.5)
+            .is_some_and(|(g, _)| {
+                ((g[0] - centre[0]) * fh[0] + (g[1] - centre[1]) * fh[1]).abs() <= half_depth
+            })
     };
     let a = (0..h).find(|&py| inside(py)).unwrap_or(h);
     let b = (a..h).find(|&py| !inside(py)).unwrap_or(h);

@@ -220,7 +220,11 @@ mod tests {
         for n in 2..40 {
             let g: Vec<f64> = (0..n).map(|i| 3.0 * 1.2f64.powi(i)).collect();
             let a = GridAxis::new("g", &g, 12).unwrap();
-            assert!(a.ticks.len() >= 2 && a.ticks.len() <= 12, "{n}: {:?}", a.ticks);
+            assert!(
+                a.ticks.len() >= 2 && a.ticks.len() <= 12,
+                "{n}: {:?}",
+                a.ticks
+            );
             assert_eq!(a.ticks[0].0, g[0]);
             assert_eq!(a.ticks[a.ticks.len() - 1].0, g[n as usize - 1]);
         }

@@ -29,7 +29,6 @@ const BOUNDARY_COLORS: [RGBColor; 10] = [
     RGBColor(90, 90, 90),
 ];
 
-
 /// Most ticks on the weight axis (labels of up to 4 digits across the 1000 px wide map) and on
 /// the torque axis.
 const MAX_W_TICKS: usize = 12;
@@ -40,8 +39,8 @@ const MAX_G_TICKS: usize = 16;
 /// lines `gap` px apart, and the box (px, corners relative to the centre) that holds them with
 /// `pad` px around.
 pub fn label_stack(sizes: &[(u32, u32)], gap: i32, pad: i32) -> (Vec<i32>, [(i32, i32); 2]) {
-    let total: i32 = sizes.iter().map(|s| s.1 as i32).sum::<i32>()
-        + gap * (sizes.len() as i32 - 1).max(0);
+    let total: i32 =
+        sizes.iter().map(|s| s.1 as i32).sum::<i32>() + gap * (sizes.len() as i32 - 1).max(0);
     let top = -total / 2;
     let mut y = top;
     let offsets = sizes
@@ -55,7 +54,10 @@ pub fn label_stack(sizes: &[(u32, u32)], gap: i32, pad: i32) -> (Vec<i32>, [(i32
     let half_w = sizes.iter().map(|s| s.0 as i32).max().unwrap_or(0) / 2 + 1;
     (
         offsets,
-        [(-half_w - pad, top - pad), (half_w + pad, top + total + pad)],
+        [
+            (-half_w - pad, top - pad),
+            (half_w + pad, top + total + pad),
+        ],
     )
 }
 
@@ -445,7 +447,6 @@ fn map_legend<DB: DrawingBackend>(
     Ok(())
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -484,7 +485,11 @@ mod tests {
                 let tag = format!(" {}", t.split('>').next().unwrap_or(""));
                 let attr = |k: &str| -> f64 {
                     let s = tag.split(&format!(" {k}=\"")).nth(1).unwrap_or("");
-                    s.split('"').next().unwrap_or("").parse().unwrap_or(f64::NAN)
+                    s.split('"')
+                        .next()
+                        .unwrap_or("")
+                        .parse()
+                        .unwrap_or(f64::NAN)
                 };
                 let body = t.split_once('>').map_or("", |p| p.1);
                 let body = body.split("</text>").next().unwrap_or("").trim();
@@ -505,7 +510,12 @@ mod tests {
     fn the_map_labels_every_grid_value_of_a_small_grid() {
         let w = [100.0, 300.0, 1000.0];
         let has = |s: &str, t: &str| texts(s).iter().any(|x| x.0 == t);
-        let s = svg("g1015.svg", &w, &[10.0, 15.0], &grid_cells(&w, &[10.0, 15.0]));
+        let s = svg(
+            "g1015.svg",
+            &w,
+            &[10.0, 15.0],
+            &grid_cells(&w, &[10.0, 15.0]),
+        );
         for t in ["10", "15", "100", "300", "1000"] {
             assert!(has(&s, t), "no tick {t}");
         }
@@ -549,7 +559,10 @@ mod tests {
         let label = s.find("U -0.020").expect("label drawn");
         let hatch = s[..label].rfind("stroke-width=\"2\"").expect("hatch drawn");
         let between = &s[hatch..label];
-        let rect = between.split("<rect ").nth(1).expect("a box between hatch and label");
+        let rect = between
+            .split("<rect ")
+            .nth(1)
+            .expect("a box between hatch and label");
         let rect = format!(" {}", rect.split('>').next().unwrap());
         let attr = |k: &str| -> f64 {
             rect.split(&format!(" {k}=\""))
@@ -562,7 +575,10 @@ mod tests {
         let (_, tx, ty) = texts(&s).into_iter().find(|t| t.0 == "U -0.020").unwrap();
         let (tw, _) = ("sans-serif", 17).into_font().box_size("U -0.020").unwrap();
         let (x, y, w, h) = (attr("x"), attr("y"), attr("width"), attr("height"));
-        assert!(x <= tx - tw as f64 / 2.0 && tx + tw as f64 / 2.0 <= x + w, "{rect}");
+        assert!(
+            x <= tx - tw as f64 / 2.0 && tx + tw as f64 / 2.0 <= x + w,
+            "{rect}"
+        );
         assert!(y < ty && ty < y + h, "{rect} {ty}");
     }
 

@@ -12,9 +12,7 @@ mod charts;
 mod map;
 
 pub use axis::{boundary_segment, grid_ticks, supported_box, GridAxis};
-pub use charts::{
-    shown_torques, speed_chart, speed_vs_writhe, writhe_vs_ratio, MAX_TORQUE_SERIES,
-};
+pub use charts::{shown_torques, speed_chart, speed_vs_writhe, writhe_vs_ratio, MAX_TORQUE_SERIES};
 pub use map::{label_stack, regime_map};
 
 use crate::observe::Regime;
@@ -89,4 +87,3 @@ pub fn regime_counts(cells: &[MapCell]) -> ([(Regime, usize); 5], usize) {
 /// Grids with more weight columns than this label each cell with its regime letter only (the
 /// `v_s/v_m` value and the M detail no longer fit in a cell of the 1000 px wide map).
 pub const FULL_LABEL_MAX_COLUMNS: usize = 8;
-
