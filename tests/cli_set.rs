@@ -318,8 +318,9 @@ fn shards_run_with_settings_merge_because_phase_json_records_them() {
     let f = tiny_phase(&d);
     let set = ["--set", "rod.elements=20", "--set", "time.duration=0.05"];
     let mut dirs = Vec::new();
+    let shards = d.join("shards");
     for k in ["1/2", "2/2"] {
-        let out = d.join(format!("s{}", &k[..1]));
+        let out = shards.join(&k[..1]);
         let mut args = vec![
             "phase",
             f.to_str().unwrap(),
@@ -339,6 +340,16 @@ fn shards_run_with_settings_merge_because_phase_json_records_them() {
         );
         let info = std::fs::read_to_string(out.join("phase.json")).unwrap();
         assert!(info.contains("\"rod.elements=20\""), "{info}");
+        if k == "1/2" {
+            // Half done: the command for the missing shard carries the settings.
+            let o = slither(&["status", shards.to_str().unwrap()]);
+            let text = String::from_utf8_lossy(&o.stdout);
+            assert!(
+                text.contains("--shard 2/2")
+                    && text.contains("--set 'rod.elements=20' --set 'time.duration=0.05'"),
+                "{text}"
+            );
+        }
         dirs.push(out);
     }
     let merged = d.join("merged");

@@ -209,15 +209,24 @@ fn phase_status(dir: &Path, p: &PhaseDir) {
         println!("finished: every cell done and the figures written (a rerun replays without simulating)");
     } else {
         println!(
-            "resume: slither phase {} --out {}{}",
+            "resume: slither phase {} --out {}{}{}",
             i.phase_file,
             dir.display(),
             i.shard.map_or(String::new(), |s| format!(
                 " --shard {}/{}",
                 s.index, s.count
-            ))
+            )),
+            set_args(&i.settings)
         );
     }
+}
+
+/// The `--set` arguments a study ran with (from `phase.json`), quoted for a shell.
+fn set_args(settings: &[String]) -> String {
+    settings
+        .iter()
+        .map(|s| format!(" --set '{}'", s.replace('\'', "'\\''")))
+        .collect()
 }
 
 /// A folder of shard directories: each shard, the union and the merge command.
@@ -281,6 +290,17 @@ fn shards_status(dir: &Path, shards: &[(PathBuf, PhaseDir)]) {
             )
         }
     );
+    if let Some((_, p)) = shards.first() {
+        for i in &absent {
+            println!(
+                "run: slither phase {} --shard {i}/{} --out {}{}",
+                p.info.phase_file,
+                count.unwrap_or(0),
+                dir.join(i.to_string()).display(),
+                set_args(&p.info.settings)
+            );
+        }
+    }
     println!(
         "merge when every shard is done: slither merge {} --out {}",
         shards
