@@ -306,6 +306,11 @@ fn shards_status(dir: &Path, shards: &[(PathBuf, PhaseDir)]) {
         shards
             .iter()
             .map(|(d, _)| d.display().to_string())
+            .chain(
+                absent
+                    .iter()
+                    .map(|i| dir.join(i.to_string()).display().to_string())
+            )
             .collect::<Vec<_>>()
             .join(" "),
         dir.join("merged").display()
