@@ -219,12 +219,7 @@ mod tests {
     #[test]
     fn a_stencil_is_linear_and_its_spread_is_the_transpose() {
         let mut seed = 7u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rnd = || 2.0 * crate::fd::uniform(&mut seed);
         let n = dof::count(6);
         let q: Vec<f64> = (0..n).map(|_| rnd()).collect();
         let dq: Vec<f64> = (0..n).map(|_| rnd()).collect();

@@ -30,24 +30,20 @@ impl ContactSet {
     pub fn ground(m: &Model, q: &[f64]) -> Self {
         let law = *m.ground.as_ref().expect("a contact set needs a ground");
         let g = f::norm(m.gravity);
-        let mut contacts = Vec::new();
-        let mut normal = Vec::new();
-        for i in m.real.clone().filter(|&i| !m.fixed[dof::node(i) + 2]) {
-            let z = q[dof::node(i) + 2];
-            normal.push(if z - 0.5 * m.diameter <= 1e-9 * m.diameter {
-                m.mass[dof::node(i)] * g
-            } else {
-                0.0
+        let contacts = m
+            .real
+            .clone()
+            .filter(|&i| !m.fixed[dof::node(i) + 2])
+            .map(|i| {
+                let z = q[dof::node(i) + 2];
+                let normal = if z - 0.5 * m.diameter <= 1e-9 * m.diameter {
+                    m.mass[dof::node(i)] * g
+                } else {
+                    0.0
+                };
+                (Contact::new(Stencil::node(i), law), normal)
             });
-            contacts.push(Contact::new(Stencil::node(i), law));
-        }
-        ContactSet {
-            contacts,
-            pending: normal.clone(),
-            normal,
-            normal_saved: Vec::new(),
-            h: 0.0,
-        }
+        Self::new(contacts.collect())
     }
 
     /// A contact set of the given contacts, each with its initial normal force (N).
