@@ -25,6 +25,12 @@ fn run(problem: &Path, out: &Path, extra: &[&str]) -> Output {
         .unwrap()
 }
 
+/// The command succeeded (else its stderr).
+fn ok(r: &Output) {
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(0), "{err}");
+}
+
 fn bundled(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("problems")
@@ -50,12 +56,7 @@ fn settings_change_the_run_and_the_dumped_problem_reruns_to_the_same_result() {
             dump.to_str().unwrap(),
         ],
     );
-    assert_eq!(
-        r.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    ok(&r);
     let text = std::fs::read_to_string(&dump).unwrap();
     assert!(text.starts_with("# The effective problem of "), "{text}");
     assert!(text.contains("--set rod.elements=12"), "{text}");
@@ -74,12 +75,7 @@ fn settings_change_the_run_and_the_dumped_problem_reruns_to_the_same_result() {
     );
     // The dumped problem reruns to the same final state, bit for bit.
     let r = run(&dump, &d.join("b"), &["--no-plots"]);
-    assert_eq!(
-        r.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    ok(&r);
     assert_eq!(fin, std::fs::read_to_string(d.join("b/final.csv")).unwrap());
 }
 
@@ -269,12 +265,7 @@ fn a_phase_cell_with_settings_dumps_its_problem_which_reruns_to_the_same_result(
         "--dump-problem",
         dump.to_str().unwrap(),
     ]);
-    assert_eq!(
-        r.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    ok(&r);
     let p = slither::problem::load(&dump).unwrap();
     assert_eq!((p.rod.elements, p.time.duration), (20, Some(0.1)));
     // The cell's W = 300 is the base's (set through B, as the study does).
@@ -285,12 +276,7 @@ fn a_phase_cell_with_settings_dumps_its_problem_which_reruns_to_the_same_result(
     );
     let again = d.join("again");
     let r = run(&dump, &again, &["--no-plots"]);
-    assert_eq!(
-        r.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    ok(&r);
     assert_eq!(
         std::fs::read_to_string(cell.join("final.csv")).unwrap(),
         std::fs::read_to_string(again.join("final.csv")).unwrap()
@@ -332,12 +318,7 @@ fn shards_run_with_settings_merge_because_phase_json_records_them() {
         ];
         args.extend(set);
         let r = slither(&args);
-        assert_eq!(
-            r.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&r.stderr)
-        );
+        ok(&r);
         let info = std::fs::read_to_string(out.join("phase.json")).unwrap();
         assert!(info.contains("\"rod.elements=20\""), "{info}");
         if k == "1/2" {
@@ -360,12 +341,7 @@ fn shards_run_with_settings_merge_because_phase_json_records_them() {
         "--out",
         merged.to_str().unwrap(),
     ]);
-    assert_eq!(
-        r.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    ok(&r);
     assert_eq!(
         std::fs::read_to_string(merged.join("phase.csv"))
             .unwrap()

@@ -56,6 +56,19 @@ fn signalled(args: &[&str], out: &Path, sig: i32, delay: Duration) -> (Output, D
     (o, sent.elapsed())
 }
 
+/// Run `args` writing into `out`, send `sig` 300 ms after its lock appears, and check that it
+/// exits with 128 + the signal within 10 s; its stderr.
+fn ended_by(args: &[&str], out: &Path, sig: i32, name: &str) -> String {
+    let (o, took) = signalled(args, out, sig, Duration::from_millis(300));
+    let e = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(128 + sig), "{name}: {e}");
+    assert!(
+        took < Duration::from_secs(10),
+        "{name}: ended {took:?} after the signal"
+    );
+    e
+}
+
 /// No lock and no temporary folder or file left in `out`.
 fn clean(out: &Path, what: &str) {
     let left: Vec<String> = std::fs::read_dir(out)
@@ -83,7 +96,7 @@ fn each_signal_ends_a_run_with_its_data_written() {
     let base = tiny(&dir, 1000.0);
     for (sig, name) in SIGNALS {
         let out = dir.join(name);
-        let (o, took) = signalled(
+        let e = ended_by(
             &[
                 "run",
                 base.to_str().unwrap(),
@@ -93,13 +106,7 @@ fn each_signal_ends_a_run_with_its_data_written() {
             ],
             &out,
             sig,
-            Duration::from_millis(300),
-        );
-        let e = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(128 + sig), "{name}: {e}");
-        assert!(
-            took < Duration::from_secs(10),
-            "{name}: ended {took:?} after the signal"
+            name,
         );
         assert!(e.contains("interrupted") && e.contains(name), "{name}: {e}");
         let j: serde_json::Value =
@@ -131,7 +138,7 @@ fn each_signal_ends_a_phase_study_keeping_it_resumable() {
     .unwrap();
     for (sig, name) in SIGNALS {
         let out = dir.join(name);
-        let (o, took) = signalled(
+        let e = ended_by(
             &[
                 "phase",
                 file.to_str().unwrap(),
@@ -141,13 +148,7 @@ fn each_signal_ends_a_phase_study_keeping_it_resumable() {
             ],
             &out,
             sig,
-            Duration::from_millis(300),
-        );
-        let e = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(128 + sig), "{name}: {e}");
-        assert!(
-            took < Duration::from_secs(10),
-            "{name}: ended {took:?} after the signal"
+            name,
         );
         assert!(
             e.contains("interrupted") && e.contains("resume"),
@@ -181,7 +182,7 @@ fn sigterm_ends_an_optimize_study_and_its_lock() {
     )
     .unwrap();
     let out = dir.join("out");
-    let (o, took) = signalled(
+    let e = ended_by(
         &[
             "optimize",
             file.to_str().unwrap(),
@@ -191,13 +192,7 @@ fn sigterm_ends_an_optimize_study_and_its_lock() {
         ],
         &out,
         libc::SIGTERM,
-        Duration::from_millis(300),
-    );
-    let e = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(143), "{e}");
-    assert!(
-        took < Duration::from_secs(10),
-        "ended {took:?} after the signal"
+        "SIGTERM",
     );
     assert!(e.contains("SIGTERM") && e.contains("resume"), "{e}");
     clean(&out, "optimize");
@@ -237,7 +232,7 @@ fn sighup_ends_a_merge_that_is_refining() {
         })
         .collect();
     let merged = dir.join("merged");
-    let (o, took) = signalled(
+    let e = ended_by(
         &[
             "merge",
             &shards[0],
@@ -247,13 +242,7 @@ fn sighup_ends_a_merge_that_is_refining() {
         ],
         &merged,
         libc::SIGHUP,
-        Duration::from_millis(300),
-    );
-    let e = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(129), "{e}");
-    assert!(
-        took < Duration::from_secs(10),
-        "ended {took:?} after the signal"
+        "SIGHUP",
     );
     assert!(e.contains("SIGHUP") && e.contains("resume"), "{e}");
     clean(&merged, "merge");
