@@ -53,7 +53,7 @@ pub use dispatch::Dispatcher;
 pub use point::{Contact, Frame, Stencil, StencilError, MAX_STENCIL};
 pub use semismooth::SemiSmooth;
 pub use set::ContactSet;
-pub use status::Mode;
+pub use status::ContactStatus;
 
 pub use crate::model::Ground;
 

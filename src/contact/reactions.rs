@@ -22,7 +22,7 @@
 //!   variables, and its convergence test (changes below `[solver] normal_force_tolerance * W /
 //!   n_c`).
 
-use super::{ContactSet, Mode};
+use super::{ContactSet, ContactStatus};
 use crate::band::Assembly;
 use crate::newton::Newton;
 use crate::rod::dof::HALF_BANDWIDTH as W;
@@ -94,7 +94,7 @@ impl Reactions {
 
     /// Capture the rows of the assembled Hessian `asm` (before the held coordinates are
     /// fixed) at the held coordinates of the contacts of `ct` with statuses `mode`.
-    pub fn capture(&mut self, ct: &ContactSet, mode: &[Mode], asm: &Assembly) {
+    pub fn capture(&mut self, ct: &ContactSet, mode: &[ContactStatus], asm: &Assembly) {
         for c in 0..ct.len() {
             let k = ct.node_dof(c);
             for r in mode[c].held() {
@@ -111,7 +111,7 @@ impl Reactions {
 
     /// Predicted change of every touching contact's reactions (statuses `mode`) over the step `dq`, into
     /// `change`; returns the largest normal-force change (N).
-    pub fn predict(&mut self, ct: &ContactSet, mode: &[Mode], dq: &[f64]) -> f64 {
+    pub fn predict(&mut self, ct: &ContactSet, mode: &[ContactStatus], dq: &[f64]) -> f64 {
         let mut worst: f64 = 0.0;
         for c in 0..ct.len() {
             let k = ct.node_dof(c);
@@ -300,7 +300,7 @@ mod tests {
             *g = rnd();
         }
         let nc = ct.len();
-        let mode = vec![Mode::Slide; nc];
+        let mode = vec![ContactStatus::Slide; nc];
         let mut re = Reactions::default();
         re.begin(nc);
         for c in 0..nc {

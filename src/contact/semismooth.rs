@@ -84,7 +84,7 @@
 //! or a contact between nodes, falls back to the conic program ([`super::Dispatcher`]).
 
 use super::reactions::{Reactions, UNCOUPLED};
-use super::status::Mode;
+use super::status::ContactStatus;
 use super::{ContactFailure, ContactSet, ContactStats};
 use crate::model::Model;
 use crate::newton::{Failure, HessianCache, Newton, Objective, Path, Potential};
@@ -121,7 +121,7 @@ struct SlideLin {
 /// The semi-smooth Newton contact solver (`[solver] contact = "semi-smooth"`, the default).
 pub struct SemiSmooth {
     /// Status of every contact at the current iterate.
-    mode: Vec<Mode>,
+    mode: Vec<ContactStatus>,
     /// Normal force variable of every contact (N).
     lambda: Vec<f64>,
     /// Friction force variable of every contact in world `(x, y)` (N).
@@ -164,7 +164,7 @@ struct Scratch {
     lambda0: Vec<f64>,
     force0: Vec<[f64; 2]>,
     /// The statuses of the last iterate (a change marks the residual history).
-    modes_before: Vec<Mode>,
+    modes_before: Vec<ContactStatus>,
     /// The trace's line of cone-edge ratios (`SLITHER_DEBUG=trace` only).
     edge: String,
     /// The merits of the last accepted iterates (at most `[solver] semi_smooth_merit_memory`).
@@ -186,7 +186,7 @@ impl SemiSmooth {
         let nc = ct.len();
         SemiSmooth {
             lambda: ct.normal.clone(),
-            mode: vec![Mode::Free; nc],
+            mode: vec![ContactStatus::Free; nc],
             force: vec![[0.0; 2]; nc],
             lambda_saved: Vec::new(),
             force_saved: Vec::new(),
@@ -414,7 +414,7 @@ impl SemiSmooth {
         s.grad.resize(nc, [0.0; 3]);
         s.lambda_new.resize(nc, 0.0);
         s.force_new.resize(nc, [0.0; 2]);
-        s.modes_before.resize(nc, Mode::Free);
+        s.modes_before.resize(nc, ContactStatus::Free);
     }
 
     /// The force balance's part of `2 theta` with the contact force variables, from the
@@ -463,7 +463,7 @@ impl SemiSmooth {
         let s = &mut self.scratch;
         s.reactions.begin(ct.len());
         for c in 0..ct.len() {
-            if self.mode[c] != Mode::Slide {
+            if self.mode[c] != ContactStatus::Slide {
                 continue;
             }
             let SlideLin { dir, k, mu } = s.slide[c];
@@ -506,12 +506,12 @@ impl SemiSmooth {
         s.target.fill(0.0);
         for c in 0..ct.len() {
             let k = ct.node_dof(c);
-            if self.mode[c] == Mode::Free {
+            if self.mode[c] == ContactStatus::Free {
                 continue;
             }
             s.held[k + 2] = true;
             s.target[k + 2] = 0.5 * m.diameter - q[k + 2];
-            if self.mode[c] == Mode::Stick {
+            if self.mode[c] == ContactStatus::Stick {
                 for j in 0..2 {
                     s.held[k + j] = true;
                     s.target[k + j] = ct.contacts[c].origin[j] - q[k + j];
@@ -591,9 +591,9 @@ impl SemiSmooth {
             let ch = s.reactions.change[c];
             let gr = s.grad[c];
             let (lam, force) = match self.mode[c] {
-                Mode::Free => (0.0, [0.0; 2]),
-                Mode::Stick => (gr[2] + ch[2], [-(gr[0] + ch[0]), -(gr[1] + ch[1])]),
-                Mode::Slide => {
+                ContactStatus::Free => (0.0, [0.0; 2]),
+                ContactStatus::Stick => (gr[2] + ch[2], [-(gr[0] + ch[0]), -(gr[1] + ch[1])]),
+                ContactStatus::Slide => {
                     let lam = gr[2] + ch[2];
                     let SlideLin { dir, k, mu } = s.slide[c];
                     let kk = ct.node_dof(c);
@@ -641,13 +641,13 @@ impl SemiSmooth {
             if alpha == 1.0 {
                 let k = ct.node_dof(c);
                 match self.mode[c] {
-                    Mode::Free => {}
-                    Mode::Stick => {
+                    ContactStatus::Free => {}
+                    ContactStatus::Stick => {
                         q[k] = ct.contacts[c].origin[0];
                         q[k + 1] = ct.contacts[c].origin[1];
                         q[k + 2] = 0.5 * m.diameter;
                     }
-                    Mode::Slide => q[k + 2] = 0.5 * m.diameter,
+                    ContactStatus::Slide => q[k + 2] = 0.5 * m.diameter,
                 }
             }
             self.lambda[c] = s.lambda0[c] + alpha * (s.lambda_new[c] - s.lambda0[c]);
@@ -660,7 +660,7 @@ impl SemiSmooth {
     /// The contact data's normal forces from the variables (touching contacts only).
     pub(crate) fn publish_normals(&self, ct: &mut ContactSet) {
         for c in 0..ct.len() {
-            ct.normal[c] = if self.mode[c] == Mode::Free {
+            ct.normal[c] = if self.mode[c] == ContactStatus::Free {
                 0.0
             } else {
                 self.lambda[c].max(0.0)

@@ -3,7 +3,7 @@
 
 /// Status of a contact at an iterate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mode {
+pub enum ContactStatus {
     /// Off the ground, no force.
     Free,
     /// On the ground, no slip.
@@ -12,14 +12,14 @@ pub enum Mode {
     Slide,
 }
 
-impl Mode {
+impl ContactStatus {
     /// The contact node's coordinates (0, 1, 2: `x, y, z`) held by this status: none when
     /// free, all three when sticking, the height when sliding.
     pub fn held(self) -> std::ops::Range<usize> {
         match self {
-            Mode::Free => 0..0,
-            Mode::Stick => 0..3,
-            Mode::Slide => 2..3,
+            ContactStatus::Free => 0..0,
+            ContactStatus::Stick => 0..3,
+            ContactStatus::Slide => 2..3,
         }
     }
 }

@@ -4,7 +4,7 @@
 //! iterate, per contact.
 
 use super::{SemiSmooth, SlideLin};
-use crate::contact::status::Mode;
+use crate::contact::status::ContactStatus;
 use crate::contact::ContactSet;
 use crate::model::Model;
 
@@ -18,19 +18,19 @@ pub(super) fn norm(v: [f64; 2]) -> f64 {
 
 /// The contacts' statuses as one character each, head first (`.` free, `#` stick, `~`
 /// slide): the debug trace's line per iterate, read by `scripts/status_trace.py`.
-pub(super) fn status_line(mode: &[Mode]) -> String {
+pub(super) fn status_line(mode: &[ContactStatus]) -> String {
     mode.iter()
         .map(|m| match m {
-            Mode::Free => '.',
-            Mode::Stick => '#',
-            Mode::Slide => '~',
+            ContactStatus::Free => '.',
+            ContactStatus::Stick => '#',
+            ContactStatus::Slide => '~',
         })
         .collect()
 }
 
 /// One contact's branch and residual at an iterate.
 struct Branch {
-    mode: Mode,
+    mode: ContactStatus,
     /// `max(0, lambda - rho gap)`.
     n_hat: f64,
     /// `p + rho u`.
@@ -53,11 +53,11 @@ impl SemiSmooth {
         let w = [p[0] + rho * u[0], p[1] + rho * u[1]];
         let wn = norm(w);
         let (proj, mode) = if lam - rho * gap <= 0.0 {
-            ([0.0; 2], Mode::Free)
+            ([0.0; 2], ContactStatus::Free)
         } else if wn <= n_hat {
-            (w, Mode::Stick)
+            (w, ContactStatus::Stick)
         } else {
-            ([n_hat * w[0] / wn, n_hat * w[1] / wn], Mode::Slide)
+            ([n_hat * w[0] / wn, n_hat * w[1] / wn], ContactStatus::Slide)
         };
         Branch {
             mode,
@@ -91,10 +91,10 @@ impl SemiSmooth {
             let rho = self.scratch.rho[c];
             let b = self.branch(ct, m, c, q, rho);
             let mut mode = b.mode;
-            if within && mode == Mode::Slide && self.mode[c] == Mode::Slide {
+            if within && mode == ContactStatus::Slide && self.mode[c] == ContactStatus::Slide {
                 let d = self.scratch.slide[c].dir;
                 if d[0] * b.w[0] + d[1] * b.w[1] < 0.0 {
-                    mode = Mode::Stick;
+                    mode = ContactStatus::Stick;
                 }
             }
             self.mode[c] = mode;
@@ -103,15 +103,15 @@ impl SemiSmooth {
                 // tenth, `X` from 0.999.
                 let r = norm(b.w) / b.n_hat.max(1e-300);
                 self.scratch.edge.push(match mode {
-                    Mode::Free => '.',
-                    Mode::Slide => '~',
-                    Mode::Stick if r >= 0.999 => 'X',
-                    Mode::Stick => char::from(b'0' + (10.0 * r).floor().min(9.0) as u8),
+                    ContactStatus::Free => '.',
+                    ContactStatus::Slide => '~',
+                    ContactStatus::Stick if r >= 0.999 => 'X',
+                    ContactStatus::Stick => char::from(b'0' + (10.0 * r).floor().min(9.0) as u8),
                 });
             }
             sum += (b.phi_n * b.phi_n + b.phi_t[0] * b.phi_t[0] + b.phi_t[1] * b.phi_t[1])
                 / (scale * scale);
-            if mode == Mode::Slide {
+            if mode == ContactStatus::Slide {
                 let wn = norm(b.w);
                 let cc = b.n_hat / wn;
                 let mu_w = g.mu_along(b.w[0]);
