@@ -14,9 +14,12 @@
 //!   the set to the solvers, which are peers: [`semismooth`] (with [`reactions`] and
 //!   [`status`]) and [`conic`].
 //!
-//! Contacts today are the real nodes, with the exact gap `z_i - a/2 >= 0` against the plane
-//! `z = 0` (an incline tilts gravity, not the plane, so gaps stay linear and exact: a sliding
-//! body cannot rise, there is no Anitescu drift to correct).
+//! The ground's contacts are the real nodes (`[solver] ground_points = "nodes"`, the default),
+//! with the exact gap `z_i - a/2 >= 0` against the plane `z = 0` (an incline tilts gravity,
+//! not the plane, so gaps stay linear and exact: a sliding body cannot rise, there is no
+//! Anitescu drift to correct), or one contact per node at the lowest point of a parabola
+//! through it and its neighbours (`"curve"`, [`set::lowest_point`]): a stencil of three nodes
+//! chosen at the start of every step, whose gap is linear and exact within the step.
 //!
 //! At each contact the local frame is: forward `f` = the body tangent at the contact projected
 //! on the ground, toward the head (s decreasing), taken at the start of the step; sideways
@@ -166,10 +169,6 @@ pub enum ContactFailure {
     /// One of Newton's own failures (its building blocks inside the contact iteration).
     #[error(transparent)]
     Newton(#[from] newton::Failure),
-    /// The semi-smooth Newton holds a contact's node coordinates: a contact between nodes is
-    /// the conic program's.
-    #[error("a contact between nodes: the semi-smooth Newton takes contacts at nodes only")]
-    BetweenNodes,
     /// The conic program could not be set up.
     #[error("{message} (Newton iteration {iteration})")]
     ConicSetup {

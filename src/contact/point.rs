@@ -5,10 +5,10 @@
 //! through it: the gap `x_c . e_z - a/2` against the plane `z = 0` (MODEL 3; an incline tilts
 //! gravity, not the plane), the slip `x_c - x_c(origin)` and, transposed, where a contact
 //! force acts (`w_i F` on node `i`). A ground contact at a node is the stencil of one node
-//! with weight 1 ([`Stencil::node`]), the only kind the ground builds today; a point between
-//! nodes (the lowest point of a curve through four nodes, say) is the same type with more
-//! nodes, so the conic program takes it as it is, and a solver that eliminates a contact's
-//! coordinates (the semi-smooth Newton) asks [`Stencil::single`] whether it can.
+//! with weight 1 ([`Stencil::node`]); a point between nodes (the lowest point of the parabola
+//! through three nodes, [`super::set::lowest_point`]) is the same type with more nodes, so
+//! the conic program takes it as it is, and a solver that eliminates a contact's coordinates
+//! (the semi-smooth Newton) asks [`Stencil::single`] whether it can.
 
 use crate::model::Ground;
 use crate::rod::{dof, vec3::f};

@@ -93,9 +93,13 @@ impl Reactions {
     }
 
     /// Capture the rows of the assembled Hessian `asm` (before the held coordinates are
-    /// fixed) at the held coordinates of the contacts of `ct` with statuses `mode`.
+    /// fixed) at the held coordinates of the contacts of `ct` with statuses `mode` (a contact
+    /// between nodes holds none and is given as free).
     pub fn capture(&mut self, ct: &ContactSet, mode: &[ContactStatus], asm: &Assembly) {
         for c in 0..ct.len() {
+            if mode[c] == ContactStatus::Free {
+                continue;
+            }
             let k = ct.node_dof(c);
             for r in mode[c].held() {
                 asm.row(k + r, &mut self.rows[c][r]);
@@ -114,8 +118,11 @@ impl Reactions {
     pub fn predict(&mut self, ct: &ContactSet, mode: &[ContactStatus], dq: &[f64]) -> f64 {
         let mut worst: f64 = 0.0;
         for c in 0..ct.len() {
-            let k = ct.node_dof(c);
             self.change[c] = [0.0; 3];
+            if mode[c] == ContactStatus::Free {
+                continue;
+            }
+            let k = ct.node_dof(c);
             for r in mode[c].held() {
                 self.change[c][r] = row_dot(&self.rows[c][r], k + r, dq);
             }

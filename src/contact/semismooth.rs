@@ -80,8 +80,9 @@
 //! elements and 5e-4 s the first 1.5 s take 3.31 instead of 3.96 iterations per step.
 //!
 //! The solver takes the dispatcher's contact set ([`super::ContactSet`]) and holds each
-//! contact's node coordinates, so it takes contacts at nodes (one-node stencils); a failure,
-//! or a contact between nodes, falls back to the conic program ([`super::Dispatcher`]).
+//! contact's node coordinates; a contact between nodes has none to hold, and its held
+//! components enter the system as an augmented Lagrangian instead ([`between`]). A failure
+//! falls back to the conic program ([`super::Dispatcher`]).
 
 use super::reactions::{Reactions, UNCOUPLED};
 use super::status::ContactStatus;
@@ -92,6 +93,7 @@ use crate::rod::dof::{self, HALF_BANDWIDTH as W};
 use std::collections::VecDeque;
 use std::time::Instant;
 
+mod between;
 mod branches;
 mod step;
 use branches::{norm, status_line};
@@ -165,6 +167,13 @@ struct Scratch {
     force0: Vec<[f64; 2]>,
     /// The statuses of the last iterate (a change marks the residual history).
     modes_before: Vec<ContactStatus>,
+    /// The statuses of the contacts at nodes, with every contact between nodes free: what
+    /// the held coordinates and the reactions see ([`between`] takes the others).
+    node_mode: Vec<ContactStatus>,
+    /// The first coordinate of each contact's node (`None`: a contact between nodes).
+    at_node: Vec<Option<usize>>,
+    /// The augmented-Lagrangian stiffness of each contact between nodes (N/m; [`between`]).
+    rho_al: Vec<f64>,
     /// The trace's line of cone-edge ratios (`SLITHER_DEBUG=trace` only).
     edge: String,
     /// The merits of the last accepted iterates (at most `[solver] semi_smooth_merit_memory`).
@@ -260,6 +269,13 @@ impl SemiSmooth {
             self.scratch.modes_before.copy_from_slice(&self.mode);
             let theta_c = self.branches(ct, m, q, scale, it > 1);
             let switched = it > 1 && self.mode != self.scratch.modes_before;
+            for c in 0..nc {
+                self.scratch.node_mode[c] = if self.scratch.at_node[c].is_some() {
+                    self.mode[c]
+                } else {
+                    ContactStatus::Free
+                };
+            }
             if log::log_enabled!(log::Level::Debug) {
                 log::debug!(
                     "  semi-smooth statuses it {it}: {}",
@@ -339,6 +355,7 @@ impl SemiSmooth {
             } else {
                 since_best += 1;
             }
+            self.add_between(ct, m, nw, q);
             self.add_sliding(ct, nw, q);
             self.hold_targets(ct, m, nw, q);
             let t1 = Instant::now();
@@ -365,7 +382,7 @@ impl SemiSmooth {
                 }
                 .into());
             }
-            let change = self.new_forces(ct, nw, q);
+            let change = self.new_forces(ct, m, nw, q);
             let t3 = Instant::now();
             nw.stats.solve_s += (t3 - t2).as_secs_f64();
             let (dx, dth) = nw.correction_norms();
@@ -407,9 +424,19 @@ impl SemiSmooth {
         let nc = ct.len();
         let penalty = m.solver.semi_smooth_penalty * penalty_factor;
         let s = &mut self.scratch;
+        s.at_node.clear();
+        s.at_node.extend(
+            ct.contacts
+                .iter()
+                .map(|c| c.stencil.single().map(dof::node)),
+        );
         s.rho.clear();
         s.rho
-            .extend((0..nc).map(|c| penalty * m.mass[ct.node_dof(c) + 2] * weight));
+            .extend((0..nc).map(|c| penalty * m.mass[ct.pivot_dof(c) + 2] * weight));
+        s.rho_al.clear();
+        s.rho_al
+            .extend((0..nc).map(|c| between::STIFFNESS * m.mass[ct.pivot_dof(c) + 2] * weight));
+        s.node_mode.resize(nc, ContactStatus::Free);
         s.slide.resize(nc, SlideLin::default());
         s.grad.resize(nc, [0.0; 3]);
         s.lambda_new.resize(nc, 0.0);
@@ -438,9 +465,17 @@ impl SemiSmooth {
         balance.clear();
         balance.extend_from_slice(grad);
         for c in 0..ct.len() {
-            let k = ct.node_dof(c);
-            self.scratch.grad[c] = [grad[k], grad[k + 1], grad[k + 2]];
             let f = self.force[c];
+            let Some(k) = self.scratch.at_node[c] else {
+                for (i, w) in ct.contacts[c].stencil.iter() {
+                    let k = dof::node(i);
+                    balance[k] += w * f[0];
+                    balance[k + 1] += w * f[1];
+                    balance[k + 2] -= w * self.lambda[c];
+                }
+                continue;
+            };
+            self.scratch.grad[c] = [grad[k], grad[k + 1], grad[k + 2]];
             balance[k] += f[0];
             balance[k + 1] += f[1];
             balance[k + 2] -= self.lambda[c];
@@ -461,9 +496,9 @@ impl SemiSmooth {
     /// `(x, y)`, and their normal-force coupling.
     fn add_sliding(&mut self, ct: &ContactSet, nw: &mut Newton, q: &[f64]) {
         let s = &mut self.scratch;
-        s.reactions.begin(ct.len());
+        // (The reactions were begun by `add_between`.)
         for c in 0..ct.len() {
-            if self.mode[c] != ContactStatus::Slide {
+            if s.node_mode[c] != ContactStatus::Slide {
                 continue;
             }
             let SlideLin { dir, k, mu } = s.slide[c];
@@ -501,17 +536,17 @@ impl SemiSmooth {
     /// (targets of the step); the reaction rows captured first.
     fn hold_targets(&mut self, ct: &ContactSet, m: &Model, nw: &mut Newton, q: &[f64]) {
         let s = &mut self.scratch;
-        s.reactions.capture(ct, &self.mode, &nw.asm);
+        s.reactions.capture(ct, &s.node_mode, &nw.asm);
         s.held.copy_from_slice(&m.fixed);
         s.target.fill(0.0);
         for c in 0..ct.len() {
-            let k = ct.node_dof(c);
-            if self.mode[c] == ContactStatus::Free {
+            if s.node_mode[c] == ContactStatus::Free {
                 continue;
             }
+            let k = ct.node_dof(c);
             s.held[k + 2] = true;
             s.target[k + 2] = 0.5 * m.diameter - q[k + 2];
-            if self.mode[c] == ContactStatus::Stick {
+            if s.node_mode[c] == ContactStatus::Stick {
                 for j in 0..2 {
                     s.held[k + j] = true;
                     s.target[k + j] = ct.contacts[c].origin[j] - q[k + j];
@@ -522,8 +557,11 @@ impl SemiSmooth {
         // coordinates have targets, and their rows are the ones just captured.
         let n = m.ndof;
         for c in 0..ct.len() {
+            if s.node_mode[c] == ContactStatus::Free {
+                continue;
+            }
             let k0 = ct.node_dof(c);
-            for r in self.mode[c].held() {
+            for r in s.node_mode[c].held() {
                 let (k, d) = (k0 + r, s.target[k0 + r]);
                 if d == 0.0 {
                     continue;
@@ -583,40 +621,52 @@ impl SemiSmooth {
 
     /// The force variables after the full step (into the scratch), from the reactions'
     /// predicted change; returns the largest change of a force variable (N).
-    fn new_forces(&mut self, ct: &ContactSet, nw: &Newton, q: &[f64]) -> f64 {
-        let s = &mut self.scratch;
-        s.reactions.predict(ct, &self.mode, &nw.dq);
+    fn new_forces(&mut self, ct: &ContactSet, m: &Model, nw: &Newton, q: &[f64]) -> f64 {
+        let node_mode = std::mem::take(&mut self.scratch.node_mode);
+        self.scratch.reactions.predict(ct, &node_mode, &nw.dq);
+        self.scratch.node_mode = node_mode;
         let mut worst: f64 = 0.0;
         for c in 0..ct.len() {
-            let ch = s.reactions.change[c];
-            let gr = s.grad[c];
-            let (lam, force) = match self.mode[c] {
-                ContactStatus::Free => (0.0, [0.0; 2]),
-                ContactStatus::Stick => (gr[2] + ch[2], [-(gr[0] + ch[0]), -(gr[1] + ch[1])]),
-                ContactStatus::Slide => {
-                    let lam = gr[2] + ch[2];
-                    let SlideLin { dir, k, mu } = s.slide[c];
-                    let kk = ct.node_dof(c);
-                    let x = [q[kk] + nw.dq[kk], q[kk + 1] + nw.dq[kk + 1]];
-                    let x0 = ct.contacts[c].origin;
-                    let sl = ct.to_local(c, [x[0] - x0[0], x[1] - x0[1]]);
-                    let u = [mu[0] * sl[0], mu[1] * sl[1]];
-                    let along = u[0] * dir[0] + u[1] * dir[1];
-                    let p = [
-                        lam * dir[0] + k * (u[0] - along * dir[0]),
-                        lam * dir[1] + k * (u[1] - along * dir[1]),
-                    ];
-                    (lam, ct.to_world(c, [mu[0] * p[0], mu[1] * p[1]]))
-                }
+            let (lam, force) = if self.scratch.at_node[c].is_none() {
+                self.between_forces(ct, m, c, q, &nw.dq)
+            } else {
+                self.node_forces(ct, c, q, &nw.dq)
             };
             worst = worst.max((lam - self.lambda[c]).abs()).max(norm([
                 force[0] - self.force[c][0],
                 force[1] - self.force[c][1],
             ]));
-            s.lambda_new[c] = lam;
-            s.force_new[c] = force;
+            self.scratch.lambda_new[c] = lam;
+            self.scratch.force_new[c] = force;
         }
         worst
+    }
+
+    /// Contact `c`'s (at a node) force variables after the step `dq` from `q`: its reactions
+    /// predicted by [`Reactions::predict`] on its branch.
+    fn node_forces(&self, ct: &ContactSet, c: usize, q: &[f64], dq: &[f64]) -> (f64, [f64; 2]) {
+        let s = &self.scratch;
+        let ch = s.reactions.change[c];
+        let gr = s.grad[c];
+        match self.mode[c] {
+            ContactStatus::Free => (0.0, [0.0; 2]),
+            ContactStatus::Stick => (gr[2] + ch[2], [-(gr[0] + ch[0]), -(gr[1] + ch[1])]),
+            ContactStatus::Slide => {
+                let lam = gr[2] + ch[2];
+                let SlideLin { dir, k, mu } = s.slide[c];
+                let kk = ct.node_dof(c);
+                let x = [q[kk] + dq[kk], q[kk + 1] + dq[kk + 1]];
+                let x0 = ct.contacts[c].origin;
+                let sl = ct.to_local(c, [x[0] - x0[0], x[1] - x0[1]]);
+                let u = [mu[0] * sl[0], mu[1] * sl[1]];
+                let along = u[0] * dir[0] + u[1] * dir[1];
+                let p = [
+                    lam * dir[0] + k * (u[0] - along * dir[0]),
+                    lam * dir[1] + k * (u[1] - along * dir[1]),
+                ];
+                (lam, ct.to_world(c, [mu[0] * p[0], mu[1] * p[1]]))
+            }
+        }
     }
 
     /// Save the iterate, its force variables and the direction.
@@ -638,8 +688,7 @@ impl SemiSmooth {
             q[k] = s.q0[k] + alpha * s.dq[k];
         }
         for c in 0..ct.len() {
-            if alpha == 1.0 {
-                let k = ct.node_dof(c);
+            if let Some(k) = s.at_node[c].filter(|_| alpha == 1.0) {
                 match self.mode[c] {
                     ContactStatus::Free => {}
                     ContactStatus::Stick => {

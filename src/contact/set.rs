@@ -2,16 +2,22 @@
 //! dispatcher ([`super::Dispatcher`]) and handed to whichever solver runs the step.
 //!
 //! The ground's contacts are the real nodes that are not clamped in height, each the
-//! one-node stencil of its node. Their frames and slip origins are frozen at the start of
+//! one-node stencil of its node, or (`[solver] ground_points = "curve"`) each node's lowest
+//! point of the curve through it and its neighbours ([`lowest_point`]), chosen again at the
+//! start of every step. Their frames and slip origins are frozen at the start of
 //! every step; the normal forces are the current value of the lagged fixed point (the conic
 //! program) or the published solution (the semi-smooth Newton).
 
 use super::point::{Contact, Frame, Stencil};
 use crate::model::Model;
+use crate::problem::GroundPoints;
 use crate::rod::{dof, vec3::f};
 
 /// Every contact and its normal force.
 pub struct ContactSet {
+    /// With `[solver] ground_points = "curve"`: the node whose neighbourhood each contact
+    /// searches for its lowest point at every step's start (`None`: the contacts stay put).
+    owners: Option<Vec<usize>>,
     /// The contacts.
     pub contacts: Vec<Contact>,
     /// Normal force at each contact (N), the current fixed-point value.
@@ -43,13 +49,23 @@ impl ContactSet {
                 };
                 (Contact::new(Stencil::node(i), law), normal)
             });
-        Self::new(contacts.collect())
+        let mut set = Self::new(contacts.collect());
+        if m.solver.ground_points == GroundPoints::Curve {
+            set.owners = Some(
+                m.real
+                    .clone()
+                    .filter(|&i| !m.fixed[dof::node(i) + 2])
+                    .collect(),
+            );
+        }
+        set
     }
 
     /// A contact set of the given contacts, each with its initial normal force (N).
     pub fn new(contacts: Vec<(Contact, f64)>) -> Self {
         let (contacts, normal): (Vec<Contact>, Vec<f64>) = contacts.into_iter().unzip();
         ContactSet {
+            owners: None,
             contacts,
             pending: normal.clone(),
             normal,
@@ -79,10 +95,18 @@ impl ContactSet {
         dof::node(i)
     }
 
-    /// Whether every contact sits at a node.
-    pub fn all_at_nodes(&self) -> bool {
-        self.contacts.iter().all(|c| c.stencil.single().is_some())
+    /// The first coordinate of the node of contact `c`'s stencil with the largest weight:
+    /// whose mass scales the contact's penalties.
+    pub(crate) fn pivot_dof(&self, c: usize) -> usize {
+        let (mut best, mut weight) = (0, f64::NEG_INFINITY);
+        for (i, w) in self.contacts[c].stencil.iter() {
+            if w > weight {
+                (best, weight) = (i, w);
+            }
+        }
+        dof::node(best)
     }
+
 
     /// Mean weight per contact (N): the scale of normal-force tolerances.
     pub fn weight_scale(&self, m: &Model) -> f64 {
@@ -93,6 +117,11 @@ impl ContactSet {
     /// (from `origin`), and save the normal forces.
     pub fn begin_step(&mut self, m: &Model, q: &[f64], origin: &[f64], h: f64) {
         self.h = h;
+        if let Some(owners) = &self.owners {
+            for (c, &i) in self.contacts.iter_mut().zip(owners) {
+                c.stencil = lowest_point(m, q, i);
+            }
+        }
         for c in &mut self.contacts {
             // Toward the head: from the node after the point to the one before it (ends
             // one-sided), on the ground.
@@ -167,4 +196,56 @@ impl ContactSet {
             }
         }
     }
+}
+
+/// The lowest point of the body near real node `i` at `q`: the minimum over the half element
+/// on either side of `i` of the parabola through the heights of `i` and its two neighbours (at
+/// an end, the end node and the next two, over the half element inward), as the stencil of
+/// those three nodes. A parabola that does not sag (`c <= 0`: straight or arched) lies above
+/// its chords, so the node itself is the lowest point that matters; the vertex of one that
+/// does is taken with a regularisation `t = -s c / (c^2 + tau^2)`, `tau = 1e-6 a`, so that the
+/// point moves continuously as the curve flattens and a flat body's points sit on its nodes.
+/// A neighbour clamped in height keeps the contact at the node.
+pub fn lowest_point(m: &Model, q: &[f64], i: usize) -> Stencil {
+    let (lo, hi) = (m.real.start, m.real.end - 1);
+    if hi - lo < 2 {
+        return Stencil::node(i);
+    }
+    // Three nodes and the node's position among them (element units, -1, 0, 1 about the
+    // middle one), and the interval of the parameter.
+    let (mid, range) = if i == lo {
+        (lo + 1, (-1.0, -0.5))
+    } else if i == hi {
+        (hi - 1, (0.5, 1.0))
+    } else {
+        (i, (-0.5, 0.5))
+    };
+    let nodes = [mid - 1, mid, mid + 1];
+    if nodes.iter().any(|&k| m.fixed[dof::node(k) + 2]) {
+        return Stencil::node(i);
+    }
+    let z = nodes.map(|k| q[dof::node(k) + 2]);
+    let s = 0.5 * (z[2] - z[0]);
+    let c = z[2] - 2.0 * z[1] + z[0];
+    let node_t = if i == lo {
+        -1.0
+    } else if i == hi {
+        1.0
+    } else {
+        0.0
+    };
+    let t = if c > 0.0 {
+        let tau = 1e-6 * m.diameter;
+        // The vertex relative to the node, regularised, then clamped to the node's interval.
+        let vertex = -s / c;
+        let blend = c * c / (c * c + tau * tau);
+        (node_t + blend * (vertex - node_t)).clamp(range.0, range.1)
+    } else {
+        node_t
+    };
+    if t == node_t {
+        return Stencil::node(i);
+    }
+    let w = [0.5 * t * (t - 1.0), 1.0 - t * t, 0.5 * t * (t + 1.0)];
+    Stencil::new(&nodes, &w).expect("three distinct nodes with finite weights")
 }

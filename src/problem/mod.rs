@@ -24,7 +24,8 @@ pub use ground::GroundSpec;
 pub use initial::{InitialSpec, Shape};
 pub use self_contact::SelfContactSpec;
 pub use solver::{
-    set_overrides, ContactKind, IntegratorKind, Overrides, SolverSpec, RETIRED_ACTIVE_SET,
+    set_overrides, ContactKind, GroundPoints, IntegratorKind, Overrides, SolverSpec,
+    RETIRED_ACTIVE_SET,
 };
 pub use time::Adaptive;
 

@@ -37,6 +37,10 @@ pub struct SolverSpec {
     /// retired and is refused by [`check_retired`].
     #[serde(default)]
     pub contact: ContactKind,
+    /// Where the ground touches the body: at the nodes, or between them on a curve through
+    /// them ([`crate::contact::set`]) ([`keys::SOLVER_GROUND_POINTS`]).
+    #[serde(default)]
+    pub ground_points: GroundPoints,
     /// Line search: largest number of step halvings (backtracks) per Newton iterate before
     /// the step fails ([`keys::SOLVER_MAX_BACKTRACKS`]).
     #[serde(default = "d_backtracks")]
@@ -150,6 +154,18 @@ pub enum ContactKind {
     SemiSmooth,
 }
 
+/// `[solver] ground_points`.
+#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum GroundPoints {
+    /// A contact at every node.
+    #[default]
+    Nodes,
+    /// A contact per node at the lowest point of the parabola through the node and its two
+    /// neighbours, within half an element of the node.
+    Curve,
+}
+
 fn d_certificate() -> usize {
     keys::SOLVER_CONIC_CERTIFICATE.int() as usize
 }
@@ -222,6 +238,7 @@ impl Default for SolverSpec {
             max_halvings: d_halvings(),
             integrator: IntegratorKind::Implicit,
             contact: ContactKind::SemiSmooth,
+            ground_points: GroundPoints::Nodes,
             max_backtracks: d_backtracks(),
             armijo: d_armijo(),
             line_search_noise: d_noise(),

@@ -51,11 +51,6 @@ impl SemiSmooth {
         q: &mut [f64],
     ) -> Result<usize, (ContactFailure, usize)> {
         let m = obj.model;
-        if !ct.all_at_nodes() {
-            // The held coordinates of a contact are its node's: a contact between nodes is
-            // the conic program's.
-            return Err((ContactFailure::BetweenNodes, 0));
-        }
         self.q_init.copy_from_slice(q);
         let retries = &RETRY_PENALTIES[..m.solver.semi_smooth_retries.min(RETRY_PENALTIES.len())];
         let mut spent = 0;
