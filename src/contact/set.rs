@@ -107,7 +107,6 @@ impl ContactSet {
         dof::node(best)
     }
 
-
     /// Mean weight per contact (N): the scale of normal-force tolerances.
     pub fn weight_scale(&self, m: &Model) -> f64 {
         (m.total_mass() * f::norm(m.gravity) / self.len().max(1) as f64).max(1e-300)
