@@ -159,6 +159,15 @@ say("map.certain_cells", int(certain.sum()), "{:d}")
 for k in "SMFNU":
     say(f"map.cells_{k}", int((lab == k).sum()), "{:d}")
     say(f"map.certain_cells_{k}", int(((lab == k) & certain).sum()), "{:d}")
+# M ("moves, not an S-start"): which S criteria its cells miss (regime_detail).
+detail = Counter(r["regime_detail"] for r in rows if r["regime"] == "M")
+for d, n in sorted(detail.items()):
+    say(f"map.M_missing.{d}", n, "{:d}")
+say("map.M_missing_heading_only_or_with_others",
+    sum(n for d, n in detail.items() if "heading" in d.split(";")), "{:d}")
+say("map.M_missing_two_arcs", sum(n for d, n in detail.items() if "two_arcs" in d.split(";")), "{:d}")
+say("map.M_missing_pulse", sum(n for d, n in detail.items()
+                               if {"pulse_fit", "pulse_speed"} & set(d.split(";"))), "{:d}")
 
 # Fig. 3a: writhe against W/G. The paper plots Wr at one snapshot (writhe_snapshot, when
 # couple b passes mid-body); the largest |writhe| (writhe_max) is given beside it.
