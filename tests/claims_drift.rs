@@ -80,7 +80,12 @@ fn record_links(page: &str, dir: &Path) -> Vec<Link> {
                 continue;
             }
             let record = normalize(&dir.join(&target));
-            links.push(Link { line: n + 1, text: text.to_string(), record, key });
+            links.push(Link {
+                line: n + 1,
+                text: text.to_string(),
+                record,
+                key,
+            });
         }
     }
     links
@@ -108,8 +113,11 @@ fn next_number(s: &str, from: usize) -> Option<(String, f64)> {
     while i < b.len() {
         let c = b[i];
         let starts = c.is_ascii_digit()
-            || ((c == b'-' || c == b'+' || c == b'.') && i + 1 < b.len() && b[i + 1].is_ascii_digit());
-        let prev_ok = i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
+            || ((c == b'-' || c == b'+' || c == b'.')
+                && i + 1 < b.len()
+                && b[i + 1].is_ascii_digit());
+        let prev_ok =
+            i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
         if starts && prev_ok {
             let mut j = i + 1;
             while j < b.len() && (b[j].is_ascii_digit() || b[j] == b'.') {
@@ -148,8 +156,14 @@ fn locate(output: &str, key: &str) -> Result<usize, String> {
                 None => return Err(format!("key anchor {anchor:?} not found")),
             };
             let first = anchor.as_bytes()[0];
-            let prev = if i > 0 { output.as_bytes()[i - 1] } else { b' ' };
-            if first.is_ascii_alphanumeric() && (prev.is_ascii_alphanumeric() || prev == b'_' || prev == b'.') {
+            let prev = if i > 0 {
+                output.as_bytes()[i - 1]
+            } else {
+                b' '
+            };
+            if first.is_ascii_alphanumeric()
+                && (prev.is_ascii_alphanumeric() || prev == b'_' || prev == b'.')
+            {
                 pos = i + 1;
                 continue;
             }
@@ -172,7 +186,15 @@ fn record_problems(header: &str) -> Vec<String> {
         header
             .lines()
             .find(|l| l.starts_with(&format!("| {name} |")))
-            .map(|l| l.splitn(3, '|').nth(2).unwrap_or("").trim().trim_end_matches('|').trim().to_string())
+            .map(|l| {
+                l.splitn(3, '|')
+                    .nth(2)
+                    .unwrap_or("")
+                    .trim()
+                    .trim_end_matches('|')
+                    .trim()
+                    .to_string()
+            })
     };
     match field("exit code") {
         Some(c) if c == "0" => {}
@@ -187,7 +209,9 @@ fn record_problems(header: &str) -> Vec<String> {
     let command = field("command").unwrap_or_default();
     for private in ["/work/", "/tmp/"] {
         if command.contains(private) {
-            bad.push(format!("its command names a private path ({private}): {command}"));
+            bad.push(format!(
+                "its command names a private path ({private}): {command}"
+            ));
         }
     }
     bad
@@ -210,19 +234,24 @@ fn check_link(link: &Link, record_text: &str) -> Result<String, String> {
     let quoted = link.text.trim();
     match quoted.parse::<f64>() {
         Ok(q) => {
-            let (found, v) = next_number(output, pos).ok_or_else(|| format!("no number after key {key:?}"))?;
+            let (found, v) =
+                next_number(output, pos).ok_or_else(|| format!("no number after key {key:?}"))?;
             // Rounded to the quoted decimals, the record's value is the quoted one: within half
             // a unit of its last digit (a value exactly half-way may round either way).
             let half = 0.5 * 10f64.powi(-decimals(quoted));
             if (v - q).abs() > half * (1.0 + 1e-9) {
-                return Err(format!("quotes {quoted} for key {key:?}, the record has {found}"));
+                return Err(format!(
+                    "quotes {quoted} for key {key:?}, the record has {found}"
+                ));
             }
             Ok(format!("{quoted} = {found} ({key})"))
         }
         Err(_) => {
             let rest = output[pos..].lines().next().unwrap_or("").trim();
             if rest != quoted {
-                return Err(format!("quotes {quoted:?} for key {key:?}, the record has {rest:?}"));
+                return Err(format!(
+                    "quotes {quoted:?} for key {key:?}, the record has {rest:?}"
+                ));
             }
             Ok(format!("{quoted:?} ({key})"))
         }
@@ -252,7 +281,11 @@ fn untagged_numbers(page: &str) -> Vec<String> {
         let cells = split_row(line);
         if let Some(name) = pending.take() {
             column = cells.iter().position(|c| c.trim() == name);
-            assert!(column.is_some(), "line {}: no column {name:?} in the table", n + 1);
+            assert!(
+                column.is_some(),
+                "line {}: no column {name:?} in the table",
+                n + 1
+            );
             continue;
         }
         let Some(col) = column else { continue };
@@ -263,9 +296,15 @@ fn untagged_numbers(page: &str) -> Vec<String> {
         let stripped = strip_tagged(&cell);
         let mut from = 0;
         while let Some((t, _)) = next_number(&stripped, from) {
-            let at = stripped[from..].find(&t).map_or(stripped.len(), |i| from + i);
+            let at = stripped[from..]
+                .find(&t)
+                .map_or(stripped.len(), |i| from + i);
             if t.contains('.') {
-                bad.push(format!("line {}: untagged number {t} in {:?}", n + 1, stripped.trim()));
+                bad.push(format!(
+                    "line {}: untagged number {t} in {:?}",
+                    n + 1,
+                    stripped.trim()
+                ));
             }
             from = at + t.len().max(1);
         }
@@ -316,7 +355,9 @@ fn strip_tagged(cell: &str) -> String {
                     let inner = &cell[after..after + end];
                     let titled = inner.contains(" \"");
                     let end_at = if titled {
-                        cell[after..].find("\")").map_or(after + end + 1, |e| after + e + 2)
+                        cell[after..]
+                            .find("\")")
+                            .map_or(after + end + 1, |e| after + e + 2)
                     } else {
                         after + end + 1
                     };
@@ -346,7 +387,10 @@ fn check_page(name: &str, text: &str) -> (Vec<String>, Vec<String>) {
         };
         match result {
             Ok(d) => ok.push(format!("{name}:{}: {d}", link.line)),
-            Err(e) => bad.push(format!("{name}:{}: [{}]({}): {e}", link.line, link.text, link.record)),
+            Err(e) => bad.push(format!(
+                "{name}:{}: [{}]({}): {e}",
+                link.line, link.text, link.record
+            )),
         }
     }
     for u in untagged_numbers(text) {
@@ -362,14 +406,24 @@ fn quoted_numbers_are_their_records() {
     for page in PAGES {
         let text = std::fs::read_to_string(repo(page)).expect(page);
         let (bad, ok) = check_page(page, &text);
-        tagged += ok.iter().filter(|d| !d.ends_with("(record checked)")).count();
+        tagged += ok
+            .iter()
+            .filter(|d| !d.ends_with("(record checked)"))
+            .count();
         for d in &ok {
             println!("ok {d}");
         }
         all_bad.extend(bad);
     }
-    assert!(tagged > 20, "only {tagged} tagged numbers: is the markup still read?");
-    assert!(all_bad.is_empty(), "numbers that drifted or records that may not be cited:\n{}", all_bad.join("\n"));
+    assert!(
+        tagged > 20,
+        "only {tagged} tagged numbers: is the markup still read?"
+    );
+    assert!(
+        all_bad.is_empty(),
+        "numbers that drifted or records that may not be cited:\n{}",
+        all_bad.join("\n")
+    );
 }
 
 #[test]
@@ -382,13 +436,29 @@ fn a_changed_number_fails() {
         .expect("the README quotes a tagged number");
     let mut changed = link.text.clone();
     let last = changed.pop().unwrap();
-    changed.push(if last == '9' { '8' } else { char::from(last as u8 + 1) });
-    let needle = format!("[{}]({} \"{}\")", link.text, link.record, link.key.as_deref().unwrap());
+    changed.push(if last == '9' {
+        '8'
+    } else {
+        char::from(last as u8 + 1)
+    });
+    let needle = format!(
+        "[{}]({} \"{}\")",
+        link.text,
+        link.record,
+        link.key.as_deref().unwrap()
+    );
     assert!(text.contains(&needle), "cannot find {needle}");
     let edited = text.replacen(&needle, &needle.replacen(&link.text, &changed, 1), 1);
     let (bad, _) = check_page("README.md", &edited);
-    println!("README's {} changed to {changed}:\n{}", link.text, bad.join("\n"));
-    assert!(bad.iter().any(|b| b.contains(&changed)), "the check missed {changed}");
+    println!(
+        "README's {} changed to {changed}:\n{}",
+        link.text,
+        bad.join("\n")
+    );
+    assert!(
+        bad.iter().any(|b| b.contains(&changed)),
+        "the check missed {changed}"
+    );
 }
 
 #[test]
