@@ -276,6 +276,11 @@ say("growth.S_sizes_cm", " ".join(f"{d:.3g}" for d, l, c, r in labels if l == "S
 say("growth.certain_sizes", sum(c for d, l, c, r in labels), "{:d}")
 say("growth.sizes_above_2.5cm", sum(d > 2.5 for d, l, c, r in labels), "{:d}")
 say("growth.certain_above_2.5cm", sum(c for d, l, c, r in labels if d > 2.5), "{:d}")
+big = [p for p in gj["points"] if p["diameter"] > 0.025]
+say("growth.above_2.5cm_U", sum(p["regime"] == "U" for p in big), "{:d}")
+say("growth.above_2.5cm_backward_in_a_run", sum(min(p["v_s_over_v_m_range"]) <= -0.01 for p in big), "{:d}")
+say("growth.at_1cm_regime", labels[0][1])
+say("growth.at_1cm_v_s_over_v_m", gj["points"][0]["v_s_over_v_m"])
 say("growth.W_over_G_at_1cm", labels[0][3], "{:.3g}")
 say("growth.W_over_G_at_10cm", labels[-1][3], "{:.3g}")
 print("growth.verdict", gj.get("verdict", "-"))
