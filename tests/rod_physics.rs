@@ -294,7 +294,7 @@ fn order(a: f64, b: f64, c: f64) -> f64 {
     ((a - b).abs() / (b - c).abs()).log2()
 }
 
-/// Observed convergence orders of the cantilever tip (printed; stated in the README).
+/// Observed convergence orders of the cantilever tip (printed; a run is in the legacy record).
 #[test]
 fn convergence_orders_in_time_and_space() {
     // Time: tip height at t = 0.3 s of a cantilever released from straight (first period

@@ -37,8 +37,8 @@
 //! forces, converged together with Newton), so at convergence the contact forces satisfy
 //! exact Coulomb complementarity: stiction inside the cone, sliding on its boundary.
 //!
-//! The active-set solver (contact statuses held and verified, the default before the
-//! semi-smooth Newton) was retired: no bundled scene needed it (record `active-set-need`).
+//! There is no active-set solver (contact statuses held from one iterate and verified): no
+//! bundled scene needs one (record `active-set-need`).
 //!
 //! The dispatcher owns its outcomes: its statistics ([`ContactStats`]) and its failures
 //! ([`ContactFailure`], which wraps Newton's own).

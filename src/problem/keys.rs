@@ -370,7 +370,7 @@ keys! {
     SOLVER_INTEGRATOR = "solver.integrator", "", Word("implicit"), Text("\"implicit\", \"bdf2\" or \"explicit\""), "",
         "Time integrator: implicit Euler, second-order BDF2 (same Newton and contact), or velocity Verlet (the explicit reference: no ground, dynamic mode, stable only below a step limit).";
     SOLVER_CONTACT = "solver.contact", "", Word("semi-smooth"), Text("\"semi-smooth\" or \"conic\""), "",
-        "Contact solver: a semi-smooth Newton on the Alart-Curnier conditions (every status from each iterate; the conic program as fallback and certificate), or one Clarabel program per Newton iterate (`SLITHER_CONTACT=conic` overrides it). The active set (`\"active-set\"`, the default before) was retired: record `active-set-need`.";
+        "Contact solver: a semi-smooth Newton on the Alart-Curnier conditions (every status from each iterate; the conic program as fallback and certificate), or one Clarabel program per Newton iterate (`SLITHER_CONTACT=conic` overrides it). There is no active-set solver: no bundled scene needs one (record `active-set-need`).";
     SOLVER_GROUND_POINTS = "solver.ground_points", "", Word("nodes"), Text("\"nodes\" or \"curve\""), "",
         "Where the ground touches the body: at the nodes, or at each node's lowest point of the parabola through it and its two neighbours, within half an element of it, chosen at every step's start (a contact between nodes, moving along the body as it lands and lifts; the semi-smooth Newton holds it by an augmented Lagrangian). The guide's \"Ground contact between the nodes\" has the measurements.";
     SOLVER_MAX_BACKTRACKS = "solver.max_backtracks", "", Int(40), Range::Int { lo: 1, hi: 200 }, "",
@@ -384,7 +384,7 @@ keys! {
     SOLVER_SHIFT_TRIES = "solver.shift_tries", "", Int(12), Range::Int { lo: 1, hi: 30 }, "",
         "Diagonal shift retries before the step fails.";
     SOLVER_SEMI_SMOOTH_MAX_ITERATIONS = "solver.semi_smooth_max_iterations", "", Int(100), Range::Int { lo: 1, hi: 10_000 }, "",
-        "Semi-smooth contact: Newton iterations of one attempt before it retries or the conic program takes over (capped by `max_iterations`). Replaces `active_set_max_iterations`, retired with the active set.";
+        "Semi-smooth contact: Newton iterations of one attempt before it retries or the conic program takes over (capped by `max_iterations`).";
     SOLVER_SEMI_SMOOTH_MERIT_MEMORY = "solver.semi_smooth_merit_memory", "", Int(8), Range::Int { lo: 1, hi: 100 }, "",
         "Semi-smooth contact: a full step is accepted when its merit falls enough below the largest of the last this many accepted iterates' (a non-monotone line search); after as many iterates without a new lowest merit the test is against the last iterate again; 1 is the monotone test.";
     SOLVER_SEMI_SMOOTH_PENALTY = "solver.semi_smooth_penalty", "multiple of the node's inertia stiffness", Real(10.0), open_closed(0.0, 1e4), "",
