@@ -335,9 +335,9 @@ fn split_row(line: &str) -> Vec<String> {
 fn strip_tagged(cell: &str) -> String {
     let mut out = String::new();
     let mut in_code = false;
-    let mut chars = cell.char_indices().peekable();
+    let chars = cell.char_indices();
     let mut skip_to = 0;
-    while let Some((i, c)) = chars.next() {
+    for (i, c) in chars {
         if i < skip_to {
             continue;
         }

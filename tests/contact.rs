@@ -1,7 +1,6 @@
 //! Ground contact and anisotropic Coulomb friction against analytic results
 //! (issue: ground contact as a conic program).
 mod common;
-use common::model;
 use slither::contact::Dispatcher;
 use slither::integrator::{Integrator, Natural};
 use slither::model::Model;
@@ -12,42 +11,7 @@ const G: f64 = 9.81;
 const MU: [f64; 3] = [0.11, 0.14, 0.20];
 
 fn scene(heading: f64, velocity: [f64; 3], incline: f64, height: f64, duration: f64) -> Model {
-    scene_with(heading, velocity, incline, height, duration, "implicit")
-}
-
-/// The scene with `[solver] integrator = integrator`.
-fn scene_with(
-    heading: f64,
-    velocity: [f64; 3],
-    incline: f64,
-    height: f64,
-    duration: f64,
-    integrator: &str,
-) -> Model {
-    model(&format!(
-        r#"
-[rod]
-length = 1.0
-diameter = 0.02
-elements = 20
-bending_stiffness = 1e-2
-[initial]
-heading_deg = {heading}
-velocity = [{}, {}, {}]
-height = {height}
-[ground]
-mu_forward = {}
-mu_backward = {}
-mu_sideways = {}
-incline_deg = {incline}
-[time]
-dt = 1e-3
-duration = {duration}
-[solver]
-integrator = "{integrator}"
-"#,
-        velocity[0], velocity[1], velocity[2], MU[0], MU[1], MU[2]
-    ))
+    common::rod_on_ground(heading, velocity, incline, height, duration, "implicit", MU)
 }
 
 /// Step to the end, calling `each` after every step.
@@ -112,13 +76,14 @@ fn stop_distance_path(heading: f64, v: [f64; 3], mu: f64, active: bool) {
 }
 
 fn stop_distance_with(heading: f64, v: [f64; 3], mu: f64, active: bool, integrator: &str) {
-    let m = scene_with(
+    let m = common::rod_on_ground(
         heading,
         v,
         0.0,
         0.0,
         1.1 * f::norm(v) / (mu * G),
         integrator,
+        MU,
     );
     let c0 = State::initial(&m).centroid(&m);
     let ceiling = 0.5 * m.diameter * (1.0 + 2e-6);
@@ -163,7 +128,7 @@ fn incline_with(heading: f64, mu: f64, active: bool, integrator: &str) {
     let critical = mu.atan().to_degrees();
     // Below the threshold: stays put.
     let below = critical - 2.0;
-    let m = scene_with(heading, [0.0; 3], below, 0.0, 1.0, integrator);
+    let m = common::rod_on_ground(heading, [0.0; 3], below, 0.0, 1.0, integrator, MU);
     let c0 = State::initial(&m).centroid(&m);
     let (s, _) = simulate_path(&m, active, |_, _| {});
     let drift = f::norm(f::sub(s.centroid(&m), c0));
@@ -171,7 +136,7 @@ fn incline_with(heading: f64, mu: f64, active: bool, integrator: &str) {
     assert!(drift < 1e-9, "crept by {drift} m below the threshold");
     // Above: slides down with acceleration g (sin - mu cos).
     let above = critical + 4.0;
-    let m = scene_with(heading, [0.0; 3], above, 0.0, 0.5, integrator);
+    let m = common::rod_on_ground(heading, [0.0; 3], above, 0.0, 0.5, integrator, MU);
     let (s, _) = simulate_path(&m, active, |_, _| {});
     let vx: f64 = m.real.clone().map(|i| s.node_velocity(i)[0]).sum::<f64>() / m.real.len() as f64;
     let acc = -vx / s.t;
@@ -226,7 +191,7 @@ fn dropped_rod_comes_to_rest_without_gaining_energy() {
 /// step: the largest height (above resting on the ground, as a fraction of the diameter) any
 /// node reaches after the first touchdown, and the largest upward node speed after it.
 fn bounce_after_drop(integrator: &str, dt: f64, height: f64) -> (f64, f64) {
-    let m = scene_with(0.0, [0.0; 3], 0.0, height, 0.25, integrator);
+    let m = common::rod_on_ground(0.0, [0.0; 3], 0.0, height, 0.25, integrator, MU);
     let mut integ = Integrator::new(&m, Box::new(Natural));
     let mut s = State::initial(&m);
     let mut landed = false;
@@ -279,174 +244,6 @@ fn bad_ground_keys_are_rejected_with_the_key_named() {
             "{line}: {err}"
         );
     }
-}
-
-/// A dispatcher whose contacts are the middle of every segment of `m` (a stencil of its two
-/// nodes with weights 1/2) instead of the nodes, each starting with an equal share of the
-/// weight; `semismooth`: the semi-smooth Newton (else the conic program alone).
-fn midpoints(m: &Model, semismooth: bool) -> (Dispatcher, Vec<slither::contact::Contact>) {
-    use slither::contact::{Contact, ContactSet, Stencil};
-    let law = *m.ground.as_ref().unwrap();
-    let weight = m.total_mass() * f::norm(m.gravity);
-    let contacts: Vec<Contact> = m
-        .real
-        .clone()
-        .take(m.real.len() - 1)
-        .map(|i| Contact::new(Stencil::new(&[i, i + 1], &[0.5, 0.5]).unwrap(), law))
-        .collect();
-    let n = contacts.len() as f64;
-    let set = ContactSet::new(contacts.iter().map(|c| (c.clone(), weight / n)).collect());
-    (Dispatcher::with_set(m, set, semismooth), contacts)
-}
-
-/// Contacts between nodes: the ground's contacts replaced by one at the middle of every
-/// segment ([`midpoints`]), which hold no node coordinate. The semi-smooth Newton takes them
-/// (their held components as an augmented Lagrangian), with no conic fallback; the conic
-/// program takes them as they are. A straight rod sliding forward on them stops after
-/// `v0^2 / (2 mu_f g)` as with contacts at the nodes (the stop depends on the friction law,
-/// not on where the contacts sit), no midpoint sinks below the ground by more than `1e-9 a`,
-/// and the normal forces spread to the nodes carry the weight.
-#[test]
-fn contacts_between_nodes_stop_a_sliding_rod_with_either_solver() {
-    let v = [0.5, 0.0, 0.0];
-    let m = scene(0.0, v, 0.0, 0.0, 1.1 * f::norm(v) / (MU[0] * G));
-    let weight = m.total_mass() * G;
-    for semismooth in [true, false] {
-        let (dispatcher, contacts) = midpoints(&m, semismooth);
-        let mut integ = Integrator::new(&m, Box::new(Natural));
-        integ.set_contact(Some(Box::new(dispatcher)));
-        let mut s = State::initial(&m);
-        let c0 = s.centroid(&m);
-        let steps = (m.duration / m.dt).round() as usize;
-        for _ in 0..steps {
-            integ.step(&mut s, m.dt).unwrap();
-            for c in &contacts {
-                let gap = c.gap(&s.q, m.diameter);
-                assert!(
-                    gap >= -1e-9 * m.diameter,
-                    "a midpoint {gap:e} m below the ground at t = {}",
-                    s.t
-                );
-            }
-        }
-        let st = integ.stats();
-        println!(
-            "semi-smooth {semismooth}: {} steps, {} semi-smooth steps, {} fallbacks, {} conic solves, {:.2} Newton iterations per step",
-            st.steps,
-            st.contact.semismooth_steps,
-            st.contact.semismooth_fallbacks,
-            st.contact.conic_solves,
-            st.newton_iterations as f64 / st.steps as f64
-        );
-        if semismooth {
-            assert_eq!(st.contact.semismooth_steps, st.steps);
-            assert_eq!(st.contact.semismooth_fallbacks, 0);
-        } else {
-            assert_eq!(st.contact.semismooth_steps, 0);
-        }
-        let d = f::norm(f::sub(s.centroid(&m), c0));
-        let expected = f::dot(v, v) / (2.0 * MU[0] * G);
-        println!("stopped after {d:.6} m (analytic {expected:.6} m)");
-        assert!((d / expected - 1.0).abs() < 0.01, "{d} against {expected}");
-        let speed = f::norm(s.node_velocity(m.real.start));
-        assert!(speed < 1e-9, "still moving at {speed}");
-        let carried: f64 = integ.normal_forces().iter().sum();
-        println!("normal forces {carried:.9} N against the weight {weight:.9} N");
-        assert!(
-            (carried / weight - 1.0).abs() < 1e-6,
-            "{carried} against {weight}"
-        );
-    }
-}
-
-/// On contacts between nodes ([`midpoints`], the semi-smooth Newton) a rod on an incline
-/// sticks below the friction angle (drift below 1e-9 m in 1 s) and slides above it with the
-/// analytic acceleration `g (sin b - mu cos b)` to 1e-6 (measured 1.6e-8 at most), with no
-/// conic fallback: Coulomb's law exact at contacts that hold no node coordinate. Mutation: the
-/// augmented Lagrangian's normal-force update without the step's move (`lambda' = lambda - rho
-/// r_z`, `src/contact/semismooth/between.rs`) makes steps fall back to the conic program, fails.
-#[test]
-fn contacts_between_nodes_stick_and_slide_on_an_incline_as_coulomb_says() {
-    for (heading, mu) in [(0.0, MU[1]), (90.0, MU[2])] {
-        let critical = f64::atan(mu).to_degrees();
-        for (incline, duration) in [(critical - 2.0, 1.0), (critical + 4.0, 0.5)] {
-            let m = scene(heading, [0.0; 3], incline, 0.0, duration);
-            let mut integ = Integrator::new(&m, Box::new(Natural));
-            integ.set_contact(Some(Box::new(midpoints(&m, true).0)));
-            let mut s = State::initial(&m);
-            let c0 = s.centroid(&m);
-            for _ in 0..(m.duration / m.dt).round() as usize {
-                integ.step(&mut s, m.dt).unwrap();
-            }
-            assert_eq!(integ.stats().contact.semismooth_fallbacks, 0);
-            if incline < critical {
-                let drift = f::norm(f::sub(s.centroid(&m), c0));
-                println!("heading {heading}: {incline:.2} deg: drift {drift:e} m");
-                assert!(drift < 1e-9, "crept by {drift} m below the threshold");
-            } else {
-                let vx: f64 = m.real.clone().map(|i| s.node_velocity(i)[0]).sum::<f64>()
-                    / m.real.len() as f64;
-                let acc = -vx / s.t;
-                let b = incline.to_radians();
-                let expected = G * (b.sin() - mu * b.cos());
-                println!(
-                    "heading {heading}: {incline:.2} deg: acceleration {acc:.9} (analytic {expected:.9})"
-                );
-                assert!(
-                    (acc / expected - 1.0).abs() < 1e-6,
-                    "acceleration {acc} vs {expected}"
-                );
-            }
-        }
-    }
-}
-
-/// `[solver] ground_points = "curve"`: each node's contact is the lowest point of the parabola
-/// through it and its neighbours within half an element of it. On a flat body it is the node
-/// itself; on a sag it is the parabola's vertex, whose height the stencil reproduces; as the
-/// sag flattens the point moves continuously back to
-/// the node (no jump below the regularisation).
-#[test]
-fn the_lowest_point_of_a_curve_through_the_nodes() {
-    use slither::contact::set::lowest_point;
-    let m = scene(0.0, [0.0; 3], 0.0, 0.0, 0.1);
-    let a = m.diameter;
-    let mut q = m.q0.clone();
-    let z = |q: &mut Vec<f64>, i: usize, v: f64| q[slither::rod::dof::node(i) + 2] = v;
-    for i in m.real.clone() {
-        assert_eq!(lowest_point(&m, &q, i).single(), Some(i), "flat: node {i}");
-    }
-    // A sag about node 5 whose vertex lies a quarter element toward node 6: heights
-    // z(t) = a/2 + 1e-4 a (t - 1/4)^2 over nodes 4, 5, 6 (t = -1, 0, 1).
-    let zt = |t: f64| 0.5 * a + 1e-3 * a * (t - 0.25) * (t - 0.25);
-    for (k, t) in [(4, -1.0), (5, 0.0), (6, 1.0)] {
-        z(&mut q, k, zt(t));
-    }
-    let st = lowest_point(&m, &q, 5);
-    let x = st.position(&q);
-    println!(
-        "sag: stencil {:?}, height {:e} a above a/2",
-        st.iter().collect::<Vec<_>>(),
-        (x[2] - 0.5 * a) / a
-    );
-    assert!(st.single().is_none());
-    assert!(
-        (x[2] - zt(0.25)).abs() < 1e-12 * a,
-        "{} vs {}",
-        x[2],
-        zt(0.25)
-    );
-    let t = st.iter().map(|(i, w)| w * (i as f64 - 5.0)).sum::<f64>();
-    // The regularisation `c^2 / (c^2 + tau^2)` moves it by 2.5e-7 of its distance.
-    assert!((t - 0.25).abs() < 1e-6, "the point at t = {t}");
-    // The sag flattened by 1e6: the point within 1e-3 of an element of the node.
-    for (k, t) in [(4, -1.0), (5, 0.0), (6, 1.0)] {
-        z(&mut q, k, 0.5 * a + 1e-9 * a * (t - 0.25) * (t - 0.25));
-    }
-    let st = lowest_point(&m, &q, 5);
-    let t = st.iter().map(|(i, w)| w * (i as f64 - 5.0)).sum::<f64>();
-    println!("flattened: t = {t:e}");
-    assert!(t.abs() < 1e-3);
 }
 
 #[test]

@@ -81,7 +81,7 @@
 //!
 //! The solver takes the dispatcher's contact set ([`super::ContactSet`]) and holds each
 //! contact's node coordinates; a contact between nodes has none to hold, and its held
-//! components enter the system as an augmented Lagrangian instead ([`between`]). A failure
+//! components enter the system as an augmented Lagrangian instead (`between.rs`). A failure
 //! falls back to the conic program ([`super::Dispatcher`]).
 
 use super::reactions::{Reactions, UNCOUPLED};
@@ -95,6 +95,7 @@ use std::time::Instant;
 
 mod between;
 mod branches;
+mod forces;
 mod step;
 use branches::{norm, status_line};
 
@@ -616,93 +617,6 @@ impl SemiSmooth {
             s.reactions.couple(ct, nw, &s.held, tol)
         } else {
             0
-        }
-    }
-
-    /// The force variables after the full step (into the scratch), from the reactions'
-    /// predicted change; returns the largest change of a force variable (N).
-    fn new_forces(&mut self, ct: &ContactSet, m: &Model, nw: &Newton, q: &[f64]) -> f64 {
-        let node_mode = std::mem::take(&mut self.scratch.node_mode);
-        self.scratch.reactions.predict(ct, &node_mode, &nw.dq);
-        self.scratch.node_mode = node_mode;
-        let mut worst: f64 = 0.0;
-        for c in 0..ct.len() {
-            let (lam, force) = if self.scratch.at_node[c].is_none() {
-                self.between_forces(ct, m, c, q, &nw.dq)
-            } else {
-                self.node_forces(ct, c, q, &nw.dq)
-            };
-            worst = worst.max((lam - self.lambda[c]).abs()).max(norm([
-                force[0] - self.force[c][0],
-                force[1] - self.force[c][1],
-            ]));
-            self.scratch.lambda_new[c] = lam;
-            self.scratch.force_new[c] = force;
-        }
-        worst
-    }
-
-    /// Contact `c`'s (at a node) force variables after the step `dq` from `q`: its reactions
-    /// predicted by [`Reactions::predict`] on its branch.
-    fn node_forces(&self, ct: &ContactSet, c: usize, q: &[f64], dq: &[f64]) -> (f64, [f64; 2]) {
-        let s = &self.scratch;
-        let ch = s.reactions.change[c];
-        let gr = s.grad[c];
-        match self.mode[c] {
-            ContactStatus::Free => (0.0, [0.0; 2]),
-            ContactStatus::Stick => (gr[2] + ch[2], [-(gr[0] + ch[0]), -(gr[1] + ch[1])]),
-            ContactStatus::Slide => {
-                let lam = gr[2] + ch[2];
-                let SlideLin { dir, k, mu } = s.slide[c];
-                let kk = ct.node_dof(c);
-                let x = [q[kk] + dq[kk], q[kk + 1] + dq[kk + 1]];
-                let x0 = ct.contacts[c].origin;
-                let sl = ct.to_local(c, [x[0] - x0[0], x[1] - x0[1]]);
-                let u = [mu[0] * sl[0], mu[1] * sl[1]];
-                let along = u[0] * dir[0] + u[1] * dir[1];
-                let p = [
-                    lam * dir[0] + k * (u[0] - along * dir[0]),
-                    lam * dir[1] + k * (u[1] - along * dir[1]),
-                ];
-                (lam, ct.to_world(c, [mu[0] * p[0], mu[1] * p[1]]))
-            }
-        }
-    }
-
-    /// Save the iterate, its force variables and the direction.
-    fn save(&mut self, q: &[f64], nw: &Newton) {
-        let s = &mut self.scratch;
-        s.q0.clear();
-        s.q0.extend_from_slice(q);
-        s.dq.clear();
-        s.dq.extend_from_slice(&nw.dq);
-        s.lambda0.clone_from(&self.lambda);
-        s.force0.clone_from(&self.force);
-    }
-
-    /// The iterate `alpha` along the saved direction (held coordinates land exactly on their
-    /// targets in a full step).
-    fn step_from_saved(&mut self, ct: &ContactSet, m: &Model, q: &mut [f64], alpha: f64) {
-        let s = &self.scratch;
-        for k in 0..m.ndof {
-            q[k] = s.q0[k] + alpha * s.dq[k];
-        }
-        for c in 0..ct.len() {
-            if let Some(k) = s.at_node[c].filter(|_| alpha == 1.0) {
-                match self.mode[c] {
-                    ContactStatus::Free => {}
-                    ContactStatus::Stick => {
-                        q[k] = ct.contacts[c].origin[0];
-                        q[k + 1] = ct.contacts[c].origin[1];
-                        q[k + 2] = 0.5 * m.diameter;
-                    }
-                    ContactStatus::Slide => q[k + 2] = 0.5 * m.diameter,
-                }
-            }
-            self.lambda[c] = s.lambda0[c] + alpha * (s.lambda_new[c] - s.lambda0[c]);
-            for j in 0..2 {
-                self.force[c][j] = s.force0[c][j] + alpha * (s.force_new[c][j] - s.force0[c][j]);
-            }
         }
     }
 

@@ -171,3 +171,42 @@ impl slither::gait::Actuation for MutatedMuscles {
         }
     }
 }
+
+/// A straight rod of 20 elements (L = 1 m, a = 0.02 m) at `height` above the ground, heading
+/// `heading` degrees, launched at `velocity`, on a ground inclined by `incline` degrees with
+/// friction coefficients `mu` (forward, backward, sideways), for `duration` s at steps of
+/// 1 ms with `[solver] integrator = integrator`: the contact tests' scene.
+pub fn rod_on_ground(
+    heading: f64,
+    velocity: [f64; 3],
+    incline: f64,
+    height: f64,
+    duration: f64,
+    integrator: &str,
+    mu: [f64; 3],
+) -> Model {
+    model(&format!(
+        r#"
+[rod]
+length = 1.0
+diameter = 0.02
+elements = 20
+bending_stiffness = 1e-2
+[initial]
+heading_deg = {heading}
+velocity = [{}, {}, {}]
+height = {height}
+[ground]
+mu_forward = {}
+mu_backward = {}
+mu_sideways = {}
+incline_deg = {incline}
+[time]
+dt = 1e-3
+duration = {duration}
+[solver]
+integrator = "{integrator}"
+"#,
+        velocity[0], velocity[1], velocity[2], mu[0], mu[1], mu[2]
+    ))
+}
