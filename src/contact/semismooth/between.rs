@@ -22,8 +22,13 @@ use crate::newton::Newton;
 use crate::rod::dof;
 
 /// `rho_al` as a multiple of the pivot node's inertia stiffness (its mass over the step's
-/// squared time scale; the Alart-Curnier penalty is 10 of them).
-pub(super) const STIFFNESS: f64 = 1e4;
+/// squared time scale; the Alart-Curnier penalty is 10 of them). At fine meshes the body's
+/// bending stiffness per node, `B / ds^3`, grows past `1e4` of them (at 800 elements, 5e-4 s:
+/// 6.7e6 against 1.6e7 N/m), and the multiplier converges slowly: on the S-start, implicit
+/// Euler at 5e-4 s, `1e6` took 5.98 instead of 8.55 iterations per step at 400 elements (the
+/// first 1.5 s) and 5.86 instead of 6.20 at 200 (whole scene, the same `v_s/v_m` to 7 digits);
+/// at 100 elements 1e5 and 1e6 both took 3.72 against 3.79.
+pub(super) const STIFFNESS: f64 = 1e6;
 
 impl SemiSmooth {
     /// The contacts between nodes: their augmented-Lagrangian terms and sliding friction into
