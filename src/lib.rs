@@ -49,7 +49,9 @@
 //!    pipeline), [`output`] (files), [`plot`] (figures).
 //! 9. Studies: [`design`] (gait optimiser, phase diagram) and [`chart`] (speed against
 //!    accuracy).
-//! 10. The command line (`main.rs` and `cli/`, one file per subcommand; a module of the binary,
+//! 10. [`pipeline`]: one run of a problem, for every caller (load and validate, choose the
+//!     accuracy, simulate, measure, summarise, stage and write).
+//! 11. The command line (`main.rs` and `cli/`, one file per subcommand; a module of the binary,
 //!     not of this library), the only place that reads the environment and prints.
 //!
 //! Where to add things:
@@ -91,6 +93,7 @@ pub mod model;
 pub mod newton;
 pub mod observe;
 pub mod output;
+pub mod pipeline;
 pub mod plot;
 pub mod problem;
 pub mod rod;
