@@ -302,7 +302,7 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
         p.solver.integrator = if args.bdf2 {
             problem::IntegratorKind::Bdf2
         } else {
-            problem::IntegratorKind::Implicit
+            problem::IntegratorKind::ImplicitEuler
         };
         p.time.adaptive = false;
         if let Some(tol) = args.adaptive {

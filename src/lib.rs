@@ -66,7 +66,7 @@
 //!   differences in `tests/derivatives.rs`. A term over a node's stencil takes its
 //!   coordinates from [`energy::local::intrinsic`] and adds its derivatives with
 //!   [`energy::local::add_local`]. Bending and twist run as one fused closed-form node
-//!   stencil, [`energy::node::BendTwist`]; a change to the node's strains goes there and into
+//!   stencil, [`energy::bend_twist::BendTwist`]; a change to the node's strains goes there and into
 //!   the generic energies of [`energy::stencil`] (the value, the explicit gradient and the
 //!   hyper-dual reference), and is checked against the references of `energy/reference/`
 //!   (`cargo test` builds them; real runs never do);

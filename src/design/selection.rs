@@ -359,7 +359,7 @@ pub fn accuracy_problem(p: &Problem, elements: usize, r: Resolution) -> Problem 
     q.rod.elements = elements;
     match r {
         Resolution::Step(h) => {
-            q.solver.integrator = IntegratorKind::Implicit;
+            q.solver.integrator = IntegratorKind::ImplicitEuler;
             q.time.dt = Some(h);
             q.time.adaptive = false;
             q.time.error_tolerance = None;

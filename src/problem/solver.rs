@@ -123,18 +123,33 @@ pub struct SolverSpec {
     pub clarabel_method: String,
 }
 
-/// `[solver] integrator`.
+/// The time integrator: `[solver] integrator` in a problem file, and the one name of an
+/// integrator in the solver ([`crate::integrator::scheme_for`]), the charts
+/// ([`crate::chart`]) and their files (`implicit`, `explicit`, `bdf2`: [`IntegratorKind::name`]).
 #[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
 pub enum IntegratorKind {
-    /// Variational implicit Euler (Newton), the production integrator.
+    /// Variational implicit Euler (Newton), the production integrator (`"implicit"`).
     #[default]
-    Implicit,
-    /// Velocity Verlet, the explicit symplectic reference (no contact).
-    Explicit,
+    #[serde(rename = "implicit")]
+    ImplicitEuler,
+    /// Velocity Verlet, the explicit symplectic reference (no contact; `"explicit"`).
+    #[serde(rename = "explicit")]
+    VelocityVerlet,
     /// Second-order backward differentiation (BDF2) as an incremental potential, with contact
-    /// ([`crate::integrator::bdf2`]).
+    /// ([`crate::integrator::bdf2`]; `"bdf2"`).
+    #[serde(rename = "bdf2")]
     Bdf2,
+}
+
+impl IntegratorKind {
+    /// Its name in problem files and in the charts' files.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::ImplicitEuler => "implicit",
+            IntegratorKind::VelocityVerlet => "explicit",
+            IntegratorKind::Bdf2 => "bdf2",
+        }
+    }
 }
 
 /// `[solver] contact`.
@@ -220,7 +235,7 @@ impl Default for SolverSpec {
             tolerance: d_tol(),
             max_iterations: d_iters(),
             max_halvings: d_halvings(),
-            integrator: IntegratorKind::Implicit,
+            integrator: IntegratorKind::ImplicitEuler,
             contact: ContactKind::SemiSmooth,
             max_backtracks: d_backtracks(),
             armijo: d_armijo(),

@@ -76,7 +76,7 @@ impl Default for GaitPrecisionOptions {
             tolerances: vec![1e-4, 1e-5],
             accuracy_target: Some(0.01),
             adaptive_first_dt: 2e-3,
-            reference_integrator: IntegratorKind::Implicit,
+            reference_integrator: IntegratorKind::ImplicitEuler,
             reference_dt: 5e-4,
             reference_change: 1e-3,
             reference_halvings: 3,
@@ -427,7 +427,10 @@ pub fn gait_precision(
         let (_, m) = at_mesh(problem, model, n);
         let mut runs = Vec::new();
         for &dt in &opts.euler_dt {
-            runs.push(("implicit", variant(&m, IntegratorKind::Implicit, dt, None)));
+            runs.push((
+                "implicit",
+                variant(&m, IntegratorKind::ImplicitEuler, dt, None),
+            ));
         }
         for &dt in &opts.bdf2_dt {
             runs.push(("bdf2", variant(&m, IntegratorKind::Bdf2, dt, None)));
@@ -682,7 +685,7 @@ impl GaitPrecision {
     }
 }
 
-#[path = "gait_output.rs"]
+#[path = "gait_precision_output.rs"]
 mod output;
 pub use output::write_gait_precision;
 

@@ -614,5 +614,5 @@ fn split<'a>(st: &NodeStencil<'a>) -> (BendStencil<'a>, TwistStencil<'a>) {
 }
 
 #[cfg(test)]
-#[path = "node_tests.rs"]
+#[path = "bend_twist_tests.rs"]
 mod tests;
