@@ -87,6 +87,7 @@ pub mod selection;
 mod simulate;
 mod space;
 mod study;
+mod study_validate;
 
 pub(crate) use digest::fnv1a;
 pub use digest::problem_hash;
@@ -103,10 +104,15 @@ pub use search::{
 };
 pub use simulate::simulate;
 pub use space::{Dim, GaitParams, Param, Space};
+use study::OPTIMIZE_ONE_OF;
 pub use study::{
     load_study, load_study_with, parse_study, parse_study_with, InitialTable, OptimizeTable,
     SearchMethod, Study, StudyError, StudySpec, StudyTable, DEFAULT_PARTICLES, ON_BOUND_FRACTION,
     STUDY_TABLES,
+};
+use study_validate::{
+    base_problem, check_search_settings, check_shortest_run, dims, durations, method_sizes,
+    objective, At,
 };
 
 use crate::model::Model;
