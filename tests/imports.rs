@@ -148,9 +148,9 @@ fn resolve(known: &BTreeSet<Module>, here: &Module, path: &[String]) -> Option<M
         }
     };
     (0..=segs.len())
+        .rev()
         .map(|k| cur.iter().chain(&segs[..k]).cloned().collect::<Module>())
-        .filter(|cand| known.contains(cand))
-        .last()
+        .find(|cand| known.contains(cand))
 }
 
 /// The graph of `src` (files, or top-level modules), test code aside.
