@@ -126,7 +126,7 @@ pub struct SolverSpec {
 /// The time integrator: `[solver] integrator` in a problem file, and the one name of an
 /// integrator in the solver ([`crate::integrator::scheme_for`]), the charts
 /// ([`crate::chart`]) and their files (`implicit`, `explicit`, `bdf2`: [`IntegratorKind::name`]).
-#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
+#[derive(Clone, Copy, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 pub enum IntegratorKind {
     /// Variational implicit Euler (Newton), the production integrator (`"implicit"`).
     #[default]
@@ -139,6 +139,20 @@ pub enum IntegratorKind {
     /// ([`crate::integrator::bdf2`]; `"bdf2"`).
     #[serde(rename = "bdf2")]
     Bdf2,
+}
+
+/// `Implicit`, `Explicit` or `Bdf2`: the names the variants had before they were named for
+/// their methods. The resume keys of the studies hash the problem's debug text
+/// ([`crate::design::problem_hash`]), so this text must stay for `history.csv`, `phase.csv`
+/// and the charts' cached references written earlier to be reused.
+impl std::fmt::Debug for IntegratorKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            IntegratorKind::ImplicitEuler => "Implicit",
+            IntegratorKind::VelocityVerlet => "Explicit",
+            IntegratorKind::Bdf2 => "Bdf2",
+        })
+    }
 }
 
 impl IntegratorKind {
