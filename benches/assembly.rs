@@ -163,7 +163,7 @@ fn bench_stencil(c: &mut Criterion) {
         })
     });
     g.bench_function("fused", |b| {
-        use slither::energy::node::{node_local, EdgeFrame, NodeStencil};
+        use slither::energy::bend_twist::{node_local, EdgeFrame, NodeStencil};
         b.iter(|| {
             nodes
                 .iter()
@@ -189,7 +189,7 @@ fn bench_stencil(c: &mut Criterion) {
     });
     // As the assembly does it: each edge's frame once, shared by its two nodes.
     g.bench_function("fused_edges_shared", |b| {
-        use slither::energy::node::{node_local, EdgeFrame, NodeStencil};
+        use slither::energy::bend_twist::{node_local, EdgeFrame, NodeStencil};
         b.iter(|| {
             let q = black_box(&q);
             let edges: Vec<EdgeFrame> = (0..m.nodes - 1)

@@ -33,7 +33,7 @@ fn bench_s_start(c: &mut Criterion) {
     let mut g = c.benchmark_group("s_start_0.5s");
     g.sample_size(10);
     for (name, kind) in [
-        ("implicit_euler", problem::IntegratorKind::Implicit),
+        ("implicit_euler", problem::IntegratorKind::ImplicitEuler),
         ("bdf2", problem::IntegratorKind::Bdf2),
     ] {
         let m = model(kind);
@@ -54,7 +54,7 @@ fn bench_s_start_200(c: &mut Criterion) {
     p.time.dt = Some(1e-3);
     p.time.duration = Some(1.5);
     let m = Model::new(&p);
-    let kind = problem::IntegratorKind::Implicit;
+    let kind = problem::IntegratorKind::ImplicitEuler;
     print_stats("200 elements, 1.5 s", &m, kind);
     let mut g = c.benchmark_group("s_start_200_1.5s");
     g.sample_size(10);

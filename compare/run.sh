@@ -26,7 +26,7 @@
 #
 # Every run is kept as a dated record, docs/results/pyelastica-compare/<date>.md (machine,
 # with --elements N: pyelastica-compare-N/;
-# build, load, the whole output), by scripts/record.sh; SLITHER_NO_RECORD=1 skips it.
+# build, load, the whole output), by tools/record.sh; SLITHER_NO_RECORD=1 skips it.
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -61,7 +61,7 @@ if [ -z "${SLITHER_RECORDING:-}" ] && [ -z "${SLITHER_NO_RECORD:-}" ]; then
     # Records per mesh: pyelastica-compare (50 elements), pyelastica-compare-N otherwise.
     record=pyelastica-compare
     [ "$elements" = 50 ] || record="pyelastica-compare-$elements"
-    exec "$repo/scripts/record.sh" "$record" "$here/run.sh" "${args[@]}"
+    exec "$repo/tools/record.sh" "$record" "$here/run.sh" "${args[@]}"
 fi
 cd "$repo"
 mkdir -p "$out"

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Report of scripts/pyelastica_same_physics.sh: the S-start on PyElastica's scene, both codes
+"""Report of lab/pyelastica_same_physics/pyelastica_same_physics.sh: the S-start on PyElastica's scene, both codes
 on the same muscle physics, over the mesh.
 
 Usage:  same_physics_report.py OUT_DIR FIGURE_STEM

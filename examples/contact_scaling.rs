@@ -24,7 +24,7 @@
 //! `N`); `--merit-memory M` sets `[solver] semi_smooth_merit_memory` (the semi-smooth
 //! Newton's non-monotone line search; 1 is monotone), `--penalty P` its `semi_smooth_penalty`;
 //! `--perturb X` adds `X` to `mu_forward` (another trajectory of the same scene, for solver
-//! statistics that depend on it). `scripts/contact_scaling.sh` keeps the output as a dated
+//! statistics that depend on it). `lab/contact_scaling/contact_scaling.sh` keeps the output as a dated
 //! record under `docs/results/contact-scaling/`.
 use slither::model::Model;
 use slither::{observe, problem, sim};
@@ -302,7 +302,7 @@ fn table(args: &Args, base: &problem::Problem, dt: f64) -> Vec<(f64, f64)> {
         p.solver.integrator = if args.bdf2 {
             problem::IntegratorKind::Bdf2
         } else {
-            problem::IntegratorKind::Implicit
+            problem::IntegratorKind::ImplicitEuler
         };
         p.time.adaptive = false;
         if let Some(tol) = args.adaptive {

@@ -49,7 +49,9 @@
 //!    pipeline), [`output`] (files), [`plot`] (figures).
 //! 9. Studies: [`design`] (gait optimiser, phase diagram) and [`chart`] (speed against
 //!    accuracy).
-//! 10. The command line (`main.rs` and `cli/`, one file per subcommand; a module of the binary,
+//! 10. [`pipeline`]: one run of a problem, for every caller (load and validate, choose the
+//!     accuracy, simulate, measure, summarise, stage and write).
+//! 11. The command line (`main.rs` and `cli/`, one file per subcommand; a module of the binary,
 //!     not of this library), the only place that reads the environment and prints.
 //!
 //! Where to add things:
@@ -64,7 +66,7 @@
 //!   differences in `tests/derivatives.rs`. A term over a node's stencil takes its
 //!   coordinates from [`energy::local::intrinsic`] and adds its derivatives with
 //!   [`energy::local::add_local`]. Bending and twist run as one fused closed-form node
-//!   stencil, [`energy::node::BendTwist`]; a change to the node's strains goes there and into
+//!   stencil, [`energy::bend_twist::BendTwist`]; a change to the node's strains goes there and into
 //!   the generic energies of [`energy::stencil`] (the value, the explicit gradient and the
 //!   hyper-dual reference), and is checked against the references of `energy/reference/`
 //!   (`cargo test` builds them; real runs never do);
@@ -91,6 +93,7 @@ pub mod model;
 pub mod newton;
 pub mod observe;
 pub mod output;
+pub mod pipeline;
 pub mod plot;
 pub mod problem;
 pub mod rod;

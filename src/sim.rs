@@ -523,9 +523,11 @@ pub fn run_gait(
         gait: model.gait.clone(),
     });
     match integrator {
-        crate::problem::IntegratorKind::Implicit | crate::problem::IntegratorKind::Bdf2 => {
+        crate::problem::IntegratorKind::ImplicitEuler | crate::problem::IntegratorKind::Bdf2 => {
             Ok(run(model, muscles, progress, on_step))
         }
-        crate::problem::IntegratorKind::Explicit => run_explicit(model, muscles, progress, on_step),
+        crate::problem::IntegratorKind::VelocityVerlet => {
+            run_explicit(model, muscles, progress, on_step)
+        }
     }
 }

@@ -196,7 +196,7 @@ fn accuracy_selection_reports_consistent_estimates() {
                 assert!((k - k.round()).abs() < 1e-9 && k.round() <= 5.0, "{h}");
                 assert_eq!(
                     sel.model.solver.integrator,
-                    problem::IntegratorKind::Implicit
+                    problem::IntegratorKind::ImplicitEuler
                 );
             }
             Resolution::Tolerance(t) => {

@@ -19,7 +19,7 @@ fn swing(integrator: &str, dt: f64, tol: Option<f64>) -> Model {
     let mut p = problem::parse(&text, std::path::Path::new("cantilever_swing.toml")).unwrap();
     p.solver.integrator = match integrator {
         "bdf2" => problem::IntegratorKind::Bdf2,
-        _ => problem::IntegratorKind::Implicit,
+        _ => problem::IntegratorKind::ImplicitEuler,
     };
     p.time.dt = Some(dt);
     p.time.duration = Some(0.5);
@@ -532,7 +532,7 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
         bdf2_dt: vec![8e-3, 2e-3],
         tolerances: vec![1e-3, 1e-5],
         adaptive_first_dt: 2e-3,
-        reference_integrator: problem::IntegratorKind::Implicit,
+        reference_integrator: problem::IntegratorKind::ImplicitEuler,
         reference_dt: 1e-3,
         reference_change: 1e-3,
         reference_halvings: 5,

@@ -11,7 +11,7 @@ fn swing(integrator: &str, dt: f64) -> Model {
     let mut p = problem::parse(&text, std::path::Path::new("cantilever_swing.toml")).unwrap();
     p.solver.integrator = match integrator {
         "bdf2" => problem::IntegratorKind::Bdf2,
-        _ => problem::IntegratorKind::Implicit,
+        _ => problem::IntegratorKind::ImplicitEuler,
     };
     p.time.dt = Some(dt);
     p.time.duration = Some(0.5);

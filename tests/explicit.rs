@@ -7,11 +7,12 @@
 //! reported as an error naming t and dt; scenes with ground or in static mode are refused.
 mod common;
 use common::{model, Rng};
-use slither::chart::{self, StepperKind};
+use slither::chart;
 use slither::fd;
 use slither::integrator::explicit::{Explicit, Unsupported};
 use slither::integrator::{Integrator, Natural, StepError};
 use slither::model::Model;
+use slither::problem::IntegratorKind;
 use slither::state::State;
 
 /// A free, bent and twisted rod with natural curvature and twist, spinning and translating.
@@ -196,10 +197,10 @@ fn explicit_and_implicit_agree_within_the_implicit_first_order_error() {
         let n = (m.duration / h).round() as usize;
         chart::simulate(&m, method, h, n).unwrap().unwrap()
     };
-    let ex = run(StepperKind::Explicit, 2e-5);
-    let ex2 = run(StepperKind::Explicit, 1e-5);
-    let im = run(StepperKind::Implicit, 1e-3);
-    let im2 = run(StepperKind::Implicit, 5e-4);
+    let ex = run(IntegratorKind::VelocityVerlet, 2e-5);
+    let ex2 = run(IntegratorKind::VelocityVerlet, 1e-5);
+    let im = run(IntegratorKind::ImplicitEuler, 1e-3);
+    let im2 = run(IntegratorKind::ImplicitEuler, 5e-4);
     let d =
         |a: [f64; 3], b: [f64; 3]| slither::rod::vec3::f::norm(slither::rod::vec3::f::sub(a, b));
     // Implicit Euler is first order: e(h) ~ c h, so |x_h - x_{h/2}| estimates the error of
@@ -228,11 +229,11 @@ fn explicit_and_implicit_agree_within_the_implicit_first_order_error() {
 /// resolution), from a bracket that is not centred on the prediction `lin`.
 fn measured_limit(m: &Model, lin: f64) -> f64 {
     let (mut lo, mut hi) = (0.6 * lin, 1.9 * lin);
-    assert!(chart::stable(m, StepperKind::Explicit, lo, m.duration).unwrap());
-    assert!(!chart::stable(m, StepperKind::Explicit, hi, m.duration).unwrap());
+    assert!(chart::stable(m, IntegratorKind::VelocityVerlet, lo, m.duration).unwrap());
+    assert!(!chart::stable(m, IntegratorKind::VelocityVerlet, hi, m.duration).unwrap());
     while hi / lo > 1.02 {
         let mid = (lo * hi).sqrt();
-        if chart::stable(m, StepperKind::Explicit, mid, m.duration).unwrap() {
+        if chart::stable(m, IntegratorKind::VelocityVerlet, mid, m.duration).unwrap() {
             lo = mid;
         } else {
             hi = mid;

@@ -1,6 +1,6 @@
 //! The phase grid of `problems/phase_pyelastica_straight.toml` side by side with PyElastica
 //! (issue 50): slither runs each cell of the grid at the phase file's base (200 elements,
-//! implicit Euler 1e-3 s); PyElastica's runs of the same cells (`scripts/pyelastica_phase.sh
+//! implicit Euler 1e-3 s); PyElastica's runs of the same cells (`lab/pyelastica_phase/pyelastica_phase.sh
 //! pe`, muscles as a rest curvature, 50 and 200 elements) are labelled by slither's own
 //! observables and regime rules (`slither::observe`), computed from PyElastica's frames.
 //!
@@ -12,7 +12,7 @@
 //!
 //! Needs PyElastica's frames, so it is ignored in the ordinary suite:
 //! `PE_PHASE_DIR=out/pyelastica_phase cargo test --release --test pyelastica_phase --
-//! --ignored --nocapture` (what `scripts/pyelastica_phase.sh label` runs).
+//! --ignored --nocapture` (what `lab/pyelastica_phase/pyelastica_phase.sh label` runs).
 use slither::design::phase::{self, cell_problem};
 use slither::model::Model;
 use slither::observe::{self, classify, Regime};

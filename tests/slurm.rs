@@ -1,4 +1,4 @@
-//! A phase study on a real Slurm scheduler: `scripts/slurm/phase_array.sh` submits a 4-task job
+//! A phase study on a real Slurm scheduler: `tools/slurm/phase_array.sh` submits a 4-task job
 //! array (one shard each) and a merge job depending on it to a one-node Slurm started here on
 //! localhost, and the merged `phase.csv` must equal a single-machine run cell for cell (every
 //! column but the wall time).
@@ -31,7 +31,7 @@ use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 const BIN: &str = env!("CARGO_BIN_EXE_slither");
-const SCRIPT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/slurm/phase_array.sh");
+const SCRIPT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tools/slurm/phase_array.sh");
 
 /// Longest wait for the one node to register with the controller and report idle.
 const NODE_TIMEOUT: Duration = Duration::from_secs(60);

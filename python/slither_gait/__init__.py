@@ -103,8 +103,10 @@ class Result:
 
     def save(self, out_dir: PathLike, plots: bool = True) -> Path:
         """Write the files ``slither run`` writes (summary.json, final.csv, trajectory.npz and,
-        unless ``plots=False``, the figures and vtk/) into ``out_dir``; returns its path.
-        A loaded result copies the files it was loaded from."""
+        unless ``plots=False``, the figures, vtk/, the ground tracks and, unless the problem
+        says ``[output] movie = false``, movie.gif) into ``out_dir``, through the same run
+        pipeline as the CLI; returns its path. A loaded result copies the files it was loaded
+        from."""
         out = Path(out_dir)
         if self._native is not None:
             self._native.save(str(out), plots)

@@ -5,22 +5,15 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use slither::model::Model;
-use slither::observe::{Fields, Measure, Observed};
-use slither::output::{self, Summary};
-use slither::sim::Outcome;
-use slither::{observe, problem, sim};
+use slither::{output, pipeline, problem, sim};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// A finished (or failed) run: the model, the outcome, the post-processed fields and the
-/// summary, everything `slither run` writes.
+/// A finished (or failed) run of the run pipeline: the model, the outcome, the
+/// post-processed fields and the summary, everything `slither run` writes.
 #[pyclass(frozen, module = "slither_gait")]
 pub struct NativeRun {
-    model: Model,
-    outcome: Outcome,
-    fields: Fields,
-    summary: Summary,
+    run: pipeline::Run,
 }
 
 /// A progress line on Python's `sys.stderr` at most every half second after the first second,
@@ -89,7 +82,8 @@ impl Progress {
     }
 }
 
-/// Simulate `problem` as `slither run` does; see `slither_gait.run`.
+/// Simulate `problem` as `slither run` does, through the same pipeline; see
+/// `slither_gait.run`.
 #[pyfunction]
 #[pyo3(signature = (problem, accuracy = None, progress = None, force = false))]
 pub fn run(
@@ -100,30 +94,14 @@ pub fn run(
     force: bool,
 ) -> PyResult<NativeRun> {
     let path = problem.path.clone();
-    let p = problem.parsed.clone();
     if !force {
-        problem::limits::check_run_size(&p, &problem.text, &path)
+        problem::check_for_run(&problem.parsed, &problem.text, &path)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
     }
-    if let Some(a) = accuracy {
-        if !(a.is_finite() && (1e-4..=0.5).contains(&a)) {
-            return Err(PyValueError::new_err(format!(
-                "accuracy {a} is not allowed: must be in [1e-4, 0.5] (relative error of v_s/v_m)"
-            )));
-        }
-        if p.time.mode != problem::Mode::Dynamic
-            || p.ground.is_none()
-            || p.gait.kind == problem::Kind::None
-        {
-            return Err(PyValueError::new_err(format!(
-                "{}: accuracy needs a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)",
-                path.display()
-            )));
-        }
-    }
-    let target = accuracy
-        .map(|t| (t, p.accuracy.as_ref().map_or(400, |a| a.max_elements)))
-        .or(p.accuracy.as_ref().map(|a| (a.target, a.max_elements)));
+    let mut req = pipeline::Request::new(problem.parsed.clone(), &path);
+    req.accuracy = accuracy;
+    req.validate("accuracy")
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let quiet = progress.is_none();
     detached(py, move |watch| {
         let bar = std::cell::RefCell::new(Progress::new(progress, "simulated"));
@@ -138,50 +116,20 @@ pub fn run(
             });
             p.update(watch, f)
         };
-        let (model, observed, report) = if let Some((target, max_elements)) = target {
-            let mut log = |line: &str| {
-                watch.now();
-                if !quiet {
-                    eprintln!("{line}")
-                }
-            };
-            let sel = slither::chart::accuracy::select(&p, target, max_elements, &mut log);
-            let (fields, observables) =
-                observe::measure(&sel.model, &sel.outcome, Measure::Full, &mut post_update);
-            let observed = Observed {
-                outcome: sel.outcome,
-                fields,
-                observables,
-            };
-            (sel.model, observed, Some(sel.report))
-        } else {
-            let model = Model::new(&p);
-            let observed = observe::evaluate(
-                &model,
-                Measure::Full,
-                &mut |f| bar.borrow_mut().update(watch, f),
-                &mut post_update,
-            )
-            .map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))?;
-            (model, observed, None)
+        let mut log = |line: &str| {
+            watch.now();
+            if !quiet {
+                eprintln!("{line}")
+            }
         };
-        let Observed {
-            outcome: o,
-            fields,
-            observables,
-        } = observed;
-        let mut summary = Summary::new(&path, &model, &o);
-        summary.accuracy = report;
-        summary.observables = Some(observables);
-        if o.error.is_none() {
-            summary.periodic = observe::periodic::of_outcome(&model, &o);
-        }
-        Ok(NativeRun {
-            model,
-            outcome: o,
-            fields,
-            summary,
-        })
+        let hooks = pipeline::Hooks {
+            progress: &mut |f| bar.borrow_mut().update(watch, f),
+            post: &mut post_update,
+            log: &mut log,
+        };
+        let run = pipeline::simulate(&req, None, hooks)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(NativeRun { run })
     })?
 }
 
@@ -194,22 +142,23 @@ fn array<'py>(py: Python<'py>, data: Vec<f64>, shape: &[usize]) -> PyResult<Boun
 impl NativeRun {
     /// The text of `summary.json`.
     fn summary_json(&self) -> String {
-        output::summary_json(&self.summary)
+        output::summary_json(&self.run.summary)
     }
 
     /// The failure that stopped the run, if any (as `slither run` reports it).
     fn error(&self) -> Option<String> {
-        self.outcome.error.as_ref().map(|e| {
+        let r = &self.run;
+        r.outcome.error.as_ref().map(|e| {
             format!(
                 "{}: {e}; results up to t = {} s",
-                self.summary.problem, self.outcome.state.t
+                r.summary.problem, r.outcome.state.t
             )
         })
     }
 
     /// The arrays of `trajectory.npz`, by name (`lambda` included), as numpy arrays.
     fn arrays<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let (m, fr, fl) = (&self.model, &self.outcome.frames, &self.fields);
+        let (m, fr, fl) = (&self.run.model, &self.run.outcome.frames, &self.run.fields);
         let (nf, nn) = (fr.len(), m.real.len());
         let d = PyDict::new(py);
         let flat = |f: &dyn Fn(&sim::Frame) -> Vec<f64>| fr.iter().flat_map(f).collect::<Vec<_>>();
@@ -260,11 +209,11 @@ impl NativeRun {
         Ok(d)
     }
 
-    /// Write the files `slither run` writes into `out_dir` (created if absent), staged and
-    /// swapped in as `slither run` does: the previous run's outputs there are replaced when
-    /// every new file is written, or kept if the swap fails (the error names the folder that
-    /// holds the new ones); `plots=False` skips the figures and the ParaView export, as
-    /// `--no-plots`.
+    /// Write the files `slither run` writes into `out_dir` (created if absent) through the
+    /// run pipeline, staged and swapped in as `slither run` does: the previous run's outputs
+    /// there are replaced when every new file is written, or kept if the swap fails (the error
+    /// names the folder that holds the new ones); `plots=False` skips the figures, the
+    /// ParaView export, the tracks and the movie, as `--no-plots`.
     #[pyo3(signature = (out_dir, plots = true))]
     fn save(&self, py: Python<'_>, out_dir: PathBuf, plots: bool) -> PyResult<()> {
         let r = py.allow_threads(|| self.write(&out_dir, plots));
@@ -273,32 +222,17 @@ impl NativeRun {
 }
 
 impl NativeRun {
-    /// The CLI's writing sequence; `Err` is its message.
+    /// The pipeline's writing; `Err` is its message.
     fn write(&self, out: &Path, plots: bool) -> Result<(), String> {
         std::fs::create_dir_all(out)
             .map_err(|e| format!("{}: cannot create output directory: {e}", out.display()))?;
         let _lock = output::lock::OutLock::acquire(out).map_err(|e| e.to_string())?;
-        // Staged and swapped in as `slither run` does: a failure leaves the previous results.
-        let staging = output::staging::Staging::new(out)
-            .map_err(|e| format!("{}: cannot create the staging folder: {e}", out.display()))?;
-        let stage = staging.dir().to_path_buf();
-        let (m, o, fl) = (&self.model, &self.outcome, &self.fields);
-        let extra = [
-            ("elevation", fl.elevation.clone()),
-            ("slip_speed", fl.slip.clone()),
-            ("lambda", fl.lambda.clone()),
-        ];
-        output::write_final_csv(&stage, m, o)
-            .and_then(|_| output::write_trajectory(&stage, m, &o.frames, &extra))
-            .and_then(|_| output::write_summary(&stage, &self.summary))
-            .map_err(|e| format!("{}: cannot write results: {e}", out.display()))?;
-        if plots {
-            output::write_figures(&stage, m, &o.frames, fl)
-                .map_err(|e| format!("{}: cannot write figures: {e}", out.display()))?;
-        }
-        staging
-            .commit()
-            .map_err(|e| format!("{}: cannot move the results into place: {e}", out.display()))?;
+        let files = if plots {
+            pipeline::Files::ALL
+        } else {
+            pipeline::Files::DATA
+        };
+        self.run.save(out, files).map_err(|e| e.to_string())?;
         Ok(())
     }
 }

@@ -112,6 +112,25 @@ def test_summary_and_files_match_the_cli_to_the_bit(tmp_path):
     assert back.regime == r.regime == expected["regime"]
 
 
+def test_save_writes_what_slither_run_writes_byte_for_byte(tmp_path):
+    # One run pipeline: save() writes the CLI's files, figures, tracks and movie included,
+    # each byte for byte; summary.json differs only in its timers and the problem's name.
+    cli("run", S_START, "--set", "time.duration=0.2", "--out", tmp_path / "cli", "--quiet")
+    r = sg.run(short(0.2), progress=False)
+    r.save(tmp_path / "py")
+    def listing(d):
+        return sorted(str(p.relative_to(d)) for p in d.rglob("*") if p.is_file())
+    a, b = listing(tmp_path / "cli"), listing(tmp_path / "py")
+    assert a == b
+    assert {"tracks.png", "movie.gif", "snapshots.png", "trajectory.npz"} <= set(a)
+    for name in a:
+        if name != "summary.json":
+            assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "py" / name).read_bytes(), name
+    with open(tmp_path / "cli" / "summary.json") as f:
+        expected = json.load(f)
+    assert same_bits(comparable(r.summary), comparable(expected))
+
+
 def test_save_that_cannot_replace_keeps_the_previous_results(tmp_path):
     # save() goes through the CLI's staged commit: a directory where a result file must go
     # (which even root cannot replace) leaves the previous files and names the new ones' folder.

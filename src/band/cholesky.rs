@@ -4,7 +4,7 @@
 //! allocating. faer's general sparse Cholesky ([`FaerLlt`], natural ordering, symbolic analysis
 //! once) gives the same factor and is the reference it is tested against; on this pattern its
 //! elimination-tree reach and the column copies around it cost three times the band
-//! arithmetic (`cargo bench --bench linsolve`; `scripts/bench.sh` keeps a record).
+//! arithmetic (`cargo bench --bench linsolve`; `lab/bench/bench.sh` keeps a record).
 
 use super::Assembly;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};

@@ -15,7 +15,7 @@
 //! * **Gait work-precision** ([`gait_precision`]): scenes with ground and muscles, where the
 //!   explicit reference cannot run: implicit Euler and BDF2 over fixed steps and adaptive BDF2
 //!   over tolerances against an implicit Euler reference refined until `v_s/v_m` settles
-//!   (`src/chart/gait.rs`).
+//!   (`src/chart/gait_precision.rs`).
 //! * **Stability map** ([`stability_map`]): over scaled weight `W = rho g a^2 L^3 / B` and
 //!   element count `N`, the largest step each method runs the scene with to its end by
 //!   geometric bisection (relative resolution `rtol`). Stable means: every step accepted with
@@ -33,47 +33,31 @@ use crate::integrator::explicit::{Explicit, Unsupported};
 use crate::integrator::{Integrator, StepError};
 use crate::model::Model;
 use crate::plot::{self, PlotError};
-use crate::problem::Problem;
+use crate::problem::{IntegratorKind, Problem};
 use crate::rod::{dof, vec3::f};
 use crate::sim::{drive, Schedule};
 use crate::state::State;
 
-/// The accuracy selection moved to [`crate::design::selection`]; this path stays until the
-/// command line calls it there.
-pub use crate::design::selection as accuracy;
 pub mod external;
-mod gait;
+mod gait_precision;
 mod stability;
 mod work_precision;
 
 pub use external::{read_external, ExternalError, ExternalPoint, ExternalRun};
-pub use gait::*;
-pub use stability::*;
+pub use gait_precision::{
+    gait_precision, gait_reference, gait_run, speed_ratio, variant, write_gait_precision,
+    GaitPoint, GaitPrecision, GaitPrecisionOptions, GaitReference, GaitRun,
+};
+pub use stability::{
+    stability_map, stable, write_stability, StabilityCell, StabilityMap, StabilityOptions,
+};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-pub use work_precision::*;
-
-/// Which [`crate::integrator::Stepper`] a chart runs: the implicit [`Integrator`] (with
-/// implicit Euler) or the explicit velocity Verlet [`Explicit`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum StepperKind {
-    /// Variational implicit Euler by Newton.
-    Implicit,
-    /// Velocity Verlet.
-    Explicit,
-}
-
-impl StepperKind {
-    /// Name in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            StepperKind::Implicit => "implicit",
-            StepperKind::Explicit => "explicit",
-        }
-    }
-}
+pub use work_precision::{
+    work_precision, write_work_precision, Comparison, Reference, WorkPoint, WorkPrecision,
+    WorkPrecisionOptions,
+};
 
 /// Errors of the charts.
 #[derive(Debug, thiserror::Error)]
@@ -115,10 +99,10 @@ pub struct RunResult {
 }
 
 /// Run `model` from its initial state with `n` steps of `h` by `method` (gait from the model).
-/// The implicit integrator halves failed steps up to `model.max_halvings` times.
+/// The implicit integrators halve failed steps up to `model.max_halvings` times.
 pub fn simulate(
     model: &Model,
-    method: StepperKind,
+    method: IntegratorKind,
     h: f64,
     n: usize,
 ) -> Result<Result<RunResult, StepError>, Unsupported> {
@@ -128,11 +112,12 @@ pub fn simulate(
     let start = Instant::now();
     let schedule = Schedule::fixed(h, n);
     let o = match method {
-        StepperKind::Implicit => {
-            let mut integ = Integrator::new(model, actuation);
+        IntegratorKind::ImplicitEuler | IntegratorKind::Bdf2 => {
+            let scheme = crate::integrator::scheme_for(method).expect("an implicit integrator");
+            let mut integ = Integrator::with_scheme(model, actuation, scheme);
             drive(model, &mut integ, schedule, start, &mut |_| {}, &mut |_| {})
         }
-        StepperKind::Explicit => {
+        IntegratorKind::VelocityVerlet => {
             let mut integ = Explicit::new(model, actuation)?;
             drive(model, &mut integ, schedule, start, &mut |_| {}, &mut |_| {})
         }

@@ -119,7 +119,7 @@ impl StabilityMap {
 /// Whether `model` runs `duration` in steps of `h` by `method` (see the module doc).
 pub fn stable(
     model: &Model,
-    method: StepperKind,
+    method: IntegratorKind,
     h: f64,
     duration: f64,
 ) -> Result<bool, Unsupported> {
@@ -129,7 +129,7 @@ pub fn stable(
 /// [`stable`] with the failure.
 fn trial(
     model: &Model,
-    method: StepperKind,
+    method: IntegratorKind,
     h: f64,
     duration: f64,
 ) -> Result<Result<(), String>, Unsupported> {
@@ -244,7 +244,7 @@ pub fn stability_map(
             // The first guess is off the prediction so that a marginal run at exactly
             // 2/omega_max does not decide the result.
             let (dte, te, _) = largest_stable(
-                |h| stable(&model, StepperKind::Explicit, h, opts.duration),
+                |h| stable(&model, IntegratorKind::VelocityVerlet, h, opts.duration),
                 0.7 * lin,
                 opts.duration,
                 opts.rtol,
@@ -252,7 +252,7 @@ pub fn stability_map(
             let mut implicit_failure = String::new();
             let (dti, ti, capped) = largest_stable(
                 |h| {
-                    let r = trial(&model, StepperKind::Implicit, h, opts.duration)?;
+                    let r = trial(&model, IntegratorKind::ImplicitEuler, h, opts.duration)?;
                     if let Err(e) = &r {
                         implicit_failure = format!("dt = {h:.4e} s: {e}");
                     }
@@ -357,8 +357,8 @@ pub fn write_stability(dir: &Path, map: &StabilityMap) -> Result<(), ChartError>
     let mut names = Vec::new();
     let mut series = Vec::new();
     for (method, label) in [
-        (StepperKind::Implicit, "implicit Euler"),
-        (StepperKind::Explicit, "velocity Verlet"),
+        (IntegratorKind::ImplicitEuler, "implicit Euler"),
+        (IntegratorKind::VelocityVerlet, "velocity Verlet"),
     ] {
         for &w in &weights {
             let mut pts: Vec<(f64, f64)> = map
@@ -367,8 +367,8 @@ pub fn write_stability(dir: &Path, map: &StabilityMap) -> Result<(), ChartError>
                 .filter(|c| c.scaled_weight == w)
                 .map(|c| {
                     let dt = match method {
-                        StepperKind::Explicit => c.explicit_dt_max,
-                        StepperKind::Implicit => c.implicit_dt_max,
+                        IntegratorKind::VelocityVerlet => c.explicit_dt_max,
+                        IntegratorKind::ImplicitEuler | IntegratorKind::Bdf2 => c.implicit_dt_max,
                     };
                     (c.elements as f64, dt)
                 })

@@ -48,7 +48,7 @@ pub struct Reference {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct WorkPoint {
     /// The integrator.
-    pub method: StepperKind,
+    pub method: IntegratorKind,
     /// Step (s).
     pub dt: f64,
     /// Steps.
@@ -109,7 +109,7 @@ pub struct Comparison {
 }
 
 fn compare(points: &[WorkPoint]) -> Option<Comparison> {
-    let ok = |m: StepperKind| {
+    let ok = |m: IntegratorKind| {
         let mut v: Vec<&WorkPoint> = points
             .iter()
             .filter(|p| p.method == m && p.error_m.is_finite() && p.error_m > 0.0)
@@ -117,7 +117,10 @@ fn compare(points: &[WorkPoint]) -> Option<Comparison> {
         v.sort_by(|a, b| a.dt.total_cmp(&b.dt));
         v
     };
-    let (imp, exp) = (ok(StepperKind::Implicit), ok(StepperKind::Explicit));
+    let (imp, exp) = (
+        ok(IntegratorKind::ImplicitEuler),
+        ok(IntegratorKind::VelocityVerlet),
+    );
     if imp.len() < 2 || exp.is_empty() {
         return None;
     }
@@ -236,7 +239,7 @@ fn steps_for(duration: f64, dt: f64) -> (f64, usize) {
 }
 
 /// Observed order `log(e1/e2)/log(h1/h2)` of the two finest successful points of `method`.
-fn observed_order(points: &[WorkPoint], method: StepperKind) -> f64 {
+fn observed_order(points: &[WorkPoint], method: IntegratorKind) -> f64 {
     let mut ok: Vec<&WorkPoint> = points
         .iter()
         .filter(|p| p.method == method && p.error_m.is_finite() && p.error_m > 0.0)
@@ -272,7 +275,7 @@ pub fn work_precision(
     let mut wall = 0.0;
     for k in 0..3 {
         let (h, n) = (h0 / (1 << k) as f64, n0 << k);
-        let r = simulate(model, StepperKind::Explicit, h, n)?
+        let r = simulate(model, IntegratorKind::VelocityVerlet, h, n)?
             .map_err(|e| ChartError::Reference(e.to_string()))?;
         log(&format!(
             "reference run: explicit dt = {h:.4e} s, {n} steps, {:.2} s",
@@ -303,13 +306,13 @@ pub fn work_precision(
         "reference: observed order {order:.3}, error estimate {:.3e} m",
         reference.error_estimate
     ));
-    let mut runs: Vec<(StepperKind, f64, usize)> = Vec::new();
+    let mut runs: Vec<(IntegratorKind, f64, usize)> = Vec::new();
     for &n in &opts.implicit_steps {
-        runs.push((StepperKind::Implicit, t_end / n as f64, n));
+        runs.push((IntegratorKind::ImplicitEuler, t_end / n as f64, n));
     }
     for &fr in &opts.explicit_fractions {
         let (h, n) = steps_for(t_end, fr * lin);
-        runs.push((StepperKind::Explicit, h, n));
+        runs.push((IntegratorKind::VelocityVerlet, h, n));
     }
     let mut points = Vec::new();
     for (method, h, n) in runs {
@@ -350,8 +353,8 @@ pub fn work_precision(
         elements: model.elements(),
         duration: t_end,
         linear_limit_dt: lin,
-        implicit_order: observed_order(&points, StepperKind::Implicit),
-        explicit_order: observed_order(&points, StepperKind::Explicit),
+        implicit_order: observed_order(&points, IntegratorKind::ImplicitEuler),
+        explicit_order: observed_order(&points, IntegratorKind::VelocityVerlet),
         comparison: compare(&points),
         reference,
         points,
@@ -384,7 +387,7 @@ pub fn write_work_precision(dir: &Path, wp: &WorkPrecision) -> Result<(), ChartE
     write(&dir.join("work_precision.csv"), &csv)?;
     let json = serde_json::to_string_pretty(wp).expect("serialisable");
     write(&dir.join("work_precision.json"), &json)?;
-    let series = |m: StepperKind| -> Vec<(f64, f64)> {
+    let series = |m: IntegratorKind| -> Vec<(f64, f64)> {
         let mut v: Vec<(f64, f64)> = wp
             .points
             .iter()
@@ -411,10 +414,13 @@ pub fn write_work_precision(dir: &Path, wp: &WorkPrecision) -> Result<(), ChartE
         "wall time (s)",
         "final centreline error, max node distance (m)",
         &[
-            ("implicit Euler (Newton)", series(StepperKind::Implicit)),
+            (
+                "implicit Euler (Newton)",
+                series(IntegratorKind::ImplicitEuler),
+            ),
             (
                 "velocity Verlet (explicit, stable steps)",
-                series(StepperKind::Explicit),
+                series(IntegratorKind::VelocityVerlet),
             ),
             (
                 "reference error estimate",

@@ -160,6 +160,6 @@ pub fn selection_log(quiet: bool) -> impl FnMut(&str) {
 
 /// The time resolution of an accuracy choice, for messages.
 pub fn model_label(dt: Option<f64>, tolerance: Option<f64>) -> String {
-    slither::chart::accuracy::Resolution::from_parts(dt, tolerance)
+    slither::design::selection::Resolution::from_parts(dt, tolerance)
         .map_or("no time resolution".into(), |r| r.to_string())
 }

@@ -4,7 +4,7 @@ use super::{lock_out, selection_log, study_accuracy};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use slither::design;
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -154,6 +154,46 @@ pub fn optimize(args: &Args) -> ExitCode {
         done: 0,
         space: study.space.clone(),
     };
+    let history = out.join(design::HISTORY_FILE);
+    announce(path, &study, &history, &mut progress);
+    let result = design::optimize(&study, out, &mut progress);
+    if let Some(b) = progress.bar.take() {
+        b.finish_and_clear();
+    }
+    let r = match result {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(match e {
+                design::DesignError::History { .. } => 2,
+                _ => 1,
+            });
+        }
+    };
+    let Some(best) = &r.best else {
+        no_best(path, &study, &r, &history);
+        return ExitCode::from(3);
+    };
+    // The best evaluation again as a run directory (figures, tracks, movie) in best/.
+    let best_run = super::run::rerun_into(
+        &study.problem_at(&best.point),
+        path,
+        &out.join("best"),
+        quiet,
+        true,
+        "best evaluation",
+    );
+    if let Err(code) = best_run {
+        return code;
+    }
+    if !quiet {
+        report(path, out, &study, &r, best, &history);
+    }
+    ExitCode::SUCCESS
+}
+
+/// The lines that open a study: resuming, the method, the space and the budget.
+fn announce(path: &Path, study: &design::Study, history: &Path, progress: &mut StudyProgress) {
     let names: Vec<String> = study
         .space
         .dims
@@ -168,7 +208,6 @@ pub fn optimize(args: &Args) -> ExitCode {
             )
         })
         .collect();
-    let history = out.join(design::HISTORY_FILE);
     if history.exists() {
         progress.say(format!(
             "{}: resuming with {}: evaluations already in it are reused, not simulated again",
@@ -197,148 +236,132 @@ pub fn optimize(args: &Args) -> ExitCode {
             None => format!("{} pulse times L/v_m", study.duration_pulses),
         }
     ));
-    let result = design::optimize(&study, out, &mut progress);
-    if let Some(b) = progress.bar.take() {
-        b.finish_and_clear();
-    }
-    let r = match result {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(match e {
-                design::DesignError::History { .. } => 2,
-                _ => 1,
-            });
-        }
-    };
-    let Some(best) = &r.best else {
-        if let (Some(max), true) = (study.max_heading_deg, r.failed < r.simulations + r.reused) {
-            eprintln!(
-                "error: {}: no finished run headed within max_heading_deg = {max} degrees of the initial head direction ({} evaluations); see {}",
-                path.display(),
-                r.evaluations,
-                history.display()
-            );
-        } else {
-            eprintln!(
-                "error: {}: every simulation failed ({} evaluations); see {}",
-                path.display(),
-                r.evaluations,
-                history.display()
-            );
-        }
-        return ExitCode::from(3);
-    };
-    // The best evaluation again as a run directory (figures, tracks, movie) in best/.
-    let best_run = super::run::rerun_into(
-        &study.problem_at(&best.point),
-        path,
-        &out.join("best"),
-        quiet,
-        true,
-        "best evaluation",
-    );
-    if let Err(code) = best_run {
-        return code;
-    }
-    if !quiet {
-        if r.dropped_partial_row {
-            eprintln!(
-                "note: an incomplete last row of {} was dropped",
-                history.display()
-            );
-        }
-        if r.rows_other_base > 0 {
-            eprintln!(
-                "note: {} rows of {} were written for another base problem (its effective content) or under another objective, turn_penalty or stationary_penalty, and were not reused: those points are simulated again",
-                r.rows_other_base,
-                history.display()
-            );
-        }
-        let i = &r.initial;
+}
+
+/// Why a study found no best evaluation.
+fn no_best(path: &Path, study: &design::Study, r: &design::Report, history: &Path) {
+    if let (Some(max), true) = (study.max_heading_deg, r.failed < r.simulations + r.reused) {
         eprintln!(
-            "{}: {} evaluations ({} simulated, {} reused from {}, {} repeated, {} failed) in {:.1} s; {}",
+            "error: {}: no finished run headed within max_heading_deg = {max} degrees of the initial head direction ({} evaluations); see {}",
             path.display(),
             r.evaluations,
-            r.simulations,
-            r.reused,
-            history.display(),
-            r.repeats,
-            r.failed,
-            r.wall_time_s,
-            r.termination
+            history.display()
         );
+    } else {
         eprintln!(
-            "start: {}: v_s = {:.5} m/s (v_s/v_m = {:.4}), regime {}",
-            study.space.describe(&i.point),
-            i.v_s,
-            i.v_s_over_v_m,
-            i.regime
+            "error: {}: every simulation failed ({} evaluations); see {}",
+            path.display(),
+            r.evaluations,
+            history.display()
         );
+    }
+}
+
+/// What a study did and found: resume notes, counts, the start, the best, the ensemble check and
+/// the bounds the optimum lies on.
+fn report(
+    path: &Path,
+    out: &Path,
+    study: &design::Study,
+    r: &design::Report,
+    best: &design::Evaluation,
+    history: &Path,
+) {
+    if r.dropped_partial_row {
         eprintln!(
-            "best:  {} (G = {:.3}, W = {:.1}): v_s = {:.5} m/s (v_s/v_m = {:.4}), {:.1} deg off the head direction, writhe max {:.3} mean {:.3} turns, regime {}; wrote {}",
-            study.space.describe(&best.point),
-            best.g,
-            best.w,
-            best.v_s,
-            best.v_s_over_v_m,
-            best.displacement_angle_deg,
-            best.writhe_max,
-            best.writhe_mean,
-            best.regime,
-            out.display()
+            "note: an incomplete last row of {} was dropped",
+            history.display()
         );
-        if let Some(c) = &best.periodic {
-            eprintln!("       {}", c.describe());
-        }
-        if let Some(c) = &r.check {
-            let say = |e: &design::EnsembleOf| {
-                e.ensemble_objective
-                    .map_or("no finished member".to_string(), |s| {
-                        format!(
-                            "objective {:.5} ± {} (min {:.5}, max {:.5})",
-                            s.mean,
-                            s.sd.map_or("undefined".into(), |sd| format!("{sd:.5}")),
-                            s.min,
-                            s.max
-                        )
-                    })
-            };
-            eprintln!(
-                "ensemble of {} (best, eval {}), objective \"{}\" (lower is better): {}",
+    }
+    if r.rows_other_base > 0 {
+        eprintln!(
+            "note: {} rows of {} were written for another base problem (its effective content) or under another objective, turn_penalty or stationary_penalty, and were not reused: those points are simulated again",
+            r.rows_other_base,
+            history.display()
+        );
+    }
+    let i = &r.initial;
+    eprintln!(
+        "{}: {} evaluations ({} simulated, {} reused from {}, {} repeated, {} failed) in {:.1} s; {}",
+        path.display(),
+        r.evaluations,
+        r.simulations,
+        r.reused,
+        history.display(),
+        r.repeats,
+        r.failed,
+        r.wall_time_s,
+        r.termination
+    );
+    eprintln!(
+        "start: {}: v_s = {:.5} m/s (v_s/v_m = {:.4}), regime {}",
+        study.space.describe(&i.point),
+        i.v_s,
+        i.v_s_over_v_m,
+        i.regime
+    );
+    eprintln!(
+        "best:  {} (G = {:.3}, W = {:.1}): v_s = {:.5} m/s (v_s/v_m = {:.4}), {:.1} deg off the head direction, writhe max {:.3} mean {:.3} turns, regime {}; wrote {}",
+        study.space.describe(&best.point),
+        best.g,
+        best.w,
+        best.v_s,
+        best.v_s_over_v_m,
+        best.displacement_angle_deg,
+        best.writhe_max,
+        best.writhe_mean,
+        best.regime,
+        out.display()
+    );
+    if let Some(c) = &best.periodic {
+        eprintln!("       {}", c.describe());
+    }
+    if let Some(c) = &r.check {
+        let say = |e: &design::EnsembleOf| {
+            e.ensemble_objective
+                .map_or("no finished member".to_string(), |s| {
+                    format!(
+                        "objective {:.5} ± {} (min {:.5}, max {:.5})",
+                        s.mean,
+                        s.sd.map_or("undefined".into(), |sd| format!("{sd:.5}")),
+                        s.min,
+                        s.max
+                    )
+                })
+        };
+        eprintln!(
+            "ensemble of {} (best, eval {}), objective \"{}\" (lower is better): {}",
+            c.runs,
+            c.best.eval,
+            c.objective,
+            say(&c.best)
+        );
+        match (&c.runner_up, c.improvement, c.ranges_separate) {
+            (Some(u), Some(imp), Some(separate)) => eprintln!(
+                "ensemble of {} (runner-up, eval {}): {}; improvement {:.5} against spread {}: {}; {}",
                 c.runs,
-                c.best.eval,
-                c.objective,
-                say(&c.best)
-            );
-            match (&c.runner_up, c.improvement, c.ranges_separate) {
-                (Some(u), Some(imp), Some(separate)) => eprintln!(
-                    "ensemble of {} (runner-up, eval {}): {}; improvement {:.5} against spread {}: {}; {}",
-                    c.runs,
-                    u.eval,
-                    say(u),
-                    imp,
-                    c.spread.map_or("undefined".into(), |s| format!("{s:.5}")),
-                    match c.improvement_exceeds_spread {
-                        Some(true) => "the improvement exceeds the spread",
-                        Some(false) => "the improvement is within the spread",
-                        None => "no spread to compare with",
-                    },
-                    if separate {
-                        "every perturbed run of the best scores better than every one of the runner-up"
-                    } else {
-                        "the two ensembles overlap"
-                    }
-                ),
-                _ => eprintln!("no runner-up to compare with"),
-            }
-        }
-        for (param, side) in design::on_bound(&study, &r) {
-            eprintln!(
-                "note: the optimum lies on the {side} bound of {param} (within {} of the range): widen optimize.{param} to follow it",
-                design::ON_BOUND_FRACTION
-            );
+                u.eval,
+                say(u),
+                imp,
+                c.spread.map_or("undefined".into(), |s| format!("{s:.5}")),
+                match c.improvement_exceeds_spread {
+                    Some(true) => "the improvement exceeds the spread",
+                    Some(false) => "the improvement is within the spread",
+                    None => "no spread to compare with",
+                },
+                if separate {
+                    "every perturbed run of the best scores better than every one of the runner-up"
+                } else {
+                    "the two ensembles overlap"
+                }
+            ),
+            _ => eprintln!("no runner-up to compare with"),
         }
     }
-    ExitCode::SUCCESS
+    for (param, side) in design::on_bound(study, r) {
+        eprintln!(
+            "note: the optimum lies on the {side} bound of {param} (within {} of the range): widen optimize.{param} to follow it",
+            design::ON_BOUND_FRACTION
+        );
+    }
 }

@@ -214,44 +214,10 @@ pub fn phase(args: &Args) -> ExitCode {
         b
     });
     if let (Some(v), false) = (&ph.verify, quiet) {
-        eprintln!(
-            "verification: {} runs per cell ({}{} perturbed, seed {}, steps dt/{} .. dt*{}); the reported label is the {} run's",
-            v.runs(),
-            if v.finer { "the study's, one at dt/2 and 2x elements, " } else { "the study's, " },
-            v.perturbations,
-            v.seed,
-            v.step,
-            v.step,
-            if v.finer { "finer" } else { "study's" }
-        );
+        eprintln!("{}", verify_line(v));
     }
     let report = |done: usize, todo: usize, c: &design::phase::Cell| {
-        let line = if c.status == design::Status::Ok {
-            let agreement = c.verify.as_ref().map_or(String::new(), |v| {
-                format!(
-                    ", agreement {:.2} (v_s/v_m {:.4} .. {:.4})",
-                    v.label_agreement, v.v_s_over_v_m_min, v.v_s_over_v_m_max
-                )
-            });
-            let periodic = c
-                .periodic
-                .map_or(String::new(), |p| format!(", {}", p.describe()));
-            format!(
-                "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a{agreement}{periodic}, {:.1} s",
-                c.weight,
-                c.torque,
-                c.regime.map_or("-", |r| r.as_str()),
-                c.v_s_over_v_m,
-                c.displacement_angle_deg,
-                c.max_elevation_over_a,
-                c.wall_time_s
-            )
-        } else {
-            format!(
-                "cell {done}/{todo}: W = {} G = {}: failed: {}",
-                c.weight, c.torque, c.reason
-            )
-        };
+        let line = cell_line(done, todo, c);
         match &bar {
             Some(b) => {
                 b.inc(1);
@@ -294,55 +260,7 @@ pub fn phase(args: &Args) -> ExitCode {
             });
         }
     };
-    if sw.dropped_partial_row && !quiet {
-        eprintln!(
-            "note: an incomplete last row of {} (a write cut short) was dropped; its cell was simulated again",
-            out.join("phase.csv").display()
-        );
-    }
-    let failed = sw
-        .cells
-        .iter()
-        .filter(|c| c.status != design::Status::Ok)
-        .count();
-    eprintln!(
-        "{}: {} cells ({} simulated, {} reused, {} failed) in {:.1} s; wrote {}",
-        path.display(),
-        sw.cells.len(),
-        sw.simulated,
-        sw.reused,
-        failed,
-        t0.elapsed().as_secs_f64(),
-        out.display()
-    );
-    if let Some(r) = &sw.refinement {
-        eprintln!("{}", refine_summary(r, t0.elapsed().as_secs_f64()));
-    }
-    if let Some((g, simulated)) = &sw.growth {
-        eprintln!("{}", growth_summary(g, *simulated));
-        if let Err(code) = growth_failed(g, &out.join("growth.csv")) {
-            return code;
-        }
-    }
-    if args.gallery {
-        match design::phase::gallery::write_gallery(&ph, &sw.cells, out) {
-            Ok(p) if !quiet => eprintln!("wrote {}", p.display()),
-            Ok(_) => {}
-            Err(e) => {
-                eprintln!("error: {e}");
-                return ExitCode::from(1);
-            }
-        }
-    }
-    if failed == sw.cells.len() && !sw.cells.is_empty() {
-        eprintln!(
-            "error: {}: every cell failed; see {}",
-            path.display(),
-            out.join("phase.csv").display()
-        );
-        return ExitCode::from(3);
-    }
-    ExitCode::SUCCESS
+    finish(args, &ph, &sw, t0)
 }
 
 /// One refinement simulation, for the log.
@@ -409,4 +327,107 @@ pub fn refine_summary(r: &design::phase::refine::Refinement, elapsed_s: f64) -> 
         r.failed,
         elapsed_s
     )
+}
+
+/// One cell of the grid, for the log.
+pub fn cell_line(done: usize, todo: usize, c: &design::phase::Cell) -> String {
+    if c.status == design::Status::Ok {
+        let agreement = c.verify.as_ref().map_or(String::new(), |v| {
+            format!(
+                ", agreement {:.2} (v_s/v_m {:.4} .. {:.4})",
+                v.label_agreement, v.v_s_over_v_m_min, v.v_s_over_v_m_max
+            )
+        });
+        let periodic = c
+            .periodic
+            .map_or(String::new(), |p| format!(", {}", p.describe()));
+        format!(
+            "cell {done}/{todo}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} deg, max elevation {:.2} a{agreement}{periodic}, {:.1} s",
+            c.weight,
+            c.torque,
+            c.regime.map_or("-", |r| r.as_str()),
+            c.v_s_over_v_m,
+            c.displacement_angle_deg,
+            c.max_elevation_over_a,
+            c.wall_time_s
+        )
+    } else {
+        format!(
+            "cell {done}/{todo}: W = {} G = {}: failed: {}",
+            c.weight, c.torque, c.reason
+        )
+    }
+}
+
+/// How a study verifies each cell, for the log.
+fn verify_line(v: &design::phase::Verify) -> String {
+    format!(
+            "verification: {} runs per cell ({}{} perturbed, seed {}, steps dt/{} .. dt*{}); the reported label is the {} run's",
+            v.runs(),
+            if v.finer { "the study's, one at dt/2 and 2x elements, " } else { "the study's, " },
+            v.perturbations,
+            v.seed,
+            v.step,
+            v.step,
+            if v.finer { "finer" } else { "study's" })
+}
+
+/// The closing lines of a sweep (counts, refinement, growth line), the gallery, and the exit
+/// code.
+fn finish(
+    args: &Args,
+    ph: &design::phase::Phase,
+    sw: &design::phase::Sweep,
+    t0: Instant,
+) -> ExitCode {
+    let (path, out, quiet) = (args.file.as_path(), args.out.as_path(), args.quiet);
+    if sw.dropped_partial_row && !quiet {
+        eprintln!(
+            "note: an incomplete last row of {} (a write cut short) was dropped; its cell was simulated again",
+            out.join("phase.csv").display()
+        );
+    }
+    let failed = sw
+        .cells
+        .iter()
+        .filter(|c| c.status != design::Status::Ok)
+        .count();
+    eprintln!(
+        "{}: {} cells ({} simulated, {} reused, {} failed) in {:.1} s; wrote {}",
+        path.display(),
+        sw.cells.len(),
+        sw.simulated,
+        sw.reused,
+        failed,
+        t0.elapsed().as_secs_f64(),
+        out.display()
+    );
+    if let Some(r) = &sw.refinement {
+        eprintln!("{}", refine_summary(r, t0.elapsed().as_secs_f64()));
+    }
+    if let Some((g, simulated)) = &sw.growth {
+        eprintln!("{}", growth_summary(g, *simulated));
+        if let Err(code) = growth_failed(g, &out.join("growth.csv")) {
+            return code;
+        }
+    }
+    if args.gallery {
+        match design::phase::gallery::write_gallery(ph, &sw.cells, out) {
+            Ok(p) if !quiet => eprintln!("wrote {}", p.display()),
+            Ok(_) => {}
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(1);
+            }
+        }
+    }
+    if failed == sw.cells.len() && !sw.cells.is_empty() {
+        eprintln!(
+            "error: {}: every cell failed; see {}",
+            path.display(),
+            out.join("phase.csv").display()
+        );
+        return ExitCode::from(3);
+    }
+    ExitCode::SUCCESS
 }

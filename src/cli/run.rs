@@ -1,9 +1,8 @@
 //! `slither run`: simulate a problem file and write its results, figures and summary.
 use super::{lock_out, model_label};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use slither::model::Model;
-use slither::observe::{self, Measure, Observed};
-use slither::{output, problem};
+use slither::design::{ensemble, selection};
+use slither::{output, pipeline, problem};
 use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -43,7 +42,7 @@ pub struct Args {
     #[arg(long, value_name = "K")]
     pub ensemble: Option<usize>,
     /// Seed of `--ensemble` (each member's own seed is recorded in `summary.json`).
-    #[arg(long, default_value_t = slither::design::ensemble::SEED, requires = "ensemble")]
+    #[arg(long, default_value_t = ensemble::SEED, requires = "ensemble")]
     pub ensemble_seed: u64,
     /// Change a key of the problem file for this run, validated like the file:
     /// `--set rod.length=1.5`, `--set gait.centers[1]=0.3`, `--set gait.kind=s-start`.
@@ -84,95 +83,32 @@ pub fn settings_label(set: &[problem::set::Setting]) -> String {
 
 pub fn run(args: &Args) -> ExitCode {
     let (path, out) = (args.problem.as_path(), args.out.as_path());
-    let (quiet, no_plots, force, accuracy) = (args.quiet, args.no_plots, args.force, args.accuracy);
+    let quiet = args.quiet;
     let settings: Vec<&problem::set::Setting> = args.set.iter().collect();
-    let p = match problem::load_for_run_with(path, force, &settings) {
+    let p = match problem::load_for_run_with(path, args.force, &settings) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(2);
         }
     };
-    if let Some(a) = accuracy {
-        if !(a.is_finite() && (1e-4..=0.5).contains(&a)) {
-            eprintln!("error: --accuracy {a} is not allowed: must be in [1e-4, 0.5] (relative error of v_s/v_m)");
-            return ExitCode::from(2);
-        }
-        if p.time.mode != problem::Mode::Dynamic
-            || p.ground.is_none()
-            || p.gait.kind == problem::Kind::None
-        {
-            eprintln!(
-                "error: {}: --accuracy needs a dynamic scene with [ground] and a [gait] (it controls the error of v_s/v_m)",
-                path.display()
-            );
-            return ExitCode::from(2);
-        }
+    let mut req = pipeline::Request::new(p, path);
+    req.accuracy = args.accuracy;
+    req.ensemble = args.ensemble.map(|k| ensemble::Spec {
+        seed: args.ensemble_seed,
+        ..ensemble::Spec::new(k)
+    });
+    if let Err(e) = req.validate("--accuracy") {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
     }
-    if let Some(k) = args.ensemble {
-        if !(1..=1000).contains(&k) {
-            eprintln!(
-                "error: --ensemble {k} is not allowed: must be an integer in [1, 1000] (runs)"
-            );
-            return ExitCode::from(2);
-        }
-        if accuracy.is_some() || p.accuracy.is_some() {
-            eprintln!(
-                "error: {}: --ensemble cannot be combined with an accuracy target (--accuracy or [accuracy])",
-                path.display()
-            );
-            return ExitCode::from(2);
-        }
-    }
-    // `--member M`: the member's problem (friction and step perturbed) and, on the model
-    // below, its initial shape.
-    let member = match (args.member, args.ensemble) {
-        (Some(m), Some(k)) if m >= k => {
-            eprintln!(
-                "error: --member {m} is not a member of --ensemble {k}: members are 0 to {}",
-                k - 1
-            );
-            return ExitCode::from(2);
-        }
-        (Some(m), Some(k)) => {
-            use slither::design::ensemble;
-            let seed = ensemble::member_seed(args.ensemble_seed, m);
-            Some((m, k, seed, ensemble::Perturbation::default()))
-        }
-        _ => None,
+    let Some(req) = member_request(args, req) else {
+        return ExitCode::from(2);
     };
-    let p = match member {
-        Some((m, k, seed, pert)) => {
-            slither::design::ensemble::member_problem(&p, &pert, seed, m, k)
-        }
-        None => p,
-    };
-    let target = accuracy
-        .map(|t| (t, p.accuracy.as_ref().map_or(400, |a| a.max_elements)))
-        .or(p.accuracy.as_ref().map(|a| (a.target, a.max_elements)));
-    let mut from = format!("{}{}", path.display(), settings_label(&args.set));
-    if let Some((m, k, seed, _)) = member {
-        // The member's friction and step are in its problem; its initial shape's perturbation
-        // is drawn on the model from the seed, so the file alone is not the member.
-        from += &format!(
-            ", member {m} of --ensemble {k} (seed {seed}; its initial-shape perturbation is not in this file: rerun the member with --ensemble {k} --member {m} --ensemble-seed {})",
-            args.ensemble_seed
-        );
-    }
-    if let (Some(file), None) = (&args.dump_problem, target) {
-        if let Err(code) = dump_problem(file, &p, &from) {
+    let from = run_origin(args);
+    if let (Some(file), None) = (&args.dump_problem, req.target()) {
+        if let Err(code) = dump_problem(file, &req.problem, &from) {
             return code;
-        }
-    }
-    let mut model = Model::new(&p);
-    if let Some((m, k, seed, pert)) = member {
-        slither::design::ensemble::perturb_model(&mut model, &pert, seed);
-        if !quiet {
-            eprintln!(
-                "{}: member {m} of an ensemble of {k} (seed {seed}, step factor {:.4})",
-                path.display(),
-                slither::design::ensemble::applied_step_factor(&p, &pert, m, k)
-            );
         }
     }
     let _lock = match lock_out(out) {
@@ -194,10 +130,107 @@ pub fn run(args: &Args) -> ExitCode {
             return ExitCode::from(1);
         }
     };
-    let stage = staging.dir().to_path_buf();
-    let stage = stage.as_path();
     super::signals::stop_runs();
     let show = !quiet && std::io::stderr().is_terminal();
+    let mut run = match simulate(args, &req, show) {
+        Ok(r) => r,
+        Err(code) => return code,
+    };
+    if let Some(r) = &run.summary.accuracy {
+        if let Some(file) = &args.dump_problem {
+            if let Err(code) = dump_chosen(file, &req.problem, r, &from) {
+                return code;
+            }
+        }
+        if !quiet {
+            eprintln!("{}", accuracy_line(r));
+        }
+    }
+    let interrupted = run.outcome.interrupted;
+    if interrupted && staging.has_previous() {
+        eprintln!(
+            "{}: interrupted ({}) at t = {} s; nothing written, the previous results in {} are kept",
+            path.display(),
+            super::signals::name(),
+            run.outcome.state.t,
+            out.display()
+        );
+        return super::signals::exit_code();
+    }
+    if let (Some(spec), false, None) = (&req.ensemble, interrupted, args.member) {
+        let e = run.add_ensemble(&req, spec, &|done, n| {
+            if show {
+                eprint!("\rensemble: {done}/{n} runs");
+            }
+        });
+        if !quiet {
+            eprintln!("{}{}", if show { "\n" } else { "" }, ensemble::describe(e));
+        }
+    }
+    let hurry = match write(args, &run, &staging) {
+        Ok(hurry) => hurry,
+        Err(code) => return code,
+    };
+    if let Err(e) = staging.commit() {
+        eprintln!(
+            "error: {}: cannot move the results into place: {e}",
+            out.display()
+        );
+        return ExitCode::from(1);
+    }
+    closing(args, &run, hurry)
+}
+
+/// The request of `--member M` (the member's problem, friction and step perturbed, and its
+/// initial shape's perturbation for the model), or `req` itself without `--member`; `None`
+/// after the message when M is not a member.
+fn member_request(args: &Args, mut req: pipeline::Request) -> Option<pipeline::Request> {
+    match (args.member, args.ensemble) {
+        (Some(m), Some(k)) if m >= k => {
+            eprintln!(
+                "error: --member {m} is not a member of --ensemble {k}: members are 0 to {}",
+                k - 1
+            );
+            None
+        }
+        (Some(m), Some(k)) => {
+            let seed = ensemble::member_seed(args.ensemble_seed, m);
+            let pert = ensemble::Perturbation::default();
+            if !args.quiet {
+                eprintln!(
+                    "{}: member {m} of an ensemble of {k} (seed {seed}, step factor {:.4})",
+                    args.problem.display(),
+                    ensemble::applied_step_factor(&req.problem, &pert, m, k)
+                );
+            }
+            req.problem = ensemble::member_problem(&req.problem, &pert, seed, m, k);
+            req.perturbation = Some((pert, seed));
+            Some(req)
+        }
+        _ => Some(req),
+    }
+}
+
+/// Where the run's problem came from, for `--dump-problem`'s header: the file, its `--set`s
+/// and, for `--member`, how to rerun the member.
+fn run_origin(args: &Args) -> String {
+    let mut from = format!("{}{}", args.problem.display(), settings_label(&args.set));
+    if let (Some(m), Some(k)) = (args.member, args.ensemble) {
+        // The member's friction and step are in its problem; its initial shape's perturbation
+        // is drawn on the model from the seed, so the file alone is not the member.
+        let seed = ensemble::member_seed(args.ensemble_seed, m);
+        from += &format!(
+            ", member {m} of --ensemble {k} (seed {seed}; its initial-shape perturbation is not in this file: rerun the member with --ensemble {k} --member {m} --ensemble-seed {})",
+            args.ensemble_seed
+        );
+    }
+    from
+}
+
+/// The pipeline's simulation with the progress bars (shown on a terminal) and the
+/// selection's lines (unless `--quiet`), and the journal of an accuracy selection.
+fn simulate(args: &Args, req: &pipeline::Request, show: bool) -> Result<pipeline::Run, ExitCode> {
+    let quiet = args.quiet;
     // The stepping's bar, then the post-processing's (topology of every frame), each shown
     // once its part has taken over a second.
     let stepping = RefCell::new(LateBar::new(
@@ -210,23 +243,18 @@ pub fn run(args: &Args) -> ExitCode {
         None,
         "{elapsed_precise} [{bar:40}] {percent}% post-processing (topology of every frame) eta {eta}",
     );
-    let mut progress = |frac: f64| stepping.borrow_mut().set(frac);
-    let mut post = |frac: f64| {
-        stepping.borrow_mut().clear();
-        post_bar.set(frac);
+    let mut log = |line: &str| {
+        if !quiet {
+            eprintln!("{line}")
+        }
     };
-    let mut report = None;
-    let observed = if let Some((target, max_elements)) = target {
-        let mut log = |line: &str| {
-            if !quiet {
-                eprintln!("{line}")
-            }
-        };
-        // Finished selection runs are kept in DIR/accuracy_runs.jsonl and reused by a rerun
-        // of the same file with the same build.
-        let journal_path = out.join(slither::chart::accuracy::JOURNAL_FILE);
-        let mut journal = accuracy_journal_key(path)
-            .map(|k| slither::chart::accuracy::Journal::open(&journal_path, &k));
+    // Finished selection runs are kept in DIR/accuracy_runs.jsonl and reused by a rerun of
+    // the same file with the same build.
+    let mut journal = None;
+    if req.target().is_some() {
+        let journal_path = args.out.join(selection::JOURNAL_FILE);
+        journal = accuracy_journal_key(&args.problem)
+            .map(|k| selection::Journal::open(&journal_path, &k));
         if let Some(j) = journal.as_ref().filter(|j| !j.is_empty()) {
             log(&format!(
                 "accuracy: {} finished runs of this file in {}",
@@ -234,164 +262,103 @@ pub fn run(args: &Args) -> ExitCode {
                 journal_path.display()
             ));
         }
-        let sel = slither::chart::accuracy::select_with(
-            &p,
-            target,
-            max_elements,
-            journal.as_mut(),
-            &mut log,
-        );
-        model = sel.model;
-        let r = sel.report;
-        if let Some(file) = &args.dump_problem {
-            use slither::design::selection::Resolution;
-            let res = match (r.error_tolerance, r.dt) {
-                (Some(tol), _) => Resolution::Tolerance(tol),
-                (None, Some(h)) => Resolution::Step(h),
-                (None, None) => unreachable!("a chosen model has a step or a tolerance"),
-            };
-            let chosen = slither::design::selection::accuracy_problem(&p, r.elements, res);
-            if let Err(code) = dump_problem(
-                file,
-                &chosen,
-                &format!("{from} (the model accuracy {} chose)", r.target),
-            ) {
-                return code;
-            }
-        }
-        if !quiet {
-            eprintln!(
-                "accuracy {}: chose {} elements, {}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs of {:.1} s in all, {:.1} s of them probes, {:.1} s elapsed",
-                r.target,
-                r.elements,
-                model_label(r.dt, r.error_tolerance),
-                r.estimated_error,
-                r.time_error,
-                r.mesh_error,
-                if r.met { "" } else { ", ABOVE the target (refinement limits reached)" },
-                r.runs.len(),
-                r.wall_time_total_s,
-                r.probes_wall_time_s,
-                r.elapsed_s
-            );
-        }
-        report = Some(r);
-        let (fields, observables) =
-            observe::measure(&model, &sel.outcome, Measure::Full, &mut post);
-        Observed {
-            outcome: sel.outcome,
-            fields,
-            observables,
-        }
-    } else {
-        match observe::evaluate(&model, Measure::Full, &mut progress, &mut post) {
-            Ok(o) => o,
-            Err(e) => {
-                eprintln!("error: {}: {e}", path.display());
-                return ExitCode::from(2);
-            }
-        }
+    }
+    let hooks = pipeline::Hooks {
+        progress: &mut |frac| stepping.borrow_mut().set(frac),
+        post: &mut |frac| {
+            stepping.borrow_mut().clear();
+            post_bar.set(frac);
+        },
+        log: &mut log,
     };
+    let run = pipeline::simulate(req, journal.as_mut(), hooks);
     stepping.borrow_mut().clear();
     post_bar.clear();
-    let Observed {
-        outcome: o,
-        fields,
-        observables,
-    } = observed;
-    if o.interrupted && staging.has_previous() {
-        eprintln!(
-            "{}: interrupted ({}) at t = {} s; nothing written, the previous results in {} are kept",
-            path.display(),
-            super::signals::name(),
-            o.state.t,
-            out.display()
-        );
-        return super::signals::exit_code();
-    }
-    let mut summary = output::Summary::new(path, &model, &o);
-    summary.accuracy = report;
-    if let (Some(k), false, None) = (args.ensemble, o.interrupted, member) {
-        use slither::design::ensemble;
-        let spec = ensemble::Spec {
-            seed: args.ensemble_seed,
-            ..ensemble::Spec::new(k)
-        };
-        let e = ensemble::run(&p, &spec, &|done, n| {
-            if show {
-                eprint!("\rensemble: {done}/{n} runs");
-            }
-        });
-        if !quiet {
-            eprintln!("{}{}", if show { "\n" } else { "" }, ensemble::describe(&e));
-        }
-        summary.ensemble = Some(e);
-    }
-    summary.observables = Some(observables);
-    if o.error.is_none() {
-        summary.periodic = observe::periodic::of_outcome(&model, &o);
-    }
-    let extra = [
-        ("elevation", fields.elevation.clone()),
-        ("slip_speed", fields.slip.clone()),
-        ("lambda", fields.lambda.clone()),
-    ];
-    let written = output::write_final_csv(stage, &model, &o)
-        .and_then(|_| output::write_trajectory(stage, &model, &o.frames, &extra))
-        .and_then(|_| output::write_summary(stage, &summary));
-    if let Err(e) = written {
+    run.map_err(|e| {
+        eprintln!("error: {e}");
+        ExitCode::from(2)
+    })
+}
+
+/// The line that says which model an accuracy target chose.
+fn accuracy_line(r: &output::AccuracyReport) -> String {
+    format!(
+        "accuracy {}: chose {} elements, {}: estimated error {:.2e} (time {:.2e}, mesh {:.2e}){}; {} runs of {:.1} s in all, {:.1} s of them probes, {:.1} s elapsed",
+        r.target,
+        r.elements,
+        model_label(r.dt, r.error_tolerance),
+        r.estimated_error,
+        r.time_error,
+        r.mesh_error,
+        if r.met { "" } else { ", ABOVE the target (refinement limits reached)" },
+        r.runs.len(),
+        r.wall_time_total_s,
+        r.probes_wall_time_s,
+        r.elapsed_s
+    )
+}
+
+/// `--dump-problem` of the model an accuracy target chose.
+fn dump_chosen(
+    file: &Path,
+    p: &problem::Problem,
+    r: &output::AccuracyReport,
+    from: &str,
+) -> Result<(), ExitCode> {
+    use selection::Resolution;
+    let res = match (r.error_tolerance, r.dt) {
+        (Some(tol), _) => Resolution::Tolerance(tol),
+        (None, Some(h)) => Resolution::Step(h),
+        (None, None) => unreachable!("a chosen model has a step or a tolerance"),
+    };
+    let chosen = selection::accuracy_problem(p, r.elements, res);
+    dump_problem(
+        file,
+        &chosen,
+        &format!("{from} (the model accuracy {} chose)", r.target),
+    )
+}
+
+/// Write the run into the staging folder: the data at once; after SIGTERM or SIGHUP (Slurm
+/// kills the job 30 s after SIGTERM), including one that came after the simulation, without
+/// figures and movie. Returns whether it hurried so.
+fn write(
+    args: &Args,
+    run: &pipeline::Run,
+    staging: &output::staging::Staging,
+) -> Result<bool, ExitCode> {
+    let (path, out) = (args.problem.as_path(), args.out.as_path());
+    let stage = staging.dir();
+    if let Err(e) = run.write_data(stage) {
         eprintln!("error: {}: cannot write results: {e}", out.display());
-        return ExitCode::from(1);
+        return Err(ExitCode::from(1));
     }
-    // After SIGTERM or SIGHUP the data goes to disk at once, without figures (Slurm kills
-    // the job 30 s after SIGTERM).
-    // A signal that came after the simulation (post-processing, ensemble) counts too.
+    let files = pipeline::Files {
+        plots: !args.no_plots,
+        movie: args.movie,
+    };
     let hurry = super::signals::hurry();
-    if hurry && (!no_plots || args.movie) {
+    if hurry && (files.plots || files.movie) {
         eprintln!(
             "{}: interrupted ({}): figures and movie skipped",
             path.display(),
             super::signals::name()
         );
     }
-    // `--movie` with `--no-plots` writes the movie alone (no figures, tracks or ParaView).
-    if (!no_plots || args.movie) && !hurry {
-        // Ground tracks always; the movie unless the problem file turns it off.
-        let title = path
-            .file_stem()
-            .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-        let regime = output::movie::movie_label(
-            summary
-                .observables
-                .as_ref()
-                .filter(|_| o.error.is_none())
-                .map(|ob| ob.regime.to_string()),
-            summary
-                .periodic
-                .as_ref()
-                .map(|p| (p.sidewinding, p.lateral_speed_over_v_m)),
-        );
-        let want_movie = args.movie || p.output.movie;
-        let made = if no_plots {
-            let clip = output::movie::clip_from_run(&model, &o.frames, &fields, &title, regime);
-            output::movie::write_movie(stage, "movie.gif", &clip, &Default::default())
-                .map(Some)
-                .map_err(|e| format!("cannot write the movie: {e}"))
-        } else {
-            output::rundir::write_plots(stage, &model, &o, &fields, &title, regime, want_movie)
-        };
-        if let Err(e) = made {
+    if !hurry {
+        if let Err(e) = run.write_figures(stage, files) {
             eprintln!("error: {}: {e}", out.display());
-            return ExitCode::from(1);
+            return Err(ExitCode::from(1));
         }
     }
-    if let Err(e) = staging.commit() {
-        eprintln!(
-            "error: {}: cannot move the results into place: {e}",
-            out.display()
-        );
-        return ExitCode::from(1);
-    }
+    Ok(hurry)
+}
+
+/// The closing lines and the exit code of a written run (`hurry`: written without figures
+/// after a signal).
+fn closing(args: &Args, run: &pipeline::Run, hurry: bool) -> ExitCode {
+    let (path, out) = (args.problem.as_path(), args.out.as_path());
+    let (o, summary) = (&run.outcome, &run.summary);
     if hurry && !o.interrupted {
         eprintln!(
             "{}: {} came after the simulation: its results are written to {}, without figures",
@@ -420,45 +387,8 @@ pub fn run(args: &Args) -> ExitCode {
         );
         return ExitCode::from(3);
     }
-    if !quiet {
-        let ob = summary.observables.as_ref().unwrap();
-        eprintln!(
-            "{}: {} steps in {:.2} s, {:.2} Newton iterations/step, max strain {:.2e}; v_s = {:.4} m/s (v_s/v_m = {:.3}), regime {}; wrote {}",
-            path.display(),
-            summary.steps,
-            summary.wall_time_s,
-            summary.newton_iterations_mean,
-            summary.max_strain,
-            ob.v_s,
-            ob.v_s_over_v_m,
-            ob.regime,
-            out.display()
-        );
-        let sc = &summary.self_contact;
-        match sc.closest_over_a {
-            Some(c) if !sc.enabled && c < 1.0 => eprintln!(
-                "self-contact off: parts of the body came {c:.4} a apart (centrelines), closer than a: the body passed through itself"
-            ),
-            Some(c) if sc.active_steps > 0 => eprintln!(
-                "self-contact: closest pair {c:.4} a apart; {} steps with pairs within the activation gap, at most {} at once, largest pair force {:.3} N",
-                sc.active_steps, sc.max_pairs, sc.max_force
-            ),
-            _ => {}
-        }
-        if let Some(p) = &summary.periodic {
-            let miss = p.missed();
-            eprintln!(
-                "periodic: {} cycles after {} settling; broadside >= {:.1} deg, |turn| <= {:.1} deg/cycle, displacement >= {:.3} L/cycle, stationary contact share >= {:.2}; lateral speed {:.3} v_m; sidewinding: {}",
-                p.cycles.len(),
-                p.settling_cycles,
-                p.broadside_deg_min,
-                p.turn_deg_max_abs,
-                p.displacement_over_length_min,
-                p.stationary_contact_share_min,
-                p.lateral_speed_over_v_m,
-                if p.sidewinding { "yes".to_string() } else { format!("no ({miss})") }
-            );
-        }
+    if !args.quiet {
+        report(path, out, summary);
     }
     if let Some(r) = summary.accuracy.as_ref().filter(|r| !r.met) {
         // Printed even under --quiet: the answer is written, but not to the accuracy asked.
@@ -474,6 +404,48 @@ pub fn run(args: &Args) -> ExitCode {
         return ExitCode::from(ACCURACY_NOT_MET);
     }
     ExitCode::SUCCESS
+}
+
+/// What a finished run found: speed and regime, self-contact, the periodic analysis.
+fn report(path: &Path, out: &Path, summary: &output::Summary) {
+    let ob = summary.observables.as_ref().unwrap();
+    eprintln!(
+        "{}: {} steps in {:.2} s, {:.2} Newton iterations/step, max strain {:.2e}; v_s = {:.4} m/s (v_s/v_m = {:.3}), regime {}; wrote {}",
+        path.display(),
+        summary.steps,
+        summary.wall_time_s,
+        summary.newton_iterations_mean,
+        summary.max_strain,
+        ob.v_s,
+        ob.v_s_over_v_m,
+        ob.regime,
+        out.display()
+    );
+    let sc = &summary.self_contact;
+    match sc.closest_over_a {
+        Some(c) if !sc.enabled && c < 1.0 => eprintln!(
+            "self-contact off: parts of the body came {c:.4} a apart (centrelines), closer than a: the body passed through itself"
+        ),
+        Some(c) if sc.active_steps > 0 => eprintln!(
+            "self-contact: closest pair {c:.4} a apart; {} steps with pairs within the activation gap, at most {} at once, largest pair force {:.3} N",
+            sc.active_steps, sc.max_pairs, sc.max_force
+        ),
+        _ => {}
+    }
+    if let Some(p) = &summary.periodic {
+        let miss = p.missed();
+        eprintln!(
+            "periodic: {} cycles after {} settling; broadside >= {:.1} deg, |turn| <= {:.1} deg/cycle, displacement >= {:.3} L/cycle, stationary contact share >= {:.2}; lateral speed {:.3} v_m; sidewinding: {}",
+            p.cycles.len(),
+            p.settling_cycles,
+            p.broadside_deg_min,
+            p.turn_deg_max_abs,
+            p.displacement_over_length_min,
+            p.stationary_contact_share_min,
+            p.lateral_speed_over_v_m,
+            if p.sidewinding { "yes".to_string() } else { format!("no ({miss})") }
+        );
+    }
 }
 
 /// Exit code of a run whose accuracy target was not met (its results are written, with
@@ -524,9 +496,9 @@ impl LateBar {
 }
 
 /// Simulate `p` again into the run directory `dir` with figures, tracks and movie (the best
-/// evaluation of `slither optimize`, a cell of `slither phase --cell`), after the guard that
-/// `dir` holds no study's results; `label` is the file named as the problem, `what` says what
-/// is re-run in the closing line.
+/// evaluation of `slither optimize`, a cell of `slither phase --cell`) through the run
+/// pipeline, after the guard that `dir` holds no study's results; `label` is the file named
+/// as the problem, `what` says what is re-run in the closing line.
 pub fn rerun_into(
     p: &problem::Problem,
     label: &Path,
@@ -534,11 +506,16 @@ pub fn rerun_into(
     quiet: bool,
     plots: bool,
     what: &str,
-) -> Result<output::rundir::RunDir, ExitCode> {
+) -> Result<pipeline::Run, ExitCode> {
     let _lock = lock_out(dir)?;
     super::guard::check_writer(dir, super::guard::Writer::Run)?;
-    match output::rundir::write_run_dir(p, label, dir, plots) {
-        Ok(r) => {
+    let files = if plots {
+        pipeline::Files::ALL
+    } else {
+        pipeline::Files::DATA
+    };
+    match pipeline::run_into(p, label, dir, files) {
+        Ok((r, movie)) => {
             if !quiet {
                 let ob = r.summary.observables.as_ref();
                 eprintln!(
@@ -547,7 +524,7 @@ pub fn rerun_into(
                     r.summary.wall_time_s,
                     ob.map_or(f64::NAN, |o| o.v_s),
                     ob.map_or("-".to_string(), |o| o.regime.to_string()),
-                    r.movie.map_or(String::new(), |m| format!(
+                    movie.map_or(String::new(), |m| format!(
                         " (movie: {} frames, {:.1} MB, {:.2} s)",
                         m.frames,
                         m.bytes as f64 / 1e6,
@@ -573,5 +550,5 @@ pub fn rerun_into(
 fn accuracy_journal_key(path: &std::path::Path) -> Option<String> {
     let text = std::fs::read_to_string(path).ok()?;
     let exe = std::fs::read(std::env::current_exe().ok()?).ok()?;
-    Some(slither::chart::accuracy::Journal::key(&text, &exe))
+    Some(selection::Journal::key(&text, &exe))
 }

@@ -37,6 +37,27 @@ mod tests {
         problem_hash(&crate::problem::parse(text, Path::new("t.toml")).unwrap())
     }
 
+    /// The key hashes the problem's debug text: the integrator's variants print the names
+    /// earlier studies were keyed with, so their rows are reused.
+    #[test]
+    fn the_integrator_keeps_the_debug_text_of_earlier_keys() {
+        use crate::problem::IntegratorKind;
+        let names: Vec<String> = [
+            IntegratorKind::ImplicitEuler,
+            IntegratorKind::VelocityVerlet,
+            IntegratorKind::Bdf2,
+        ]
+        .iter()
+        .map(|k| format!("{k:?}"))
+        .collect();
+        assert_eq!(names, ["Implicit", "Explicit", "Bdf2"]);
+        assert!(format!("{:?}", parsed(BASE)).contains("integrator: Implicit"));
+    }
+
+    fn parsed(text: &str) -> crate::problem::Problem {
+        crate::problem::parse(text, Path::new("t.toml")).unwrap()
+    }
+
     #[test]
     fn comments_layout_and_written_defaults_do_not_count_values_do() {
         let h = hash(BASE);

@@ -87,16 +87,33 @@ pub mod selection;
 mod simulate;
 mod space;
 mod study;
+mod study_validate;
 
-pub use digest::*;
-pub use history::*;
-pub use objective::*;
-use report::*;
+pub(crate) use digest::fnv1a;
+pub use digest::problem_hash;
+use history::{key, rewrite_history, Key};
+pub use history::{
+    read_history, Evaluation, History, PeriodicColumns, Status, HISTORY_FILE, HISTORY_HEADER,
+    LEGACY_HISTORY_HEADER, PERIODIC_COLUMNS,
+};
+pub use objective::{Objective, ObjectiveInputs, DEFAULT_TURN_PENALTY};
 pub use report::{check_optimum, on_bound, EnsembleOf, OptimumCheck};
-pub use search::*;
-pub use simulate::*;
-pub use space::*;
-pub use study::*;
+use report::{write_figures, write_optimum};
+pub use search::{
+    optimize, reflect, EvaluationObserver, Evaluator, Iteration, Reflected, Silent, SWARM_WINDOW,
+};
+pub use simulate::simulate;
+pub use space::{Dim, GaitParams, Param, Space};
+use study::OPTIMIZE_ONE_OF;
+pub use study::{
+    load_study, load_study_with, parse_study, parse_study_with, InitialTable, OptimizeTable,
+    SearchMethod, Study, StudyError, StudySpec, StudyTable, DEFAULT_PARTICLES, ON_BOUND_FRACTION,
+    STUDY_TABLES,
+};
+use study_validate::{
+    base_problem, check_search_settings, check_shortest_run, dims, durations, method_sizes,
+    objective, At,
+};
 
 use crate::model::Model;
 use crate::problem::{self, key_line, Problem, ProblemError};

@@ -16,9 +16,9 @@ pub(super) struct Optimum<'a> {
     /// The optimised parameters and their bounds.
     optimized: &'a [Dim],
     /// Fastest finished evaluation within the heading limit (null if there is none).
-    best: Option<Summary<'a>>,
+    best: Option<EvaluationRecord<'a>>,
     /// The starting point.
-    initial: Summary<'a>,
+    initial: EvaluationRecord<'a>,
     /// `best.v_s - initial.v_s` (m/s).
     v_s_gain: Option<f64>,
     evaluations: usize,
@@ -226,8 +226,9 @@ pub fn check_optimum(
     })
 }
 
+/// One evaluation as `optimum.json` records it (`best`, `initial`).
 #[derive(Serialize)]
-pub(super) struct Summary<'a> {
+pub(super) struct EvaluationRecord<'a> {
     eval: usize,
     /// Muscle stress (Pa).
     stress: f64,
@@ -271,8 +272,8 @@ pub(super) struct Groups {
     w_over_g: f64,
 }
 
-pub(super) fn summary(e: &Evaluation) -> Summary<'_> {
-    Summary {
+pub(super) fn summary(e: &Evaluation) -> EvaluationRecord<'_> {
+    EvaluationRecord {
         eval: e.eval,
         stress: e.point.stress,
         sigma: e.point.sigma,

@@ -392,60 +392,14 @@ pub fn optimize(
         source,
     })?;
     let history_path = out.join(HISTORY_FILE);
-    let old = read_history(&history_path)?;
-    let rows_before = old.rows.len();
-    let mut cache = HashMap::new();
-    let mut rows_other_base = 0;
-    let mut next_eval = 1;
-    let mut rows = old.rows;
-    let row_hash = study.row_hash();
-    for (e, hash) in &mut rows {
-        next_eval = next_eval.max(e.eval + 1);
-        if *hash == row_hash {
-            // A legacy row (no period, spacing or lift recorded) ran the base file's.
-            let p = &mut e.point;
-            let f = &study.space.fixed;
-            for (x, base) in [
-                (&mut p.period, f.period),
-                (&mut p.spacing, f.spacing),
-                (&mut p.lift, f.lift),
-            ] {
-                if x.is_nan() {
-                    *x = base;
-                }
-            }
-            cache.insert(key(&e.point, e.duration), (e.clone(), true));
-        } else {
-            rows_other_base += 1;
-        }
-    }
-    // A history of the older format is rewritten in the current one before rows are appended
-    // (its rows of this base with the base's period, spacing and lift; of other bases empty).
-    if old.legacy {
-        rewrite_history(&history_path, &rows).map_err(|source| DesignError::Io {
-            path: history_path.clone(),
-            source,
-        })?;
-    }
-    let mut history = std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(&history_path)
-        .map_err(|source| DesignError::Io {
-            path: history_path.clone(),
-            source,
-        })?;
-    if rows_before == 0 {
-        let empty = history.metadata().map(|m| m.len() == 0).unwrap_or(true);
-        if empty {
-            writeln!(history, "{HISTORY_HEADER}")
-                .and_then(|_| history.flush())
-                .map_err(|source| DesignError::Io {
-                    path: history_path.clone(),
-                    source,
-                })?;
-        }
-    }
+    let Resumed {
+        cache,
+        next_eval,
+        history,
+        rows_before,
+        rows_other_base,
+        dropped_partial_row,
+    } = resume(study, &history_path)?;
     let calls = Rc::new(Cell::new(0usize));
     let limit = Rc::new(Cell::new(study.max_evaluations));
     let fatal = Rc::new(Cell::new(false));
@@ -465,6 +419,77 @@ pub fn optimize(
         limit: limit.clone(),
         fatal: fatal.clone(),
     };
+    let iterations = Arc::new(Mutex::new(Vec::new()));
+    let mut terminations = run_method(study, &evaluator, &iterations)?;
+    drop(evaluator);
+    let termination = if terminations.len() == 1 {
+        terminations.remove(0)
+    } else {
+        terminations
+            .iter()
+            .enumerate()
+            .map(|(i, t)| format!("start {}: {t}", i + 1))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    let mut sh = shared.borrow_mut();
+    if let Some(e) = sh.fatal.take() {
+        return Err(e);
+    }
+    let visited: Vec<(Evaluation, Source, f64)> = std::mem::take(&mut sh.visited);
+    drop(sh);
+    let count = |s: Source| visited.iter().filter(|v| v.1 == s).count();
+    let mut failed_keys = std::collections::HashSet::new();
+    for (e, _, _) in &visited {
+        if e.status == Status::Failed {
+            failed_keys.insert(key(&e.point, e.duration));
+        }
+    }
+    let best = visited
+        .iter()
+        .filter(|v| v.0.status == Status::Ok && study.meets_heading(&v.0))
+        .max_by(|a, b| b.0.objective().total_cmp(&a.0.objective()))
+        .map(|v| v.0.clone());
+    let initial = visited
+        .first()
+        .map(|v| v.0.clone())
+        .ok_or_else(|| DesignError::Solver("no evaluation was made".into()))?;
+    let report = Report {
+        evaluations: visited.len(),
+        simulations: count(Source::Simulated),
+        reused: count(Source::Reused),
+        repeats: count(Source::Repeat),
+        failed: failed_keys.len(),
+        rows_before,
+        rows_other_base,
+        dropped_partial_row,
+        initial,
+        best,
+        visited: visited.into_iter().map(|(e, _, c)| (e, c)).collect(),
+        iterations: iterations.lock().map(|v| v.clone()).unwrap_or_default(),
+        termination,
+        wall_time_s: start.elapsed().as_secs_f64(),
+        check: None,
+    };
+    let mut report = report;
+    if let Some(spec) = &study.ensemble {
+        report.check = check_optimum(study, &report, spec);
+        report.wall_time_s = start.elapsed().as_secs_f64();
+    }
+    write_optimum(study, out, &report)?;
+    write_figures(study, out, &report)?;
+    Ok(report)
+}
+
+/// Run the study's search method over `evaluator` within its budget, recording the
+/// iterations; returns why each start stopped.
+fn run_method(
+    study: &Study,
+    evaluator: &Evaluator,
+    iterations: &Arc<Mutex<Vec<Iteration>>>,
+) -> Result<Vec<String>, DesignError> {
+    let (calls, limit, fatal) = (&evaluator.calls, &evaluator.limit, &evaluator.fatal);
+    let mut terminations = Vec::new();
     let budgeted = |inner| Budgeted {
         inner,
         calls: calls.clone(),
@@ -477,12 +502,10 @@ pub fn optimize(
         limit: limit.clone(),
         fatal: fatal.clone(),
     };
-    let iterations = Arc::new(Mutex::new(Vec::new()));
     let reason =
         |run: Result<String, ArgminError>| run.map_err(|e| DesignError::Solver(e.to_string()));
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(study.seed);
     let n = study.space.dims.len();
-    let mut terminations = Vec::new();
     match study.method {
         SearchMethod::NelderMead => {
             for start in 1..=study.starts {
@@ -549,64 +572,91 @@ pub fn optimize(
             }
         }
     }
-    drop(evaluator);
-    let termination = if terminations.len() == 1 {
-        terminations.remove(0)
-    } else {
-        terminations
-            .iter()
-            .enumerate()
-            .map(|(i, t)| format!("start {}: {t}", i + 1))
-            .collect::<Vec<_>>()
-            .join("; ")
-    };
-    let mut sh = shared.borrow_mut();
-    if let Some(e) = sh.fatal.take() {
-        return Err(e);
-    }
-    let visited: Vec<(Evaluation, Source, f64)> = std::mem::take(&mut sh.visited);
-    drop(sh);
-    let count = |s: Source| visited.iter().filter(|v| v.1 == s).count();
-    let mut failed_keys = std::collections::HashSet::new();
-    for (e, _, _) in &visited {
-        if e.status == Status::Failed {
-            failed_keys.insert(key(&e.point, e.duration));
+    Ok(terminations)
+}
+
+/// A study's `history.csv` opened to append, with what its earlier rows answer.
+struct Resumed {
+    /// The evaluations of this study's rows (row key [`Study::row_hash`]), by point and
+    /// duration, each marked as read from the file.
+    cache: HashMap<Key, (Evaluation, bool)>,
+    /// The number of the next evaluation.
+    next_eval: usize,
+    /// The file, open to append (with its header).
+    history: std::fs::File,
+    /// Rows in the file before this run.
+    rows_before: usize,
+    /// Rows written under another key (never reused).
+    rows_other_base: usize,
+    /// An incomplete last row was dropped.
+    dropped_partial_row: bool,
+}
+
+/// Read `history.csv` at `history_path` (its rows of this study answer evaluations again; a
+/// file of the older format is rewritten in the current one) and open it to append.
+fn resume(study: &Study, history_path: &Path) -> Result<Resumed, DesignError> {
+    let old = read_history(history_path)?;
+    let rows_before = old.rows.len();
+    let mut cache = HashMap::new();
+    let mut rows_other_base = 0;
+    let mut next_eval = 1;
+    let mut rows = old.rows;
+    let row_hash = study.row_hash();
+    for (e, hash) in &mut rows {
+        next_eval = next_eval.max(e.eval + 1);
+        if *hash == row_hash {
+            // A legacy row (no period, spacing or lift recorded) ran the base file's.
+            let p = &mut e.point;
+            let f = &study.space.fixed;
+            for (x, base) in [
+                (&mut p.period, f.period),
+                (&mut p.spacing, f.spacing),
+                (&mut p.lift, f.lift),
+            ] {
+                if x.is_nan() {
+                    *x = base;
+                }
+            }
+            cache.insert(key(&e.point, e.duration), (e.clone(), true));
+        } else {
+            rows_other_base += 1;
         }
     }
-    let best = visited
-        .iter()
-        .filter(|v| v.0.status == Status::Ok && study.meets_heading(&v.0))
-        .max_by(|a, b| b.0.objective().total_cmp(&a.0.objective()))
-        .map(|v| v.0.clone());
-    let initial = visited
-        .first()
-        .map(|v| v.0.clone())
-        .ok_or_else(|| DesignError::Solver("no evaluation was made".into()))?;
-    let report = Report {
-        evaluations: visited.len(),
-        simulations: count(Source::Simulated),
-        reused: count(Source::Reused),
-        repeats: count(Source::Repeat),
-        failed: failed_keys.len(),
+    // A history of the older format is rewritten in the current one before rows are appended
+    // (its rows of this base with the base's period, spacing and lift; of other bases empty).
+    if old.legacy {
+        rewrite_history(history_path, &rows).map_err(|source| DesignError::Io {
+            path: history_path.into(),
+            source,
+        })?;
+    }
+    let mut history = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(history_path)
+        .map_err(|source| DesignError::Io {
+            path: history_path.into(),
+            source,
+        })?;
+    if rows_before == 0 {
+        let empty = history.metadata().map(|m| m.len() == 0).unwrap_or(true);
+        if empty {
+            writeln!(history, "{HISTORY_HEADER}")
+                .and_then(|_| history.flush())
+                .map_err(|source| DesignError::Io {
+                    path: history_path.into(),
+                    source,
+                })?;
+        }
+    }
+    Ok(Resumed {
+        cache,
+        next_eval,
+        history,
         rows_before,
         rows_other_base,
         dropped_partial_row: old.dropped_partial,
-        initial,
-        best,
-        visited: visited.into_iter().map(|(e, _, c)| (e, c)).collect(),
-        iterations: iterations.lock().map(|v| v.clone()).unwrap_or_default(),
-        termination,
-        wall_time_s: start.elapsed().as_secs_f64(),
-        check: None,
-    };
-    let mut report = report;
-    if let Some(spec) = &study.ensemble {
-        report.check = check_optimum(study, &report, spec);
-        report.wall_time_s = start.elapsed().as_secs_f64();
-    }
-    write_optimum(study, out, &report)?;
-    write_figures(study, out, &report)?;
-    Ok(report)
+    })
 }
 
 /// A draw uniform in [0, 1) from the top 53 bits of the generator (the study's seeded draws).

@@ -167,7 +167,7 @@ pub struct InitialTable {
 }
 
 /// What `[optimize]` must hold, for messages.
-const OPTIMIZE_ONE_OF: &str = "at least one of optimize.stress (Pa), optimize.sigma (fraction of L), optimize.speed (m/s), optimize.period (s), optimize.spacing (fraction of L), optimize.lift (scale of gait.scales[1])";
+pub(super) const OPTIMIZE_ONE_OF: &str = "at least one of optimize.stress (Pa), optimize.sigma (fraction of L), optimize.speed (m/s), optimize.period (s), optimize.spacing (fraction of L), optimize.lift (scale of gait.scales[1])";
 
 /// A validated study.
 #[derive(Clone, Debug)]
@@ -326,119 +326,17 @@ pub fn parse_study_with(
 ) -> Result<Study, StudyError> {
     let spec: StudySpec = problem::from_toml(text, path)?;
     problem::ranges::check_lengths(text, path)?;
-    let fail = |table: &str, key: &str, value: String, allowed: String| {
-        let top = key.split('.').next().unwrap_or(key);
-        StudyError::from(ProblemError::Invalid {
-            file: path.into(),
-            line: key_line(text, table, top),
-            key: format!("{table}.{key}"),
-            value,
-            allowed,
-        })
-    };
+    let at = At { text, path };
     let s = &spec.study;
-    let base_path = path.parent().unwrap_or_else(|| Path::new("")).join(&s.base);
-    let base = problem::read(&base_path)
-        .and_then(|t| problem::parse_with(&t, &base_path, base_settings).map(|(_, p)| p));
-    let base = base.map_err(|source| StudyError::Base {
-        file: path.into(),
-        line: key_line(text, "study", "base"),
-        value: s.base.clone(),
-        source: Box::new(source),
-    })?;
-    let base_fail = |allowed: &str| {
-        StudyError::from(ProblemError::Invalid {
-            file: path.into(),
-            line: key_line(text, "study", "base"),
-            key: "study.base".into(),
-            value: format!("{:?}", s.base),
-            allowed: allowed.into(),
-        })
-    };
-    if base.gait.kind == gait::Kind::None {
-        return Err(base_fail(
-            "a problem whose [gait] kind is \"s-start\", \"sidewinding\" or \"serpenoid\" (there is no gait to optimise)",
-        ));
-    }
-    if base.time.mode != problem::Mode::Dynamic {
-        return Err(base_fail("a problem in dynamic mode (a gait needs time)"));
-    }
+    let (base_path, base) = base_problem(&at, s, base_settings)?;
     let fixed = GaitParams::of(&base);
     let Some(opt) = &spec.optimize else {
-        return Err(ProblemError::Invalid {
-            file: path.into(),
-            line: text.lines().count().max(1),
-            key: "optimize".into(),
-            value: "(missing)".into(),
-            allowed: OPTIMIZE_ONE_OF.into(),
-        }
-        .into());
+        return Err(at.no_bounds(text.lines().count().max(1), "(missing)"));
     };
-    let mut dims = Vec::new();
-    for param in Param::ALL {
-        let (bounds, initial) = match param {
-            Param::Stress => (opt.stress, opt.initial.stress),
-            Param::Sigma => (opt.sigma, opt.initial.sigma),
-            Param::Speed => (opt.speed, opt.initial.speed),
-            Param::Period => (opt.period, opt.initial.period),
-            Param::Spacing => (opt.spacing, opt.initial.spacing),
-            Param::Lift => (opt.lift, opt.initial.lift),
-        };
-        let key = param.key();
-        let unit = param.unit();
-        let Some([lo, hi]) = bounds else {
-            if let Some(v) = initial {
-                return Err(fail(
-                    "optimize",
-                    &format!("initial.{key}"),
-                    format!("{v}"),
-                    format!("absent unless optimize.{key} gives bounds ({unit})"),
-                ));
-            }
-            continue;
-        };
-        if let Err(allowed) = param.check_bounds(&base, lo, hi) {
-            return Err(fail("optimize", key, format!("[{lo}, {hi}]"), allowed));
-        }
-        let x0 = initial.unwrap_or(param.get(&fixed));
-        if !(x0 >= lo && x0 <= hi) {
-            return Err(match initial {
-                Some(v) => fail(
-                    "optimize",
-                    &format!("initial.{key}"),
-                    format!("{v}"),
-                    format!("in [{lo}, {hi}] ({unit}), the bounds optimize.{key}"),
-                ),
-                None => fail(
-                    "optimize",
-                    key,
-                    format!("[{lo}, {hi}]"),
-                    format!(
-                        "bounds containing the base file's gait.{key} = {x0} ({unit}), or give optimize.initial.{key}"
-                    ),
-                ),
-            });
-        }
-        dims.push(Dim {
-            param,
-            lo,
-            hi,
-            initial: x0,
-        });
-    }
-    if dims.is_empty() {
-        return Err(ProblemError::Invalid {
-            file: path.into(),
-            line: key_line(text, "optimize", "stress"),
-            key: "optimize".into(),
-            value: "(no bounds)".into(),
-            allowed: OPTIMIZE_ONE_OF.into(),
-        }
-        .into());
-    }
+    let dims = dims(&at, opt, &base, &fixed)?;
     let n = dims.len();
     if !(n + 1..=100_000).contains(&s.max_evaluations) {
-        return Err(fail(
+        return Err(at.fail(
             "study",
             "max_evaluations",
             format!("{}", s.max_evaluations),
@@ -449,181 +347,10 @@ pub fn parse_study_with(
             ),
         ));
     }
-    let base_duration = base.time.duration.unwrap_or(0.0);
-    let duration_pulses = match s.duration_pulses {
-        Some(v) => {
-            if !(v.is_finite() && v > 0.0 && v <= 1000.0) {
-                return Err(fail(
-                    "study",
-                    "duration_pulses",
-                    format!("{v}"),
-                    "in (0, 1000] (pulse times L / v_m)".into(),
-                ));
-            }
-            v
-        }
-        None => base_duration * base.gait.speed / base.rod.length,
-    };
-    let duration_periods = match s.duration_periods {
-        None => None,
-        Some(v) => {
-            if s.duration_pulses.is_some() {
-                return Err(fail(
-                    "study",
-                    "duration_periods",
-                    format!("{v}"),
-                    "absent when study.duration_pulses is given (one of the two sets the duration)"
-                        .into(),
-                ));
-            }
-            if base.gait.kind != gait::Kind::Sidewinding {
-                return Err(fail(
-                    "study",
-                    "duration_periods",
-                    format!("{v}"),
-                    "absent unless the base's gait is \"sidewinding\" (the only gait with a launch period)".into(),
-                ));
-            }
-            if !(v.is_finite() && v > 0.0 && v <= 1000.0) {
-                return Err(fail(
-                    "study",
-                    "duration_periods",
-                    format!("{v}"),
-                    "in (0, 1000] (launch periods gait.period)".into(),
-                ));
-            }
-            Some(v)
-        }
-    };
-    if !(s.initial_step.is_finite() && s.initial_step > 0.0 && s.initial_step <= 1.0) {
-        return Err(fail(
-            "study",
-            "initial_step",
-            format!("{}", s.initial_step),
-            "in (0, 1] (fraction of each bound's width)".into(),
-        ));
-    }
-    if !(s.tolerance.is_finite() && s.tolerance >= 0.0) {
-        return Err(fail(
-            "study",
-            "tolerance",
-            format!("{}", s.tolerance),
-            "a finite number >= 0 (m/s)".into(),
-        ));
-    }
-    if !(s.penalty.is_finite() && s.penalty >= 0.0) {
-        return Err(fail(
-            "study",
-            "penalty",
-            format!("{}", s.penalty),
-            "a finite number >= 0 (m/s per unit normalised distance)".into(),
-        ));
-    }
-    if let Some(h) = s.max_heading_deg {
-        if !(h.is_finite() && h > 0.0 && h <= 180.0) {
-            return Err(fail(
-                "study",
-                "max_heading_deg",
-                format!("{h}"),
-                "a number in (0, 180] (degrees)".into(),
-            ));
-        }
-    }
-    let objective = match s.objective.as_deref() {
-        None | Some("v_s") => Objective::Vs,
-        Some("broadside") => Objective::Broadside,
-        Some("sidewinding") => Objective::Sidewinding,
-        Some(other) => {
-            return Err(fail(
-                "study",
-                "objective",
-                format!("{other:?}"),
-                "\"v_s\" (default), \"broadside\" or \"sidewinding\"".into(),
-            ))
-        }
-    };
-    if objective != Objective::Vs && base.gait.kind != gait::Kind::Sidewinding {
-        let name = s.objective.as_deref().unwrap_or_default();
-        return Err(fail(
-            "study",
-            "objective",
-            format!("{name:?}"),
-            format!("\"v_s\" for a base whose gait is not \"sidewinding\" (the {name} objective is measured per launch period)"),
-        ));
-    }
-    let turn_penalty = s.turn_penalty.unwrap_or(DEFAULT_TURN_PENALTY);
-    if let Some(t) = s.turn_penalty {
-        if objective != Objective::Broadside || !(t.is_finite() && t >= 0.0) {
-            return Err(fail(
-                "study",
-                "turn_penalty",
-                format!("{t}"),
-                "a finite number >= 0 (m/s per degree per cycle), only with objective = \"broadside\"".into(),
-            ));
-        }
-    }
-    let stationary_penalty = s.stationary_penalty.unwrap_or(0.0);
-    if let Some(t) = s.stationary_penalty {
-        if objective != Objective::Broadside || !(t.is_finite() && t >= 0.0) {
-            return Err(fail(
-                "study",
-                "stationary_penalty",
-                format!("{t}"),
-                "a finite number >= 0 (m/s per unit of stationary share short of 0.8), only with objective = \"broadside\"".into(),
-            ));
-        }
-    }
-    let method = opt.method;
-    let starts = opt.starts.unwrap_or(1);
-    if let Some(k) = opt.starts {
-        if method != SearchMethod::NelderMead {
-            return Err(fail(
-                "optimize",
-                "starts",
-                format!("{k}"),
-                "absent with method = \"particle-swarm\" (multi-start is for Nelder-Mead; the swarm sets its size with optimize.particles)".into(),
-            ));
-        }
-        if !(1..=1000).contains(&k) || s.max_evaluations < k * (n + 1) {
-            return Err(fail(
-                "optimize",
-                "starts",
-                format!("{k}"),
-                format!(
-                    "an integer in [1, 1000] with study.max_evaluations = {} >= starts * {} (each start's simplex needs n + 1 = {} evaluations)",
-                    s.max_evaluations,
-                    n + 1,
-                    n + 1
-                ),
-            ));
-        }
-    }
-    let particles = match (method, opt.particles) {
-        (SearchMethod::NelderMead, Some(p)) => {
-            return Err(fail(
-                "optimize",
-                "particles",
-                format!("{p}"),
-                "absent unless method = \"particle-swarm\"".into(),
-            ))
-        }
-        (SearchMethod::NelderMead, None) => 0,
-        (SearchMethod::ParticleSwarm, p) => {
-            let p = p.unwrap_or(DEFAULT_PARTICLES);
-            if !(2..=1000).contains(&p) || p > s.max_evaluations {
-                return Err(fail(
-                    "optimize",
-                    "particles",
-                    format!("{p}"),
-                    format!(
-                        "an integer in [2, 1000], at most study.max_evaluations = {} (one generation)",
-                        s.max_evaluations
-                    ),
-                ));
-            }
-            p
-        }
-    };
+    let (duration_pulses, duration_periods) = durations(&at, s, &base)?;
+    check_search_settings(&at, s)?;
+    let (objective, turn_penalty, stationary_penalty) = objective(&at, s, &base)?;
+    let (starts, particles) = method_sizes(&at, s, opt, n)?;
     let space = Space { dims, fixed };
     let study = Study {
         path: path.into(),
@@ -641,7 +368,7 @@ pub fn parse_study_with(
         turn_penalty,
         stationary_penalty,
         space,
-        method,
+        method: opt.method,
         starts,
         particles,
         seed: opt.seed.unwrap_or(1),
@@ -651,51 +378,9 @@ pub fn parse_study_with(
     };
     if let Some(a) = &spec.accuracy {
         if let Err((key, value, allowed)) = problem::check_accuracy(a, &study.base) {
-            return Err(fail("accuracy", key, value, allowed));
+            return Err(at.fail("accuracy", key, value, allowed));
         }
     }
-    // The shortest run (at the fastest speed, or the shortest period) must hold at least one
-    // time step.
-    let bound = |param: Param, upper: bool| {
-        let d = study.space.dims.iter().find(|d| d.param == param);
-        d.map_or(param.get(&fixed), |d| if upper { d.hi } else { d.lo })
-    };
-    let mut shortest_point = fixed;
-    shortest_point.speed = bound(Param::Speed, true);
-    shortest_point.period = bound(Param::Period, false);
-    let dt = study.base.time.dt.unwrap_or(0.0);
-    let shortest = study.duration(&shortest_point);
-    if shortest < dt {
-        let (v_max, p_min) = (shortest_point.speed, shortest_point.period);
-        let (table, key, value, rule) = match duration_periods {
-            Some(n) => (
-                "study",
-                "duration_periods",
-                format!("{n}"),
-                format!("duration_periods * period = {shortest} s at period = {p_min} s"),
-            ),
-            None => {
-                let rule = format!("duration_pulses * L / v_m = {shortest} s at v_m = {v_max} m/s");
-                if s.duration_pulses.is_some() {
-                    (
-                        "study",
-                        "duration_pulses",
-                        format!("{duration_pulses}"),
-                        rule,
-                    )
-                } else {
-                    ("optimize", "speed", format!("{v_max}"), rule)
-                }
-            }
-        };
-        return Err(fail(
-            table,
-            key,
-            value,
-            format!(
-                "such that the shortest run, {rule}, is at least the base file's time.dt = {dt} s"
-            ),
-        ));
-    }
+    check_shortest_run(&at, s, &study)?;
     Ok(study)
 }

@@ -5,7 +5,7 @@
 //!
 //! * [`stretch`]: `EA/(2 l0) (|e| - l0)^2` per edge (near-inextensibility, MODEL 1.3), with a
 //!   closed-form Hessian;
-//! * [`node::BendTwist`]: bending `B/(2 l_i) |kappa_i - kappa0_i|^2` and twist
+//! * [`bend_twist::BendTwist`]: bending `B/(2 l_i) |kappa_i - kappa0_i|^2` and twist
 //!   `C/(2 l_i) (m_i - m0_i)^2` of every interior node together, one closed form in plain
 //!   `f64` for the value, gradient and Hessian of a node's stencil;
 //! * [`gravity`]: `-sum_i m_i g . x_i`.
@@ -21,7 +21,7 @@
 //! * [`stencil`]: the two energies written once, generically over the scalar (their value,
 //!   and the gradient alone for explicit integration: closed form when the frames are
 //!   current, dual numbers otherwise);
-//! * [`node`]: the fused closed-form value, gradient and Hessian ([`node::BendTwist`]);
+//! * [`bend_twist`]: the fused closed-form value, gradient and Hessian ([`bend_twist::BendTwist`]);
 //! * [`reftwist`]: the reference twist's value and derivatives (solid-angle form);
 //! * [`jet`]: second-order jets, for the reference twist's `atan2`;
 //! * [`local`]: intrinsic coordinates, the chain rule into the band (linear), and the
@@ -31,10 +31,11 @@
 //! staged jets, per-term closed forms, bending and twist as separate terms) live in
 //! `reference/`, compiled for tests and benches only (cargo feature `reference`).
 
+pub mod bend_twist;
 pub mod gravity;
 pub mod jet;
 pub mod local;
-pub mod node;
+pub mod psd;
 #[cfg(any(test, feature = "reference"))]
 pub mod reference;
 pub mod reftwist;
@@ -98,7 +99,7 @@ pub trait Term: Send + Sync {
 pub fn rod_terms() -> Vec<Box<dyn Term>> {
     vec![
         Box::new(stretch::Stretch),
-        Box::new(node::BendTwist::default()),
+        Box::new(bend_twist::BendTwist::default()),
         Box::new(gravity::Gravity),
     ]
 }

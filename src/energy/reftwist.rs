@@ -16,7 +16,7 @@
 //! frozen frames). Both terms are `atan2` of a polynomial of degree two in the tangents, so the
 //! gradient and Hessian in `(t0, t1)` are short closed forms. The value is computed directly
 //! (as [`crate::rod::frames::strains`] does, with its `2 pi` branch), the derivatives from the
-//! identity. The fused bending-and-twist stencil ([`super::node`]) takes the twist from here;
+//! identity. The fused bending-and-twist stencil ([`super::bend_twist`]) takes the twist from here;
 //! the tests compare the Hessian with finite differences of the gradient, and the stencil
 //! with the staged jets on random, strongly bent stencils.
 

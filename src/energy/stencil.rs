@@ -7,11 +7,11 @@
 //! and [`TwistStencil`] are those energies ([`StencilEnergy::eval`] with `f64` is the value
 //! every run uses; with dual numbers it differentiates itself).
 //!
-//! The gradient alone (explicit integration, [`super::node::BendTwist`]'s
+//! The gradient alone (explicit integration, [`super::bend_twist::BendTwist`]'s
 //! [`super::Term::gradient`]): [`bend_gradient`] and [`twist_gradient`], the closed form of
 //! Bergou et al. 2010 when the frames are current ([`frames_current`]), first-order dual
 //! numbers otherwise. The Hessians of real runs come from the fused closed form of
-//! [`super::node`]; the per-term references (staged jets, per-term closed forms, hyper-dual
+//! [`super::bend_twist`]; the per-term references (staged jets, per-term closed forms, hyper-dual
 //! numbers) live in `energy/reference/` and are compiled for tests and benches only.
 
 use super::local::{add_gradient, intrinsic};

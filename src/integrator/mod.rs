@@ -37,8 +37,7 @@
 //!   [`bdf2::Bdf2`]).
 //! * [`crate::problem::IntegratorKind`] (enum): the problem file's `[solver] integrator`
 //!   choice, mapped to a [`Scheme`] by [`scheme_for`] (or to [`explicit::Explicit`] by
-//!   [`crate::sim::run_gait`]). The charts' [`crate::chart::StepperKind`] picks between the
-//!   implicit and the explicit stepper.
+//!   [`crate::sim::run_gait`]). The charts and the summary name integrators by it too.
 
 /// The fraction of the velocity's change over the last step that the extrapolated start
 /// ([`Scheme::extrapolated_start`]) carries into the next at the nodes that touched the
@@ -205,9 +204,9 @@ pub(crate) fn euler_predictor(
 /// The scheme of `[solver] integrator` (implicit integrators only).
 pub fn scheme_for(kind: crate::problem::IntegratorKind) -> Option<Box<dyn Scheme>> {
     match kind {
-        crate::problem::IntegratorKind::Implicit => Some(Box::new(euler::ImplicitEuler)),
+        crate::problem::IntegratorKind::ImplicitEuler => Some(Box::new(euler::ImplicitEuler)),
         crate::problem::IntegratorKind::Bdf2 => Some(Box::new(bdf2::Bdf2::default())),
-        crate::problem::IntegratorKind::Explicit => None,
+        crate::problem::IntegratorKind::VelocityVerlet => None,
     }
 }
 

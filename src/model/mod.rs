@@ -153,6 +153,95 @@ pub struct Dimensionless {
     pub aspect_ratio: f64,
 }
 
+/// The initial coil (`[initial] shape = "coil"`): a helix of radius `rad` and pitch `pitch`
+/// from the tail (bottom, at height `z`) up to the head, its nodes at equal angles `dphi`
+/// apart, chosen so that every edge (a chord) has the rest length `l0`, written into the
+/// positions `q0` and `xs` and the reference directors `a1_0` (with the twist angles that make
+/// the coil's curvature lie about `d2`).
+fn place_coil(
+    rad: f64,
+    pitch: f64,
+    l0: f64,
+    z: f64,
+    q0: &mut [f64],
+    xs: &mut [[f64; 3]],
+    a1_0: &mut [[f64; 3]],
+) {
+    // A helix from the tail (bottom) up to the head, its nodes at equal angles `dphi`
+    // apart, chosen so that every edge (a chord) has the rest length `l0`:
+    // 2 R^2 (1 - cos dphi) + (p dphi / 2 pi)^2 = l0^2, by Newton's method from the
+    // arc's angle (the chord of an arc of `l0` is shorter by about `(l0 k)^2 / 24`).
+    let b = pitch / (2.0 * PI);
+    let mut dphi = l0 / rad.hypot(b);
+    for _ in 0..50 {
+        let f = 2.0 * rad * rad * (1.0 - dphi.cos()) + (b * dphi).powi(2) - l0 * l0;
+        let df = 2.0 * rad * rad * dphi.sin() + 2.0 * b * b * dphi;
+        let step = f / df;
+        dphi -= step;
+        if step.abs() <= 1e-15 * dphi {
+            break;
+        }
+    }
+    for i in 0..xs.len() {
+        let k = (xs.len() - 1 - i) as f64;
+        let phi = k * dphi;
+        let x = [rad * phi.cos(), rad * phi.sin(), z + b * phi];
+        q0[dof::node(i)..dof::node(i) + 3].copy_from_slice(&x);
+        xs[i] = x;
+    }
+    // Reference directors transported along the edges from the head's (no twist).
+    let tangent = |j: usize| f::unit(f::sub(xs[j + 1], xs[j]));
+    a1_0[0] = frames::initial_director(tangent(0));
+    for j in 1..xs.len() - 1 {
+        a1_0[j] = f::unit(f::transport(tangent(j - 1), tangent(j), a1_0[j - 1]));
+    }
+    // The material frame with d1 horizontal (d2 along the helix's binormal, near
+    // vertical): twist angles from the transported directors, so that the coil's own
+    // curvature lies about d2 all along (natural curvature [0, -k] and natural twist
+    // t, with k and t the helix's curvature and torsion, make it stress-free).
+    for j in 0..xs.len() - 1 {
+        let t = tangent(j);
+        let d1 = frames::initial_director(t);
+        let a2 = f::cross(t, a1_0[j]);
+        q0[dof::edge(j)] = f::dot(a2, d1).atan2(f::dot(a1_0[j], d1));
+    }
+}
+
+/// The initial velocity (`[initial] velocity`, `angular_velocity`): uniform plus the rigid
+/// rotation about the centroid of the real nodes (`xs` the node positions, `t` the tangent),
+/// zero on fixed coordinates.
+fn initial_velocity(
+    p: &Problem,
+    xs: &[[f64; 3]],
+    real: &std::ops::Range<usize>,
+    fixed: &[bool],
+    t: [f64; 3],
+) -> Vec<f64> {
+    let centroid = {
+        let mut c = [0.0; 3];
+        for i in real.clone() {
+            c = f::add(c, xs[i]);
+        }
+        f::scale(c, 1.0 / real.len() as f64)
+    };
+    let w = p.initial.angular_velocity;
+    let mut v0 = vec![0.0; fixed.len()];
+    for i in 0..xs.len() {
+        let v = f::add(p.initial.velocity, f::cross(w, f::sub(xs[i], centroid)));
+        for c in 0..3 {
+            if !fixed[dof::node(i) + c] {
+                v0[dof::node(i) + c] = v[c];
+            }
+        }
+    }
+    for j in 0..xs.len() - 1 {
+        if !fixed[dof::edge(j)] {
+            v0[dof::edge(j)] = f::dot(w, t);
+        }
+    }
+    v0
+}
+
 impl Model {
     /// Compile a validated problem.
     pub fn new(p: &Problem) -> Self {
@@ -227,69 +316,10 @@ impl Model {
         let a1 = frames::initial_director(t);
         let mut a1_0 = vec![a1; nodes - 1];
         if p.initial.shape == Shape::Coil {
-            // A helix from the tail (bottom) up to the head, its nodes at equal angles `dphi`
-            // apart, chosen so that every edge (a chord) has the rest length `l0`:
-            // 2 R^2 (1 - cos dphi) + (p dphi / 2 pi)^2 = l0^2, by Newton's method from the
-            // arc's angle (the chord of an arc of `l0` is shorter by about `(l0 k)^2 / 24`).
             let (rad, pitch) = (p.initial.coil_radius, p.initial.coil_pitch);
-            let b = pitch / (2.0 * PI);
-            let mut dphi = l0 / rad.hypot(b);
-            for _ in 0..50 {
-                let f = 2.0 * rad * rad * (1.0 - dphi.cos()) + (b * dphi).powi(2) - l0 * l0;
-                let df = 2.0 * rad * rad * dphi.sin() + 2.0 * b * b * dphi;
-                let step = f / df;
-                dphi -= step;
-                if step.abs() <= 1e-15 * dphi {
-                    break;
-                }
-            }
-            for i in 0..nodes {
-                let k = (nodes - 1 - i) as f64;
-                let phi = k * dphi;
-                let x = [rad * phi.cos(), rad * phi.sin(), z + b * phi];
-                q0[dof::node(i)..dof::node(i) + 3].copy_from_slice(&x);
-                xs[i] = x;
-            }
-            // Reference directors transported along the edges from the head's (no twist).
-            let tangent = |j: usize| f::unit(f::sub(xs[j + 1], xs[j]));
-            a1_0[0] = frames::initial_director(tangent(0));
-            for j in 1..nodes - 1 {
-                a1_0[j] = f::unit(f::transport(tangent(j - 1), tangent(j), a1_0[j - 1]));
-            }
-            // The material frame with d1 horizontal (d2 along the helix's binormal, near
-            // vertical): twist angles from the transported directors, so that the coil's own
-            // curvature lies about d2 all along (natural curvature [0, -k] and natural twist
-            // t, with k and t the helix's curvature and torsion, make it stress-free).
-            for j in 0..nodes - 1 {
-                let t = tangent(j);
-                let d1 = frames::initial_director(t);
-                let a2 = f::cross(t, a1_0[j]);
-                q0[dof::edge(j)] = f::dot(a2, d1).atan2(f::dot(a1_0[j], d1));
-            }
+            place_coil(rad, pitch, l0, z, &mut q0, &mut xs, &mut a1_0);
         }
-        // Initial velocity: uniform plus rigid rotation about the centroid of the real nodes.
-        let centroid = {
-            let mut c = [0.0; 3];
-            for i in real.clone() {
-                c = f::add(c, xs[i]);
-            }
-            f::scale(c, 1.0 / real.len() as f64)
-        };
-        let w = p.initial.angular_velocity;
-        let mut v0 = vec![0.0; ndof];
-        for i in 0..nodes {
-            let v = f::add(p.initial.velocity, f::cross(w, f::sub(xs[i], centroid)));
-            for c in 0..3 {
-                if !fixed[dof::node(i) + c] {
-                    v0[dof::node(i) + c] = v[c];
-                }
-            }
-        }
-        for j in 0..nodes - 1 {
-            if !fixed[dof::edge(j)] {
-                v0[dof::edge(j)] = f::dot(w, t);
-            }
-        }
+        let v0 = initial_velocity(p, &xs, &real, &fixed, t);
         let (dt, duration) = match p.time.mode {
             Mode::Dynamic => (p.time.dt.unwrap_or(1e-3), p.time.duration.unwrap_or(1.0)),
             Mode::Static => (p.time.dt.unwrap_or(1.0), p.time.duration.unwrap_or(0.0)),

@@ -334,36 +334,60 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         .map(|row| runs(row.iter().map(|&e| e >= 0.5 * a)))
         .max()
         .unwrap_or(0);
-    // Contact: nodes carrying more than a millionth of their weight.
-    let in_contact = |n: f64| m.in_contact(n);
     if m.ground.is_some() {
-        let mut two = 0;
-        let mut slips = Vec::new();
-        for (k, fr) in frames.iter().enumerate() {
-            if runs(fr.normal.iter().map(|&n| in_contact(n))) >= 2 {
-                two += 1;
-            }
-            for (i, &n) in fr.normal.iter().enumerate() {
-                if in_contact(n) && k > 0 {
-                    slips.push(fl.slip[k][i]);
-                }
+        contact_observables(m, frames, fl, &mut o);
+    }
+    pulse_observables(m, frames, fl, has_gait, &mut o);
+    (o.regime, o.regime_reason) = classify(&o.regime_inputs());
+    o
+}
+
+/// The contact observables of a run on the ground: the share of frames with two contact
+/// patches, the arcs' lift, the median slip of the nodes in contact (a node is in contact when
+/// it carries more than a millionth of its weight).
+fn contact_observables(m: &Model, frames: &[Frame], fl: &Fields, o: &mut Observables) {
+    let in_contact = |n: f64| m.in_contact(n);
+    let (a, vm) = (m.diameter, m.gait.speed);
+    let mut two = 0;
+    let mut slips = Vec::new();
+    for (k, fr) in frames.iter().enumerate() {
+        if runs(fr.normal.iter().map(|&n| in_contact(n))) >= 2 {
+            two += 1;
+        }
+        for (i, &n) in fr.normal.iter().enumerate() {
+            if in_contact(n) && k > 0 {
+                slips.push(fl.slip[k][i]);
             }
         }
-        o.two_patch_fraction = two as f64 / frames.len() as f64;
-        o.two_arc_lift_over_a = frames
-            .iter()
-            .zip(&fl.elevation)
-            .map(|(fr, e)| two_arc_height(e, |j| in_contact(fr.normal[j])))
-            .fold(0.0, f64::max)
-            / a;
-        o.arc_lift_max_over_a = frames
-            .iter()
-            .zip(&fl.elevation)
-            .map(|(fr, e)| arc_height(e, |j| in_contact(fr.normal[j])))
-            .fold(0.0, f64::max)
-            / a;
-        o.contact_slip_over_v_m = median(slips) / vm;
     }
+    o.two_patch_fraction = two as f64 / frames.len() as f64;
+    o.two_arc_lift_over_a = frames
+        .iter()
+        .zip(&fl.elevation)
+        .map(|(fr, e)| two_arc_height(e, |j| in_contact(fr.normal[j])))
+        .fold(0.0, f64::max)
+        / a;
+    o.arc_lift_max_over_a = frames
+        .iter()
+        .zip(&fl.elevation)
+        .map(|(fr, e)| arc_height(e, |j| in_contact(fr.normal[j])))
+        .fold(0.0, f64::max)
+        / a;
+    o.contact_slip_over_v_m = median(slips) / vm;
+}
+
+/// The lambda pulse (its speed, straightness and amplitude variation) and the middle
+/// segment's slip, measured while the whole triplet is inside the body (`has_gait`: the scene
+/// has muscles).
+fn pulse_observables(
+    m: &Model,
+    frames: &[Frame],
+    fl: &Fields,
+    has_gait: bool,
+    o: &mut Observables,
+) {
+    let in_contact = |n: f64| m.in_contact(n);
+    let (g, vm) = (&m.gait, m.gait.speed);
     // The lambda pulse and the middle segment, while the whole triplet is inside the body
     // (after the ramp, before couple c's centre is within 2 sigma of the tail). The pulse is
     // the lobe of lambda with the sign of its largest magnitude over that interval; its peak
@@ -443,8 +467,6 @@ pub fn observe(m: &Model, frames: &[Frame], fl: &Fields) -> Observables {
         mids.iter().filter(|&&v| v < 0.1 * vm).count() as f64 / mids.len() as f64
     };
     o.middle_slip_over_v_m = median(mids) / vm;
-    (o.regime, o.regime_reason) = classify(&o.regime_inputs());
-    o
 }
 
 #[cfg(test)]

@@ -40,8 +40,8 @@ pub struct Summary {
     pub error: Option<String>,
     /// Problem file.
     pub problem: String,
-    /// "dynamic" or "static".
-    pub mode: String,
+    /// "dynamic" or "static" (`[time] mode`).
+    pub mode: crate::problem::Mode,
     /// Simulated time reached (s).
     pub t_final: f64,
     /// Accepted steps (static: load increments).
@@ -202,7 +202,7 @@ impl Summary {
             status: o.status(),
             error: o.error.as_ref().map(|e| e.to_string()),
             problem: problem.display().to_string(),
-            mode: format!("{:?}", m.mode).to_lowercase(),
+            mode: m.mode,
             t_final: s.t,
             steps: o.stats.steps,
             wall_time_s: o.wall_time_s,

@@ -395,11 +395,15 @@ pub fn load_for_run_with(
 ) -> Result<Problem, ProblemError> {
     let (text, p) = parse_with(&read(path)?, path, settings)?;
     if !force {
-        limits::check_run_size(&p, &text, path)
-            .and_then(|_| limits::check_scaled_groups(&p, &text, path))
-            .map_err(|e| set::attribute(e, settings, path))?;
+        check_for_run(&p, &text, path).map_err(|e| set::attribute(e, settings, path))?;
     }
     Ok(p)
+}
+
+/// The size limits of a run (steps, stored frames, post-processing) and the scaled groups'
+/// ranges, checked on a parsed problem whose file text is `text` (`--force` skips them).
+pub fn check_for_run(p: &Problem, text: &str, path: &Path) -> Result<(), ProblemError> {
+    limits::check_run_size(p, text, path).and_then(|_| limits::check_scaled_groups(p, text, path))
 }
 
 /// The text of an input file (problem, study or phase file). A directory is "is a directory";

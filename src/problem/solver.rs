@@ -127,18 +127,47 @@ pub struct SolverSpec {
     pub clarabel_method: String,
 }
 
-/// `[solver] integrator`.
-#[derive(Clone, Copy, Debug, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
+/// The time integrator: `[solver] integrator` in a problem file, and the one name of an
+/// integrator in the solver ([`crate::integrator::scheme_for`]), the charts
+/// ([`crate::chart`]) and their files (`implicit`, `explicit`, `bdf2`: [`IntegratorKind::name`]).
+#[derive(Clone, Copy, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 pub enum IntegratorKind {
-    /// Variational implicit Euler (Newton), the production integrator.
+    /// Variational implicit Euler (Newton), the production integrator (`"implicit"`).
     #[default]
-    Implicit,
-    /// Velocity Verlet, the explicit symplectic reference (no contact).
-    Explicit,
+    #[serde(rename = "implicit")]
+    ImplicitEuler,
+    /// Velocity Verlet, the explicit symplectic reference (no contact; `"explicit"`).
+    #[serde(rename = "explicit")]
+    VelocityVerlet,
     /// Second-order backward differentiation (BDF2) as an incremental potential, with contact
-    /// ([`crate::integrator::bdf2`]).
+    /// ([`crate::integrator::bdf2`]; `"bdf2"`).
+    #[serde(rename = "bdf2")]
     Bdf2,
+}
+
+/// `Implicit`, `Explicit` or `Bdf2`: the names the variants had before they were named for
+/// their methods. The resume keys of the studies hash the problem's debug text
+/// ([`crate::design::problem_hash`]), so this text must stay for `history.csv`, `phase.csv`
+/// and the charts' cached references written earlier to be reused.
+impl std::fmt::Debug for IntegratorKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            IntegratorKind::ImplicitEuler => "Implicit",
+            IntegratorKind::VelocityVerlet => "Explicit",
+            IntegratorKind::Bdf2 => "Bdf2",
+        })
+    }
+}
+
+impl IntegratorKind {
+    /// Its name in problem files and in the charts' files.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::ImplicitEuler => "implicit",
+            IntegratorKind::VelocityVerlet => "explicit",
+            IntegratorKind::Bdf2 => "bdf2",
+        }
+    }
 }
 
 /// `[solver] contact`.
@@ -236,7 +265,7 @@ impl Default for SolverSpec {
             tolerance: d_tol(),
             max_iterations: d_iters(),
             max_halvings: d_halvings(),
-            integrator: IntegratorKind::Implicit,
+            integrator: IntegratorKind::ImplicitEuler,
             contact: ContactKind::SemiSmooth,
             ground_points: GroundPoints::Nodes,
             max_backtracks: d_backtracks(),

@@ -92,7 +92,7 @@ pub(super) fn check(p: &Problem, c: &Checker) -> Result<(), ProblemError> {
             "false in static mode (adaptive steps are a time integration setting)",
         ));
     }
-    if p.solver.integrator == IntegratorKind::Explicit {
+    if p.solver.integrator == IntegratorKind::VelocityVerlet {
         return Err(c.fail(
             "solver",
             "integrator",

@@ -155,7 +155,7 @@ pub(super) fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), Probl
     if let Some(iv) = p.output.interval {
         c.key(&OUTPUT_INTERVAL, iv)?;
     }
-    if p.solver.integrator == IntegratorKind::Explicit {
+    if p.solver.integrator == IntegratorKind::VelocityVerlet {
         if p.ground.is_some() {
             return Err(c.fail(
                 "solver",

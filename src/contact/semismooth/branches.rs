@@ -17,7 +17,7 @@ pub(super) fn norm(v: [f64; 2]) -> f64 {
 }
 
 /// The contacts' statuses as one character each, head first (`.` free, `#` stick, `~`
-/// slide): the debug trace's line per iterate, read by `scripts/status_trace.py`.
+/// slide): the debug trace's line per iterate, read by `lab/status_anatomy/status_trace.py`.
 pub(super) fn status_line(mode: &[ContactStatus]) -> String {
     mode.iter()
         .map(|m| match m {

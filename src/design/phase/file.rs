@@ -267,178 +267,53 @@ pub fn load_with(path: &Path, settings: &[&problem::set::Setting]) -> Result<Pha
     Ok(ph)
 }
 
+/// Where a phase file's errors point: its text (for line numbers) and path.
+struct At<'a> {
+    text: &'a str,
+    path: &'a Path,
+}
+
+impl At<'_> {
+    /// `phase.key = value` is not allowed: `allowed` says what is.
+    fn invalid(&self, key: &str, value: String, allowed: &str) -> ProblemError {
+        ProblemError::Invalid {
+            file: self.path.into(),
+            line: key_line(self.text, "phase", key),
+            key: format!("phase.{key}"),
+            value,
+            allowed: allowed.into(),
+        }
+    }
+}
+
 fn parse(
     text: &str,
     path: &Path,
     base_settings: &[&problem::set::Setting],
 ) -> Result<Phase, ProblemError> {
-    let text = text.to_string();
-    let f: PhaseFile = problem::from_toml(&text, path)?;
+    let f: PhaseFile = problem::from_toml(text, path)?;
     let t = f.phase;
-    let invalid = |key: &str, value: String, allowed: &str| ProblemError::Invalid {
-        file: path.into(),
-        line: key_line(&text, "phase", key),
-        key: format!("phase.{key}"),
-        value,
-        allowed: allowed.into(),
-    };
-    let check = |key: &str, v: &[f64], ok: fn(f64) -> bool, what: &str| {
-        if v.is_empty() {
-            return Err(invalid(
-                key,
-                "[]".into(),
-                &format!("a non-empty list of {what}"),
-            ));
-        }
-        if let Some(x) = v.iter().find(|&&x| !ok(x)) {
-            return Err(invalid(key, format!("[.. {} ..]", problem::num(*x)), what));
-        }
-        if v.windows(2).any(|w| w[1] <= w[0]) {
-            return Err(invalid(
-                key,
-                format!("{v:?}"),
-                &format!("{what}, strictly increasing"),
-            ));
-        }
-        Ok(())
-    };
-    let axis = |key: &str, v: &toml::Value| {
-        grid_axis(v).map_err(|why| {
-            invalid(
-                key,
-                format!("{v}"),
-                &format!("a list of numbers or {{ from, to, count, spacing = \"log\" | \"linear\" }}: {why}"),
-            )
-        })
-    };
-    let weight = axis("weight", &t.weight)?;
-    let torque = axis("torque", &t.torque)?;
-    check(
-        "weight",
-        &weight,
-        |x| (SCALED_GROUP_RANGE.0..=SCALED_GROUP_RANGE.1).contains(&x),
-        "scaled weights W in [1e-6, 1e9] (problem::limits::SCALED_GROUP_RANGE: outside it the scene is no snake on the ground)",
-    )?;
-    check(
-        "torque",
-        &torque,
-        |x| x == 0.0 || (SCALED_GROUP_RANGE.0..=SCALED_GROUP_RANGE.1).contains(&x),
-        "scaled torques G = 0 or in [1e-6, 1e9] (problem::limits::SCALED_GROUP_RANGE)",
-    )?;
-    let steps = match &t.refine_steps {
-        None => DEFAULT_STEPS,
-        Some(v) => v
-            .as_integer()
-            .filter(|k| (1..=MAX_STEPS as i64).contains(k))
-            .map(|k| k as usize)
-            .ok_or_else(|| {
-                invalid(
-                    "refine_steps",
-                    format!("{v}"),
-                    &format!(
-                        "an integer in [1, {}] (bisection steps per neighbour pair; default {})",
-                        MAX_STEPS, DEFAULT_STEPS
-                    ),
-                )
-            })?,
-    };
-    let verify = match &t.verify {
-        None => None,
-        Some(v) => {
-            if !(0..=MAX_PERTURBATIONS as i64).contains(&v.perturbations) {
-                return Err(invalid(
-                    "verify",
-                    format!("{{ perturbations = {} }}", v.perturbations),
-                    &format!("perturbations an integer in [0, {MAX_PERTURBATIONS}] (perturbed runs per cell)"),
-                ));
-            }
-            if v.seed.is_some_and(|s| s < 0) {
-                return Err(invalid(
-                    "verify",
-                    format!("{{ seed = {} }}", v.seed.unwrap_or(0)),
-                    "seed an integer >= 0",
-                ));
-            }
-            let step = v.step.unwrap_or(crate::design::ensemble::STEP);
-            if !(step.is_finite() && (1.0..=10.0).contains(&step)) {
-                return Err(invalid(
-                    "verify",
-                    format!("{{ step = {step} }}"),
-                    "step a number in [1, 10] (the perturbed runs step from dt/step to dt*step)",
-                ));
-            }
-            let verify = Verify {
-                finer: v.finer,
-                perturbations: v.perturbations as usize,
-                seed: v.seed.map_or(crate::design::ensemble::SEED, |s| s as u64),
-                step,
-            };
-            (verify.runs() > 1).then_some(verify)
-        }
-    };
-    let weight_via = match t.weight_via.as_deref() {
-        None | Some("stiffness") => WeightVia::Stiffness,
-        Some("gravity") => WeightVia::Gravity,
-        Some("density") => WeightVia::Density,
-        Some(other) => {
-            return Err(invalid(
-                "weight_via",
-                format!("\"{other}\""),
-                "\"stiffness\", \"gravity\" or \"density\" (the parameter that sets W)",
-            ))
-        }
-    };
+    let at = At { text, path };
+    let (weight, torque) = axes(&at, &t)?;
+    let steps = refine_steps(&at, &t)?;
+    let verify = verify(&at, &t)?;
     let protocol = Protocol {
-        weight_via,
+        weight_via: weight_via(&at, &t)?,
         similar: t.similar,
     };
     let growth = match &t.growth {
         None => None,
         Some(g) => Some(
             super::allometry::parse(g, grid_axis)
-                .map_err(|(value, allowed)| invalid("growth", value, &allowed))?,
+                .map_err(|(value, allowed)| at.invalid("growth", value, &allowed))?,
         ),
     };
-    let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
-    let base_text = match problem::read(&base_path) {
-        Ok(text) => text,
-        Err(ProblemError::Io { source, .. }) => {
-            let why = if source.kind() == std::io::ErrorKind::NotFound {
-                "not found".to_string()
-            } else {
-                source.to_string()
-            };
-            return Err(invalid(
-                "base",
-                format!("\"{}\"", t.base),
-                &format!(
-                    "a readable problem file (relative to the phase file; {}: {why})",
-                    base_path.display()
-                ),
-            ));
-        }
-        Err(e) => return Err(e),
-    };
-    let (_, base) = problem::parse_with(&base_text, &base_path, base_settings)?;
-    if base.gait.kind == crate::gait::Kind::None {
-        return Err(invalid(
-            "base",
-            format!("\"{}\"", t.base),
-            "a problem with a [gait] (kind other than \"none\")",
-        ));
-    }
-    if base.ground.is_none() {
-        return Err(invalid(
-            "base",
-            format!("\"{}\"", t.base),
-            "a problem with a [ground]",
-        ));
-    }
+    let (base_path, base) = base_problem(&at, &t, base_settings)?;
     if let Some(a) = &f.accuracy {
         if let Err((key, value, allowed)) = problem::check_accuracy(a, &base) {
             return Err(ProblemError::Invalid {
                 file: path.into(),
-                line: key_line(&text, "accuracy", key),
+                line: key_line(text, "accuracy", key),
                 key: format!("accuracy.{key}"),
                 value,
                 allowed,
@@ -460,6 +335,172 @@ fn parse(
         protocol,
         growth,
     })
+}
+
+/// The grid's axes `weight` and `torque` (lists or ranges), each non-empty, strictly
+/// increasing and in [`SCALED_GROUP_RANGE`] (a torque may be 0).
+fn axes(at: &At, t: &PhaseTable) -> Result<(Vec<f64>, Vec<f64>), ProblemError> {
+    let check = |key: &str, v: &[f64], ok: fn(f64) -> bool, what: &str| {
+        if v.is_empty() {
+            return Err(at.invalid(key, "[]".into(), &format!("a non-empty list of {what}")));
+        }
+        if let Some(x) = v.iter().find(|&&x| !ok(x)) {
+            return Err(at.invalid(key, format!("[.. {} ..]", problem::num(*x)), what));
+        }
+        if v.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(at.invalid(
+                key,
+                format!("{v:?}"),
+                &format!("{what}, strictly increasing"),
+            ));
+        }
+        Ok(())
+    };
+    let axis = |key: &str, v: &toml::Value| {
+        grid_axis(v).map_err(|why| {
+            at.invalid(
+                key,
+                format!("{v}"),
+                &format!("a list of numbers or {{ from, to, count, spacing = \"log\" | \"linear\" }}: {why}"),
+            )
+        })
+    };
+    let weight = axis("weight", &t.weight)?;
+    let torque = axis("torque", &t.torque)?;
+    check(
+        "weight",
+        &weight,
+        |x| (SCALED_GROUP_RANGE.0..=SCALED_GROUP_RANGE.1).contains(&x),
+        "scaled weights W in [1e-6, 1e9] (problem::limits::SCALED_GROUP_RANGE: outside it the scene is no snake on the ground)",
+    )?;
+    check(
+        "torque",
+        &torque,
+        |x| x == 0.0 || (SCALED_GROUP_RANGE.0..=SCALED_GROUP_RANGE.1).contains(&x),
+        "scaled torques G = 0 or in [1e-6, 1e9] (problem::limits::SCALED_GROUP_RANGE)",
+    )?;
+    Ok((weight, torque))
+}
+
+/// `refine_steps`: bisection steps per neighbour pair.
+fn refine_steps(at: &At, t: &PhaseTable) -> Result<usize, ProblemError> {
+    Ok(match &t.refine_steps {
+        None => DEFAULT_STEPS,
+        Some(v) => v
+            .as_integer()
+            .filter(|k| (1..=MAX_STEPS as i64).contains(k))
+            .map(|k| k as usize)
+            .ok_or_else(|| {
+                at.invalid(
+                    "refine_steps",
+                    format!("{v}"),
+                    &format!(
+                        "an integer in [1, {}] (bisection steps per neighbour pair; default {})",
+                        MAX_STEPS, DEFAULT_STEPS
+                    ),
+                )
+            })?,
+    })
+}
+
+/// `verify = { finer, perturbations, seed, step }`: the runs per cell (`None`: one run).
+fn verify(at: &At, t: &PhaseTable) -> Result<Option<Verify>, ProblemError> {
+    Ok(match &t.verify {
+        None => None,
+        Some(v) => {
+            if !(0..=MAX_PERTURBATIONS as i64).contains(&v.perturbations) {
+                return Err(at.invalid(
+                    "verify",
+                    format!("{{ perturbations = {} }}", v.perturbations),
+                    &format!("perturbations an integer in [0, {MAX_PERTURBATIONS}] (perturbed runs per cell)"),
+                ));
+            }
+            if v.seed.is_some_and(|s| s < 0) {
+                return Err(at.invalid(
+                    "verify",
+                    format!("{{ seed = {} }}", v.seed.unwrap_or(0)),
+                    "seed an integer >= 0",
+                ));
+            }
+            let step = v.step.unwrap_or(crate::design::ensemble::STEP);
+            if !(step.is_finite() && (1.0..=10.0).contains(&step)) {
+                return Err(at.invalid(
+                    "verify",
+                    format!("{{ step = {step} }}"),
+                    "step a number in [1, 10] (the perturbed runs step from dt/step to dt*step)",
+                ));
+            }
+            let verify = Verify {
+                finer: v.finer,
+                perturbations: v.perturbations as usize,
+                seed: v.seed.map_or(crate::design::ensemble::SEED, |s| s as u64),
+                step,
+            };
+            (verify.runs() > 1).then_some(verify)
+        }
+    })
+}
+
+/// `weight_via`: the parameter that sets W.
+fn weight_via(at: &At, t: &PhaseTable) -> Result<WeightVia, ProblemError> {
+    Ok(match t.weight_via.as_deref() {
+        None | Some("stiffness") => WeightVia::Stiffness,
+        Some("gravity") => WeightVia::Gravity,
+        Some("density") => WeightVia::Density,
+        Some(other) => {
+            return Err(at.invalid(
+                "weight_via",
+                format!("\"{other}\""),
+                "\"stiffness\", \"gravity\" or \"density\" (the parameter that sets W)",
+            ))
+        }
+    })
+}
+
+/// The base problem `base` names (relative to the phase file, with the command line's
+/// settings): readable, with a gait and a ground; and its path.
+fn base_problem(
+    at: &At,
+    t: &PhaseTable,
+    base_settings: &[&problem::set::Setting],
+) -> Result<(PathBuf, Problem), ProblemError> {
+    let path = at.path;
+    let base_path = path.parent().unwrap_or(Path::new(".")).join(&t.base);
+    let base_text = match problem::read(&base_path) {
+        Ok(text) => text,
+        Err(ProblemError::Io { source, .. }) => {
+            let why = if source.kind() == std::io::ErrorKind::NotFound {
+                "not found".to_string()
+            } else {
+                source.to_string()
+            };
+            return Err(at.invalid(
+                "base",
+                format!("\"{}\"", t.base),
+                &format!(
+                    "a readable problem file (relative to the phase file; {}: {why})",
+                    base_path.display()
+                ),
+            ));
+        }
+        Err(e) => return Err(e),
+    };
+    let (_, base) = problem::parse_with(&base_text, &base_path, base_settings)?;
+    if base.gait.kind == crate::gait::Kind::None {
+        return Err(at.invalid(
+            "base",
+            format!("\"{}\"", t.base),
+            "a problem with a [gait] (kind other than \"none\")",
+        ));
+    }
+    if base.ground.is_none() {
+        return Err(at.invalid(
+            "base",
+            format!("\"{}\"", t.base),
+            "a problem with a [ground]",
+        ));
+    }
+    Ok((base_path, base))
 }
 
 /// The base problem with scaled weight `w` and scaled torque `g` (see the module doc): `W`

@@ -15,7 +15,10 @@
 //! The line's simulations are kept in `growth.csv` (rows as `phase.csv`'s, resumable), its
 //! values and the size at which the S-start stops in `growth.json`, and its figure in
 //! `growth.png` / `growth.svg` ([`crate::plot::growth`]).
-pub use super::allometry::*;
+pub use super::allometry::{
+    grown_problem, scale_times, Growth, GrowthPoint, MAX_SIZES, MOON_EXPONENT, MOON_REFERENCE,
+    MOON_STRESS,
+};
 use super::cell::{simulate_verified, Cell};
 use super::csv::{append_rows, read_phase_csv, simulate_appending, Format};
 use super::file::{Protocol, Verify, WeightVia};

@@ -40,146 +40,16 @@ pub fn merge(
     refine_report: &(dyn Fn(usize, &Cell) + Sync),
     growth_report: &(dyn Fn(usize, &Cell) + Sync),
 ) -> Result<Merged, PhaseError> {
-    let mismatch = |dir: &Path, why: String| PhaseError::Merge {
-        dir: dir.to_path_buf(),
-        why,
-    };
     let mut reference: Option<RunInfo> = None;
     let mut found: HashMap<(u64, u64), (Cell, String)> = HashMap::new();
     let mut duplicates = 0;
     for dir in dirs {
-        let file = dir.join("phase.json");
-        let text = std::fs::read_to_string(&file).map_err(|e| {
-            mismatch(
-                dir,
-                format!("no readable phase.json ({e}): not a `slither phase` output directory"),
-            )
-        })?;
-        let info: RunInfo = serde_json::from_str(&text)
-            .map_err(|e| mismatch(dir, format!("phase.json is not valid: {e}")))?;
+        let info = read_info(dir)?;
         match &reference {
             None => reference = Some(info.clone()),
-            Some(r) => {
-                if r.base_hash != info.base_hash {
-                    return Err(mismatch(
-                        dir,
-                        format!(
-                            "base problem {} (hash {}) differs from {} (hash {})",
-                            info.base_file, info.base_hash, r.base_file, r.base_hash
-                        ),
-                    ));
-                }
-                if r.refine_steps != info.refine_steps {
-                    let say = |k: Option<usize>| {
-                        k.map_or("refine = false".to_string(), |k| {
-                            format!("refine = true, refine_steps = {k}")
-                        })
-                    };
-                    return Err(mismatch(
-                        dir,
-                        format!(
-                            "ran with {}, another directory with {}",
-                            say(info.refine_steps),
-                            say(r.refine_steps)
-                        ),
-                    ));
-                }
-                if r.protocol != info.protocol {
-                    return Err(mismatch(
-                        dir,
-                        format!(
-                            "ran with {:?}, another directory with {:?}",
-                            info.protocol, r.protocol
-                        ),
-                    ));
-                }
-                if r.verify != info.verify {
-                    let say = |v: &Option<super::Verify>| {
-                        v.map_or("no verification".to_string(), |v| format!("verify = {v:?}"))
-                    };
-                    return Err(mismatch(
-                        dir,
-                        format!(
-                            "ran with {}, another directory with {}",
-                            say(&info.verify),
-                            say(&r.verify)
-                        ),
-                    ));
-                }
-                if r.periodic != info.periodic {
-                    let say = |p: bool| {
-                        if p {
-                            "the periodic columns (a gait with a launch period)"
-                        } else {
-                            "no periodic columns"
-                        }
-                    };
-                    return Err(mismatch(
-                        dir,
-                        format!(
-                            "its rows have {}, another directory's {} (a shard written by another version of slither?): re-run the shard",
-                            say(info.periodic),
-                            say(r.periodic)
-                        ),
-                    ));
-                }
-                if r.weight != info.weight || r.torque != info.torque {
-                    return Err(mismatch(
-                        dir,
-                        format!(
-                            "grid W {:?} x G {:?} differs from W {:?} x G {:?}",
-                            info.weight, info.torque, r.weight, r.torque
-                        ),
-                    ));
-                }
-            }
+            Some(r) => same_run(r, &info, dir)?,
         }
-        let hash = u64::from_str_radix(&info.base_hash, 16)
-            .map_err(|_| mismatch(dir, "phase.json: base_hash is not hexadecimal".into()))?;
-        let hash = info.protocol.row_hash(hash);
-        let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
-        let csv = dir.join("phase.csv");
-        let rows = read_phase_csv(&csv, hash)?;
-        let want = Format {
-            verified: info.verify.is_some(),
-            periodic: info.periodic,
-        };
-        if !rows.fresh {
-            rows.format
-                .check(want, &csv, "cannot merge it (re-run the shard)")?;
-        }
-        for (key, c) in rows.cells {
-            // A row's regime is a function of its values: a label that disagrees was edited
-            // (or written by another version) and would enter the map unchecked.
-            if let (crate::design::Status::Ok, Some(stated)) = (c.status, c.regime) {
-                let computed = crate::observe::classify(&c.regime_inputs()).0;
-                if computed != stated {
-                    return Err(mismatch(
-                        dir,
-                        format!(
-                            "cell W = {}, G = {}: phase.csv says regime {stated} but its values give {computed} (a row edited by hand, or written by another version): re-run the shard",
-                            c.weight, c.torque
-                        ),
-                    ));
-                }
-            }
-            let row = comparable_row(&c, hash);
-            match found.get(&key) {
-                Some((_, seen)) if *seen == row => duplicates += 1,
-                Some(_) => {
-                    return Err(mismatch(
-                        dir,
-                        format!(
-                        "cell W = {}, G = {} is also in another directory with a different result",
-                        c.weight, c.torque
-                    ),
-                    ))
-                }
-                None => {
-                    found.insert(key, (c, row));
-                }
-            }
-        }
+        duplicates += shard_rows(dir, &info, &mut found)?;
     }
     let info =
         reference.ok_or_else(|| mismatch(Path::new("."), "no directories to merge".into()))?;
@@ -227,56 +97,7 @@ pub fn merge(
     let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
     // The base problem, for the refinement's and the growth line's simulations: the file the
     // shards ran, unchanged.
-    let base = match (info.refine_steps, &info.growth) {
-        (None, None) => None,
-        _ => {
-            let path = PathBuf::from(&info.base_file);
-            let refuse = |why: String| PhaseError::Merge {
-                dir: path.clone(),
-                why: format!(
-                    "cannot refine the boundaries (refine = true) or run the growth line: {why}"
-                ),
-            };
-            let text = std::fs::read_to_string(&path).map_err(|e| {
-                refuse(format!(
-                    "the base problem named in phase.json is not readable ({e}); merge from the directory the shards ran in"
-                ))
-            })?;
-            // With `[accuracy]` the rows are keyed by the file and the chosen model: the file
-            // is checked against the choice's own record, and refined at that model.
-            let (file_hash, shards_hash) = match &info.accuracy {
-                Some(c) => (
-                    u64::from_str_radix(&c.base_file_hash, 16).ok(),
-                    c.base_file_hash.clone(),
-                ),
-                None => (Some(base_hash), info.base_hash.clone()),
-            };
-            let (_, base_settings) = problem::set::split(&settings, &super::file::TABLES);
-            let base = problem::parse_with(&text, &path, &base_settings)
-                .map(|(_, p)| p)
-                .map_err(|e| refuse(e.to_string()))?;
-            if Some(problem_hash(&base)) != file_hash {
-                return Err(refuse(format!(
-                    "the base problem changed since the shards ran (hash {:016x}, the shards' {})",
-                    problem_hash(&base),
-                    shards_hash
-                )));
-            }
-            // Rows of the shards and of the refinement or growth line written here have the
-            // same columns.
-            if base.gait.kind.has_launch_period() != info.periodic {
-                return Err(refuse(format!(
-                    "the shards' rows {} the periodic columns and its gait {} a launch period: shards written by another version of slither; re-run them",
-                    if info.periodic { "have" } else { "lack" },
-                    if info.periodic { "lacks" } else { "has" },
-                )));
-            }
-            Some(match &info.accuracy {
-                Some(c) => c.apply(&base),
-                None => base,
-            })
-        }
-    };
+    let base = followup_base(&info, &settings, base_hash)?;
     let cells: Vec<Cell> = grid
         .iter()
         .map(|(w, g)| found[&(w.to_bits(), g.to_bits())].0.clone())
@@ -331,6 +152,223 @@ pub fn merge(
         duplicates,
         refinement,
         growth,
+    })
+}
+
+/// A directory that cannot be merged, and why.
+fn mismatch(dir: &Path, why: String) -> PhaseError {
+    PhaseError::Merge {
+        dir: dir.to_path_buf(),
+        why,
+    }
+}
+/// A shard directory's `phase.json`.
+fn read_info(dir: &Path) -> Result<RunInfo, PhaseError> {
+    let file = dir.join("phase.json");
+    let text = std::fs::read_to_string(&file).map_err(|e| {
+        mismatch(
+            dir,
+            format!("no readable phase.json ({e}): not a `slither phase` output directory"),
+        )
+    })?;
+    let info: RunInfo = serde_json::from_str(&text)
+        .map_err(|e| mismatch(dir, format!("phase.json is not valid: {e}")))?;
+    Ok(info)
+}
+
+/// Whether two shards' records are of the same study (base, refinement, protocol,
+/// verification, columns and grid); `Err` names what differs, in `dir`.
+fn same_run(r: &RunInfo, info: &RunInfo, dir: &Path) -> Result<(), PhaseError> {
+    if r.base_hash != info.base_hash {
+        return Err(mismatch(
+            dir,
+            format!(
+                "base problem {} (hash {}) differs from {} (hash {})",
+                info.base_file, info.base_hash, r.base_file, r.base_hash
+            ),
+        ));
+    }
+    if r.refine_steps != info.refine_steps {
+        let say = |k: Option<usize>| {
+            k.map_or("refine = false".to_string(), |k| {
+                format!("refine = true, refine_steps = {k}")
+            })
+        };
+        return Err(mismatch(
+            dir,
+            format!(
+                "ran with {}, another directory with {}",
+                say(info.refine_steps),
+                say(r.refine_steps)
+            ),
+        ));
+    }
+    if r.protocol != info.protocol {
+        return Err(mismatch(
+            dir,
+            format!(
+                "ran with {:?}, another directory with {:?}",
+                info.protocol, r.protocol
+            ),
+        ));
+    }
+    if r.verify != info.verify {
+        let say = |v: &Option<super::Verify>| {
+            v.map_or("no verification".to_string(), |v| format!("verify = {v:?}"))
+        };
+        return Err(mismatch(
+            dir,
+            format!(
+                "ran with {}, another directory with {}",
+                say(&info.verify),
+                say(&r.verify)
+            ),
+        ));
+    }
+    if r.periodic != info.periodic {
+        let say = |p: bool| {
+            if p {
+                "the periodic columns (a gait with a launch period)"
+            } else {
+                "no periodic columns"
+            }
+        };
+        return Err(mismatch(
+            dir,
+            format!(
+                "its rows have {}, another directory's {} (a shard written by another version of slither?): re-run the shard",
+                say(info.periodic),
+                say(r.periodic)
+            ),
+        ));
+    }
+    if r.weight != info.weight || r.torque != info.torque {
+        return Err(mismatch(
+            dir,
+            format!(
+                "grid W {:?} x G {:?} differs from W {:?} x G {:?}",
+                info.weight, info.torque, r.weight, r.torque
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Add the rows of the shard in `dir` (recorded as `info`) to `found`, each checked: its
+/// regime agrees with its values, and a cell already found has the same result. Returns how
+/// many were found already.
+fn shard_rows(
+    dir: &Path,
+    info: &RunInfo,
+    found: &mut HashMap<(u64, u64), (Cell, String)>,
+) -> Result<usize, PhaseError> {
+    let mut duplicates = 0;
+    let hash = u64::from_str_radix(&info.base_hash, 16)
+        .map_err(|_| mismatch(dir, "phase.json: base_hash is not hexadecimal".into()))?;
+    let hash = info.protocol.row_hash(hash);
+    let hash = info.verify.map_or(hash, |v| v.row_hash(hash));
+    let csv = dir.join("phase.csv");
+    let rows = read_phase_csv(&csv, hash)?;
+    let want = Format {
+        verified: info.verify.is_some(),
+        periodic: info.periodic,
+    };
+    if !rows.fresh {
+        rows.format
+            .check(want, &csv, "cannot merge it (re-run the shard)")?;
+    }
+    for (key, c) in rows.cells {
+        // A row's regime is a function of its values: a label that disagrees was edited
+        // (or written by another version) and would enter the map unchecked.
+        if let (crate::design::Status::Ok, Some(stated)) = (c.status, c.regime) {
+            let computed = crate::observe::classify(&c.regime_inputs()).0;
+            if computed != stated {
+                return Err(mismatch(
+                    dir,
+                    format!(
+                        "cell W = {}, G = {}: phase.csv says regime {stated} but its values give {computed} (a row edited by hand, or written by another version): re-run the shard",
+                        c.weight, c.torque
+                    ),
+                ));
+            }
+        }
+        let row = comparable_row(&c, hash);
+        match found.get(&key) {
+            Some((_, seen)) if *seen == row => duplicates += 1,
+            Some(_) => {
+                return Err(mismatch(
+                    dir,
+                    format!(
+                        "cell W = {}, G = {} is also in another directory with a different result",
+                        c.weight, c.torque
+                    ),
+                ))
+            }
+            None => {
+                found.insert(key, (c, row));
+            }
+        }
+    }
+    Ok(duplicates)
+}
+
+/// The base problem for the refinement's and the growth line's simulations (`None` when the
+/// study has neither): the file the shards ran, unchanged (checked by its hash), at the
+/// chosen model with `[accuracy]`.
+fn followup_base(
+    info: &RunInfo,
+    settings: &[&problem::set::Setting],
+    base_hash: u64,
+) -> Result<Option<problem::Problem>, PhaseError> {
+    Ok(match (info.refine_steps, &info.growth) {
+        (None, None) => None,
+        _ => {
+            let path = PathBuf::from(&info.base_file);
+            let refuse = |why: String| PhaseError::Merge {
+                dir: path.clone(),
+                why: format!(
+                    "cannot refine the boundaries (refine = true) or run the growth line: {why}"
+                ),
+            };
+            let text = std::fs::read_to_string(&path).map_err(|e| {
+                refuse(format!(
+                    "the base problem named in phase.json is not readable ({e}); merge from the directory the shards ran in"
+                ))
+            })?;
+            // With `[accuracy]` the rows are keyed by the file and the chosen model: the file
+            // is checked against the choice's own record, and refined at that model.
+            let (file_hash, shards_hash) = match &info.accuracy {
+                Some(c) => (
+                    u64::from_str_radix(&c.base_file_hash, 16).ok(),
+                    c.base_file_hash.clone(),
+                ),
+                None => (Some(base_hash), info.base_hash.clone()),
+            };
+            let (_, base_settings) = problem::set::split(settings, &super::file::TABLES);
+            let base = problem::parse_with(&text, &path, &base_settings)
+                .map(|(_, p)| p)
+                .map_err(|e| refuse(e.to_string()))?;
+            if Some(problem_hash(&base)) != file_hash {
+                return Err(refuse(format!(
+                    "the base problem changed since the shards ran (hash {:016x}, the shards' {})",
+                    problem_hash(&base),
+                    shards_hash
+                )));
+            }
+            // Rows of the shards and of the refinement or growth line written here have the
+            // same columns.
+            if base.gait.kind.has_launch_period() != info.periodic {
+                return Err(refuse(format!(
+                    "the shards' rows {} the periodic columns and its gait {} a launch period: shards written by another version of slither; re-run them",
+                    if info.periodic { "have" } else { "lack" },
+                    if info.periodic { "lacks" } else { "has" },
+                )));
+            }
+            Some(match &info.accuracy {
+                Some(c) => c.apply(&base),
+                None => base,
+            })
+        }
     })
 }
 

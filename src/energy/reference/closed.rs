@@ -1,5 +1,5 @@
 //! Closed-form derivatives of the bending and of the twist stencil, each on its own (a
-//! reference: real runs use the fused stencil of [`crate::energy::node`]), exact with the
+//! reference: real runs use the fused stencil of [`crate::energy::bend_twist`]), exact with the
 //! reference frames transported in time from the step's frozen frames.
 //!
 //! The twist is the solid-angle form of [`crate::energy::reftwist`] with the chain rule

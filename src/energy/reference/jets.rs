@@ -3,7 +3,7 @@
 //! ([`EdgeJets`]), the curvature binormal's projections and the reference twist over the 6
 //! positional coordinates, and the strains over all 8. Exact up to round-off, and tested
 //! against the hyper-dual numbers of [`super::autodiff`]; the per-term closed forms
-//! ([`super::closed`]) and the fused stencil of real runs ([`crate::energy::node`]) are
+//! ([`super::closed`]) and the fused stencil of real runs ([`crate::energy::bend_twist`]) are
 //! tested against these.
 
 use crate::energy::jet::{cross, dot, embed, lift, scale, to_na, transport, Jet, JV};
@@ -128,7 +128,7 @@ impl TwistStencil<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::energy::local::{project_psd, project_psd_nalgebra};
+    use crate::energy::psd::{project_psd, project_psd_nalgebra};
     use crate::energy::reference::autodiff;
     use crate::energy::reference::testing::{rel_diff, stencil};
 

@@ -3,7 +3,7 @@
 //! through its dev-dependency on itself; real runs never call them).
 //!
 //! Real runs take a node's bending and twist value, gradient and Hessian from one fused
-//! closed form ([`super::node`]). Its correctness rests on independent computations of the
+//! closed form ([`super::bend_twist`]). Its correctness rests on independent computations of the
 //! same derivatives, kept here, each tested against the one before:
 //!
 //! 1. [`autodiff`]: the energies written once, generically over the scalar
@@ -15,7 +15,7 @@
 //! 5. [`local`]: the chain rule to the node coordinates as an 11x11 product, against which
 //!    the band scatter of [`super::local::add_node_stencil`] is tested.
 //!
-//! The fused stencil is then tested against the jets (`energy/node.rs`), and every term of
+//! The fused stencil is then tested against the jets (`energy/bend_twist.rs`), and every term of
 //! [`super::rod_terms`] against finite differences (`tests/derivatives.rs`).
 
 pub mod autodiff;

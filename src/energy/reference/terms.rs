@@ -1,7 +1,7 @@
 //! Bending and twist as two separate energy terms, each with its stencil derivatives from a
 //! [`StencilDerivatives`] (the staged jets [`Jets`] or the closed forms of
 //! [`super::closed::Closed`]): the references the fused term of real runs
-//! ([`crate::energy::node::BendTwist`]) is tested and benchmarked against.
+//! ([`crate::energy::bend_twist::BendTwist`]) is tested and benchmarked against.
 //!
 //! * bending `E_b = sum_i B/(2 l_i) |kappa_i - kappa0_i|^2` over interior nodes;
 //! * twist `E_t = sum_i C/(2 l_i) (m_i - m0_i)^2` over interior nodes,
