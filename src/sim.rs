@@ -18,7 +18,7 @@
 use crate::integrator::adaptive::{Adapted, Controller, StepStats};
 use crate::integrator::explicit::{Explicit, Unsupported};
 use crate::integrator::statics::Static;
-use crate::integrator::{Actuation, Energies, Integrator, Stats, StepError, Stepper};
+use crate::integrator::{Actuation, Energies, Integrator, RunStats, StepError, Stepper};
 use crate::model::Model;
 use crate::problem::Mode;
 use crate::rod::dof;
@@ -77,7 +77,7 @@ pub struct Outcome {
     /// observable and the regime come from these, never from [`Outcome::frames`].
     pub observed: Vec<Frame>,
     /// Solver statistics.
-    pub stats: Stats,
+    pub stats: RunStats,
     /// Wall-clock time of the integration (s).
     pub wall_time_s: f64,
     /// Largest |strain| over all accepted steps.

@@ -10,7 +10,7 @@
 use super::{ContactFailure, ContactSet, ContactStats};
 use crate::band::Assembly;
 use crate::model::Model;
-use crate::newton::{Failure, Newton, Objective, Path, Potential};
+use crate::newton::{NewtonFailure, Newton, Objective, Path, Potential};
 use crate::rod::{dof, vec3::f};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -131,7 +131,7 @@ impl Conic {
                 }
             }
             if !f0.is_finite() || nw.asm.grad.iter().any(|g| !g.is_finite()) {
-                return Err(Failure::NonFiniteObjective {
+                return Err(NewtonFailure::NonFiniteObjective {
                     path,
                     iteration: it,
                 }
@@ -166,7 +166,7 @@ impl Conic {
             stats.conic_s += (t2 - t1).as_secs_f64();
             let t3 = Instant::now();
             if nw.dq.iter().any(|d| !d.is_finite()) {
-                return Err(Failure::NonFiniteStep {
+                return Err(NewtonFailure::NonFiniteStep {
                     path,
                     iteration: it,
                 }
@@ -187,7 +187,7 @@ impl Conic {
             let alpha = nw.backtrack(m, q, f0, slope, small || negligible, &merit);
             nw.stats.line_search_s += t3.elapsed().as_secs_f64();
             let Some(alpha) = alpha else {
-                return Err(Failure::LineSearch {
+                return Err(NewtonFailure::LineSearch {
                     path,
                     iteration: it,
                     slope,
@@ -209,7 +209,7 @@ impl Conic {
                 have_pred = true;
             }
         }
-        Err(Failure::NotConverged {
+        Err(NewtonFailure::NotConverged {
             path,
             iterations: cap,
         }

@@ -168,7 +168,7 @@ pub struct ContactStats {
 pub enum ContactFailure {
     /// One of Newton's own failures (its building blocks inside the contact iteration).
     #[error(transparent)]
-    Newton(#[from] newton::Failure),
+    Newton(#[from] newton::NewtonFailure),
     /// The conic program could not be set up.
     #[error("{message} (Newton iteration {iteration})")]
     ConicSetup {

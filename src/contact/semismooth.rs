@@ -88,7 +88,7 @@ use super::reactions::{Reactions, UNCOUPLED};
 use super::status::ContactStatus;
 use super::{ContactFailure, ContactSet, ContactStats};
 use crate::model::Model;
-use crate::newton::{Failure, HessianCache, Newton, Objective, Path, Potential};
+use crate::newton::{NewtonFailure, HessianCache, Newton, Objective, Path, Potential};
 use crate::rod::dof::{self, HALF_BANDWIDTH as W};
 use std::collections::VecDeque;
 use std::time::Instant;
@@ -299,7 +299,7 @@ impl SemiSmooth {
                 nw.stats.projected_iterations += 1;
             }
             if !f0.is_finite() || nw.asm.grad.iter().any(|g| !g.is_finite()) {
-                return Err(Failure::NonFiniteObjective {
+                return Err(NewtonFailure::NonFiniteObjective {
                     path: Path::SemiSmooth,
                     iteration: it,
                 }
@@ -323,7 +323,7 @@ impl SemiSmooth {
                     nw.stats.backtracks += 1;
                     let alpha = 0.5 * p.alpha;
                     if alpha < 0.5f64.powi(set.max_backtracks as i32) {
-                        return Err(Failure::LineSearch {
+                        return Err(NewtonFailure::LineSearch {
                             path: Path::SemiSmooth,
                             iteration: it,
                             slope: -2.0 * p.theta0,
@@ -377,7 +377,7 @@ impl SemiSmooth {
             nw.stats.factor_s += (t2 - t1).as_secs_f64();
             let krylov = self.direction(ct, m, nw, scale, residual, it > FORCING_AFTER);
             if nw.dq.iter().any(|d| !d.is_finite()) {
-                return Err(Failure::NonFiniteStep {
+                return Err(NewtonFailure::NonFiniteStep {
                     path: Path::SemiSmooth,
                     iteration: it,
                 }
@@ -412,7 +412,7 @@ impl SemiSmooth {
             });
             nw.stats.line_search_s += t3.elapsed().as_secs_f64();
         }
-        Err(Failure::NotConverged {
+        Err(NewtonFailure::NotConverged {
             path: Path::SemiSmooth,
             iterations: cap,
         }

@@ -49,7 +49,7 @@
 //! the exact factor only moves the reported instant by a few steps. The failed step is undone
 //! and reported as [`StepError::Unstable`] with its start time and step.
 
-use super::{Actuation, Energies, Stats, StepError};
+use super::{Actuation, Energies, RunStats, StepError};
 use crate::band::Assembly;
 use crate::energy::local::intrinsic;
 use crate::energy::stencil::frames_current;
@@ -107,7 +107,7 @@ pub struct Explicit<'m> {
     prev: Option<State>,
     monitor: Option<Monitor>,
     /// Statistics (`steps`; `assembly_s` is the time in force evaluations).
-    pub stats: Stats,
+    pub stats: RunStats,
     /// Stencil gradients computed in closed form and by dual numbers (stale frames).
     pub stencil_paths: [usize; 2],
     /// The self-contact's broad phase and distances (this integrator applies no barrier: it
@@ -158,7 +158,7 @@ impl<'m> Explicit<'m> {
             have_grad: false,
             prev: None,
             monitor: None,
-            stats: Stats::default(),
+            stats: RunStats::default(),
             stencil_paths: [0; 2],
             self_contact: crate::energy::self_contact::SelfContact::of(model),
         })
@@ -414,7 +414,7 @@ impl super::Stepper for Explicit<'_> {
     fn energies(&mut self, s: &State) -> Energies {
         Explicit::energies(self, s)
     }
-    fn stats(&self) -> &Stats {
+    fn stats(&self) -> &RunStats {
         &self.stats
     }
 }

@@ -1,4 +1,4 @@
-//! How a step fails: one attempt's [`Failure`] (Newton's or the contact model's), and the
+//! How a step fails: one attempt's [`AttemptFailure`] (Newton's or the contact model's), and the
 //! [`StepError`] that stops a run (after the halvings, below the adaptive minimum, an unstable
 //! explicit step, or the explicit integrator at a self-contact).
 
@@ -7,10 +7,10 @@ use crate::newton;
 
 /// Why one attempt at a step (or a static load increment) failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum Failure {
+pub enum AttemptFailure {
     /// Newton failed (no contact model, or static equilibrium).
     #[error(transparent)]
-    Newton(#[from] newton::Failure),
+    Newton(#[from] newton::NewtonFailure),
     /// The contact model's solve failed.
     #[error(transparent)]
     Contact(#[from] ContactFailure),
@@ -20,7 +20,7 @@ pub enum Failure {
         /// Load fraction.
         load: f64,
         /// The failure.
-        inner: Box<Failure>,
+        inner: Box<AttemptFailure>,
     },
 }
 
@@ -37,7 +37,7 @@ pub enum StepError {
         /// Halvings tried.
         halvings: usize,
         /// Why the last attempt failed.
-        reason: Failure,
+        reason: AttemptFailure,
     },
     /// An error-controlled step would have to be smaller than `[time] dt_min`.
     #[error("adaptive step at t = {t} s: the step would have to shrink to {dt:.3e} s, below time.dt_min = {dt_min:.3e} s (last try: {reason}; max |v| = {v_max:.3e} m/s at that time)")]

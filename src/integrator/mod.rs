@@ -70,12 +70,12 @@ use crate::rod::dof;
 use crate::state::State;
 
 pub use crate::gait::{Actuation, Natural};
-pub use failure::{Failure, StepError};
+pub use failure::{AttemptFailure, StepError};
 
 /// Cumulative statistics of a stepper: its own step counts, Newton's and the contact model's
 /// (written to `summary.json` as one flat object).
 #[derive(Clone, Debug, Default, serde::Serialize)]
-pub struct Stats {
+pub struct RunStats {
     /// Accepted steps (dynamic) or load increments (static).
     pub steps: usize,
     /// Newton iterations over all accepted steps.
@@ -87,7 +87,7 @@ pub struct Stats {
     pub step_halvings: usize,
     /// Newton's own statistics.
     #[serde(flatten)]
-    pub newton: newton::Stats,
+    pub newton: newton::NewtonStats,
     /// The contact model's.
     #[serde(flatten)]
     pub contact: ContactStats,
@@ -97,10 +97,10 @@ pub struct Stats {
     pub iteration_histogram: Vec<usize>,
     /// Self-contact over the accepted steps (`summary.json` writes it as its own block).
     #[serde(skip)]
-    pub self_contact: crate::energy::self_contact::Stats,
+    pub self_contact: crate::energy::self_contact::SelfContactStats,
 }
 
-impl Stats {
+impl RunStats {
     /// Count one accepted step of `it` Newton iterations.
     fn count_step(&mut self, it: usize) {
         self.steps += 1;
@@ -123,7 +123,7 @@ pub trait Stepper {
     /// Energies of `s`.
     fn energies(&mut self, s: &State) -> Energies;
     /// Statistics so far.
-    fn stats(&self) -> &Stats;
+    fn stats(&self) -> &RunStats;
     /// Normal contact force on each real node (N).
     fn normal_forces(&self, m: &Model) -> Vec<f64> {
         let mut out = vec![0.0; m.real.len()];
@@ -307,7 +307,7 @@ pub struct Integrator<'m> {
     /// Newton's workspace and statistics.
     pub newton: Newton,
     /// Statistics so far (Newton's and the contact model's copied after every attempt).
-    stats: Stats,
+    stats: RunStats,
     /// The contact model, when the model has a ground.
     pub contact: Option<Box<dyn ContactModel>>,
     qhat: Vec<f64>,
@@ -351,7 +351,7 @@ impl<'m> Integrator<'m> {
             loads: Loads::new(model, actuation),
             scheme,
             newton: Newton::new(n),
-            stats: Stats::default(),
+            stats: RunStats::default(),
             contact: crate::contact::model_for(model),
             qhat: vec![0.0; n],
             q_prev: vec![0.0; n],
@@ -373,7 +373,7 @@ impl<'m> Integrator<'m> {
     }
 
     /// Statistics so far.
-    pub fn stats(&self) -> &Stats {
+    pub fn stats(&self) -> &RunStats {
         &self.stats
     }
 
@@ -383,7 +383,7 @@ impl<'m> Integrator<'m> {
     }
 
     /// One step of size `h`, without retries. Returns the Newton iteration count.
-    pub fn try_step(&mut self, s: &mut State, h: f64) -> Result<usize, Failure> {
+    pub fn try_step(&mut self, s: &mut State, h: f64) -> Result<usize, AttemptFailure> {
         match self.attempt(s, h) {
             Ok(it) => {
                 self.commit(s, h);
@@ -399,7 +399,7 @@ impl<'m> Integrator<'m> {
     /// Solve a step of size `h` from `s`: on success `s.q` holds the solution and nothing else
     /// has changed yet ([`Self::commit`] or [`Self::rollback`] must follow); on failure call
     /// [`Self::rollback`].
-    fn attempt(&mut self, s: &mut State, h: f64) -> Result<usize, Failure> {
+    fn attempt(&mut self, s: &mut State, h: f64) -> Result<usize, AttemptFailure> {
         let r = self.solve(s, h);
         self.stats.newton = self.newton.stats;
         if let Some(c) = &self.contact {
@@ -409,7 +409,7 @@ impl<'m> Integrator<'m> {
     }
 
     /// The solve of [`Self::attempt`].
-    fn solve(&mut self, s: &mut State, h: f64) -> Result<usize, Failure> {
+    fn solve(&mut self, s: &mut State, h: f64) -> Result<usize, AttemptFailure> {
         let m = self.model;
         self.q_prev.copy_from_slice(&s.q);
         self.v_prev.copy_from_slice(&s.v);
@@ -655,7 +655,7 @@ impl Stepper for Integrator<'_> {
     fn energies(&mut self, s: &State) -> Energies {
         Integrator::energies(self, s)
     }
-    fn stats(&self) -> &Stats {
+    fn stats(&self) -> &RunStats {
         &self.stats
     }
 }

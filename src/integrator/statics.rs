@@ -2,8 +2,8 @@
 //! by Newton's method ([`crate::newton`]) with the reference frames re-based after every
 //! accepted iterate. The run loop ramps the load over `[time] load_steps` increments.
 
-use super::Failure;
-use super::{Energies, Loads, Stats, StepError};
+use super::AttemptFailure;
+use super::{Energies, Loads, RunStats, StepError};
 use crate::band::Assembly;
 use crate::energy::{self, Term};
 use crate::model::Model;
@@ -17,7 +17,7 @@ pub struct Static<'m> {
     terms: Vec<Box<dyn Term>>,
     loads: Loads,
     newton: Newton,
-    stats: Stats,
+    stats: RunStats,
 }
 
 /// The rod energy with the frames of a state that moves with the iterate.
@@ -64,12 +64,12 @@ impl<'m> Static<'m> {
             terms: energy::rod_terms(),
             loads: Loads::new(model, actuation),
             newton: Newton::new(model.ndof),
-            stats: Stats::default(),
+            stats: RunStats::default(),
         }
     }
 
     /// Statistics so far.
-    pub fn stats(&self) -> &Stats {
+    pub fn stats(&self) -> &RunStats {
         &self.stats
     }
 
@@ -102,7 +102,7 @@ impl<'m> Static<'m> {
                 t: s.t,
                 dt: 0.0,
                 halvings: 0,
-                reason: Failure::Static {
+                reason: AttemptFailure::Static {
                     load,
                     inner: Box::new(reason.into()),
                 },

@@ -3,7 +3,7 @@
 //! An [`Objective`] gives its value and assembles its gradient and Hessian (every stencil
 //! projected to positive semi-definite on request) into the fixed banded pattern of an
 //! [`Assembly`]; [`Newton`] owns that assembly, the band Cholesky factorisation
-//! ([`linsolve`]), the correction and trial vectors and the [`Stats`]. One iteration:
+//! ([`linsolve`]), the correction and trial vectors and the [`NewtonStats`]. One iteration:
 //! assemble (the exact Hessian; once one is found indefinite, every stencil projected for the
 //! rest of the solve), hold the fixed coordinates, factorise (shifting the diagonal if the
 //! matrix is only semi-definite), solve `H dq = -g`, backtrack on the objective (Armijo),
@@ -19,7 +19,7 @@
 //! [`Newton::solve_direction`], [`Newton::correction_norms`], [`Newton::backtrack`]).
 //!
 //! Every tolerance and cap is a `[solver]` setting ([`crate::problem::SolverSpec`]).
-//! Failures are typed ([`Failure`]); diagnostics go to the `log` crate (`debug` level).
+//! Failures are typed ([`NewtonFailure`]); diagnostics go to the `log` crate (`debug` level).
 
 pub use crate::band::cholesky as linsolve;
 
@@ -35,7 +35,7 @@ use std::time::Instant;
 /// Newton's own cumulative statistics (the time integrator counts steps and iterations, the
 /// contact model its own outcomes: [`crate::contact::ContactStats`]).
 #[derive(Clone, Copy, Debug, Default, serde::Serialize)]
-pub struct Stats {
+pub struct NewtonStats {
     /// Line-search backtracks.
     pub backtracks: usize,
     /// Numeric factorisations of the Hessian (each try, shifted ones included).
@@ -84,7 +84,7 @@ impl Path {
 
 /// Why a Newton solve failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum Failure {
+pub enum NewtonFailure {
     /// The objective or its gradient was not finite.
     #[error("non-finite objective or gradient at {} iteration {iteration}", path.iteration())]
     NonFiniteObjective {
@@ -352,7 +352,7 @@ pub struct Newton {
     /// Line-search trial point.
     pub trial: Vec<f64>,
     /// Statistics so far.
-    pub stats: Stats,
+    pub stats: NewtonStats,
     /// Where the next [`Newton::backtrack`] starts (then reset to 1): the caller's
     /// [`Objective::max_step`] along `dq`.
     pub step_cap: f64,
@@ -368,14 +368,14 @@ impl Newton {
             lin,
             dq: vec![0.0; n],
             trial: vec![0.0; n],
-            stats: Stats::default(),
+            stats: NewtonStats::default(),
             step_cap: 1.0,
         }
     }
 
     /// Factorise the assembled Hessian, shifting the diagonal if it is only semi-definite
     /// (`[solver] shift`, x10 per retry, `shift_tries` retries).
-    pub fn factor_shifted(&mut self, m: &Model, it: usize) -> Result<(), Failure> {
+    pub fn factor_shifted(&mut self, m: &Model, it: usize) -> Result<(), NewtonFailure> {
         if self.factor().is_ok() {
             return Ok(());
         }
@@ -395,7 +395,7 @@ impl Newton {
             }
             shift *= 10.0;
         }
-        Err(Failure::NotPositiveDefinite { iteration: it })
+        Err(NewtonFailure::NotPositiveDefinite { iteration: it })
     }
 
     /// Factorise the assembled Hessian as it is (counted in the statistics).
@@ -475,7 +475,7 @@ impl Newton {
         q: &mut Vec<f64>,
         fixed: &[bool],
         cap: usize,
-    ) -> Result<usize, Failure> {
+    ) -> Result<usize, NewtonFailure> {
         let n = q.len();
         let path = Path::Newton;
         // Exact Hessians first (quadratic convergence); when one is not positive definite the
@@ -495,7 +495,7 @@ impl Newton {
                 }
             }
             if !f0.is_finite() || self.asm.grad.iter().any(|g| !g.is_finite()) {
-                return Err(Failure::NonFiniteObjective {
+                return Err(NewtonFailure::NonFiniteObjective {
                     path,
                     iteration: it,
                 });
@@ -516,7 +516,7 @@ impl Newton {
             let t3 = Instant::now();
             self.stats.solve_s += (t3 - t2).as_secs_f64();
             if self.dq.iter().any(|d| !d.is_finite()) {
-                return Err(Failure::NonFiniteStep {
+                return Err(NewtonFailure::NonFiniteStep {
                     path,
                     iteration: it,
                 });
@@ -531,7 +531,7 @@ impl Newton {
             };
             self.stats.line_search_s += t3.elapsed().as_secs_f64();
             let Some(alpha) = alpha else {
-                return Err(Failure::LineSearch {
+                return Err(NewtonFailure::LineSearch {
                     path,
                     iteration: it,
                     slope,
@@ -544,7 +544,7 @@ impl Newton {
                 return Ok(it);
             }
         }
-        Err(Failure::NotConverged {
+        Err(NewtonFailure::NotConverged {
             path,
             iterations: cap,
         })

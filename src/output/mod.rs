@@ -66,7 +66,7 @@ pub struct Summary {
     /// Dimensionless groups.
     pub dimensionless: crate::model::Dimensionless,
     /// Full solver statistics.
-    pub stats: crate::integrator::Stats,
+    pub stats: crate::integrator::RunStats,
     /// Largest penetration below `z = a/2` (m).
     pub max_penetration: f64,
     /// Self-contact: how close parts of the body came and what the barrier carried.

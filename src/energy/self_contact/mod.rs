@@ -424,7 +424,7 @@ pub fn touching_of_frame(sc: &SelfContact, m: &Model, x: &[[f64; 3]]) -> Vec<boo
 
 /// Cumulative self-contact statistics of a run (`summary.json`, block `self_contact`).
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, PartialEq)]
-pub struct Stats {
+pub struct SelfContactStats {
     /// Closest centreline distance between eligible parts over every accepted step, over `a`
     /// (the broad phase's candidates at each step, exact wherever it is below
     /// `1 + activation`; the run adds every recorded frame's exact distance; `null` when no
@@ -438,7 +438,7 @@ pub struct Stats {
     pub max_pairs: usize,
 }
 
-impl Stats {
+impl SelfContactStats {
     /// Count an accepted step's measure.
     pub fn count(&mut self, m: &Measure, a: f64) {
         if m.closest.is_finite() {
