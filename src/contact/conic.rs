@@ -10,7 +10,7 @@
 use super::{ContactFailure, ContactSet, ContactStats};
 use crate::band::Assembly;
 use crate::model::Model;
-use crate::newton::{NewtonFailure, Newton, Objective, Path, Potential};
+use crate::newton::{Newton, NewtonFailure, Objective, Path, Potential};
 use crate::rod::{dof, vec3::f};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{

@@ -88,7 +88,7 @@ use super::reactions::{Reactions, UNCOUPLED};
 use super::status::ContactStatus;
 use super::{ContactFailure, ContactSet, ContactStats};
 use crate::model::Model;
-use crate::newton::{NewtonFailure, HessianCache, Newton, Objective, Path, Potential};
+use crate::newton::{HessianCache, Newton, NewtonFailure, Objective, Path, Potential};
 use crate::rod::dof::{self, HALF_BANDWIDTH as W};
 use std::collections::VecDeque;
 use std::time::Instant;
