@@ -84,6 +84,7 @@
 //! components enter the system as an augmented Lagrangian instead (`between.rs`). A failure
 //! falls back to the conic program ([`super::Dispatcher`]).
 
+use super::point::Frame;
 use super::reactions::{Reactions, UNCOUPLED};
 use super::status::ContactStatus;
 use super::{ContactFailure, ContactSet, ContactStats};
@@ -119,6 +120,35 @@ struct SlideLin {
     dir: [f64; 2],
     k: f64,
     mu: [f64; 2],
+}
+
+impl SlideLin {
+    /// The friction force (dissipation gradient, world `(x, y)`) of the branch at the slip
+    /// `sl` (forward, sideways) with normal force `n`: `T (n dir + k P u)`, `u` the scaled slip
+    /// and `P` the projection across `dir`.
+    fn force(&self, frame: &Frame, sl: [f64; 2], n: f64) -> [f64; 2] {
+        let SlideLin { dir, k, mu } = *self;
+        let u = [mu[0] * sl[0], mu[1] * sl[1]];
+        let along = u[0] * dir[0] + u[1] * dir[1];
+        let pu = [u[0] - along * dir[0], u[1] - along * dir[1]];
+        frame.to_world([
+            mu[0] * (n * dir[0] + k * pu[0]),
+            mu[1] * (n * dir[1] + k * pu[1]),
+        ])
+    }
+
+    /// The force's Hessian in the slip, `k T P T` in (forward, sideways), as world `(x, y)`.
+    fn hessian(&self, frame: &Frame) -> [[f64; 2]; 2] {
+        let SlideLin { dir, k, mu } = *self;
+        let hff = k * mu[0] * mu[0] * (1.0 - dir[0] * dir[0]);
+        let hfs = -k * mu[0] * mu[1] * dir[0] * dir[1];
+        let hss = k * mu[1] * mu[1] * (1.0 - dir[1] * dir[1]);
+        let (fw, sd) = (frame.forward, frame.side);
+        let hx = |i: usize, j: usize| {
+            hff * fw[i] * fw[j] + hfs * (fw[i] * sd[j] + sd[i] * fw[j]) + hss * sd[i] * sd[j]
+        };
+        [[hx(0, 0), hx(0, 1)], [hx(1, 0), hx(1, 1)]]
+    }
 }
 
 /// The semi-smooth Newton contact solver (`[solver] contact = "semi-smooth"`, the default).
@@ -502,33 +532,18 @@ impl SemiSmooth {
             if s.node_mode[c] != ContactStatus::Slide {
                 continue;
             }
-            let SlideLin { dir, k, mu } = s.slide[c];
-            let sl = ct.slip(c, q);
-            let u = [mu[0] * sl[0], mu[1] * sl[1]];
-            // Across the direction: P u; force in (f, s) = T (N dir + k P u), N the reaction.
-            let along = u[0] * dir[0] + u[1] * dir[1];
-            let pu = [u[0] - along * dir[0], u[1] - along * dir[1]];
-            let n_react = s.grad[c][2];
-            let gf = [
-                mu[0] * (n_react * dir[0] + k * pu[0]),
-                mu[1] * (n_react * dir[1] + k * pu[1]),
-            ];
-            let gxy = ct.to_world(c, gf);
-            let unit = ct.to_world(c, [mu[0] * dir[0], mu[1] * dir[1]]);
-            // Hessian k T P T in (f, s), then to (x, y).
-            let hff = k * mu[0] * mu[0] * (1.0 - dir[0] * dir[0]);
-            let hfs = -k * mu[0] * mu[1] * dir[0] * dir[1];
-            let hss = k * mu[1] * mu[1] * (1.0 - dir[1] * dir[1]);
-            let (fw, sd) = (ct.contacts[c].frame.forward, ct.contacts[c].frame.side);
-            let hx = |i: usize, j: usize| {
-                hff * fw[i] * fw[j] + hfs * (fw[i] * sd[j] + sd[i] * fw[j]) + hss * sd[i] * sd[j]
-            };
+            let lin = s.slide[c];
+            let frame = &ct.contacts[c].frame;
+            // Force in (f, s) = T (N dir + k P u), N the reaction.
+            let gxy = lin.force(frame, ct.slip(c, q), s.grad[c][2]);
+            let unit = frame.to_world([lin.mu[0] * lin.dir[0], lin.mu[1] * lin.dir[1]]);
+            let h = lin.hessian(frame);
             let kk = ct.node_dof(c);
             nw.asm.grad[kk] += gxy[0];
             nw.asm.grad[kk + 1] += gxy[1];
-            nw.asm.add_h(kk, kk, hx(0, 0));
-            nw.asm.add_h(kk, kk + 1, hx(0, 1));
-            nw.asm.add_h(kk + 1, kk + 1, hx(1, 1));
+            nw.asm.add_h(kk, kk, h[0][0]);
+            nw.asm.add_h(kk, kk + 1, h[0][1]);
+            nw.asm.add_h(kk + 1, kk + 1, h[1][1]);
             s.reactions.set_slide(c, unit, 1.0);
         }
     }

@@ -2,7 +2,7 @@
 //! every contact's predicted normal and friction force on its branch, and the iterate and its
 //! force variables along the saved direction (the line search's part).
 
-use super::{norm, ContactStatus, SemiSmooth, SlideLin};
+use super::{norm, ContactStatus, SemiSmooth};
 use crate::contact::ContactSet;
 use crate::model::Model;
 use crate::newton::Newton;
@@ -42,18 +42,11 @@ impl SemiSmooth {
             ContactStatus::Stick => (gr[2] + ch[2], [-(gr[0] + ch[0]), -(gr[1] + ch[1])]),
             ContactStatus::Slide => {
                 let lam = gr[2] + ch[2];
-                let SlideLin { dir, k, mu } = s.slide[c];
                 let kk = ct.node_dof(c);
                 let x = [q[kk] + dq[kk], q[kk + 1] + dq[kk + 1]];
                 let x0 = ct.contacts[c].origin;
                 let sl = ct.to_local(c, [x[0] - x0[0], x[1] - x0[1]]);
-                let u = [mu[0] * sl[0], mu[1] * sl[1]];
-                let along = u[0] * dir[0] + u[1] * dir[1];
-                let p = [
-                    lam * dir[0] + k * (u[0] - along * dir[0]),
-                    lam * dir[1] + k * (u[1] - along * dir[1]),
-                ];
-                (lam, ct.to_world(c, [mu[0] * p[0], mu[1] * p[1]]))
+                (lam, s.slide[c].force(&ct.contacts[c].frame, sl, lam))
             }
         }
     }
