@@ -14,9 +14,9 @@
 //! standard deviation of `v_s/v_m` over the meshes of each half of the element list (the
 //! scatter from mesh to mesh, against the trend).
 use rayon::prelude::*;
-use slither::design::selection::{accuracy_problem, Resolution};
 use slither::model::Model;
 use slither::problem::IntegratorKind;
+use slither::studies::accuracy::selection::{accuracy_problem, Resolution};
 use slither::{observe, plot, problem, sim};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -47,8 +47,8 @@
 //! 8. Observables and output: [`topology`] (twist, writhe, link, densities), [`observe`]
 //!    (speeds, kymograph fields, regimes; [`observe::evaluate()`], the one simulate-then-measure
 //!    pipeline), [`output`] (files), [`plot`] (figures).
-//! 9. Studies: [`design`] (gait optimiser, phase diagram) and [`chart`] (speed against
-//!    accuracy).
+//! 9. Studies: [`studies`] (gait optimisation, the phase diagram, accuracy selection,
+//!    ensembles) and [`charts`] (speed against accuracy).
 //! 10. [`pipeline`]: one run of a problem, for every caller (load and validate, choose the
 //!     accuracy, simulate, measure, summarise, stage and write).
 //! 11. The command line (`main.rs` and `cli/`, one file per subcommand; a module of the binary,
@@ -72,7 +72,7 @@
 //!   (`cargo test` builds them; real runs never do);
 //! * a contact model: a [`contact::ContactModel`] in one new file under `contact/` plus a
 //!   variant of [`problem::ContactKind`] (mapped in [`contact::model_for`]);
-//! * a study kind: a module under `design/` (as [`design::phase`]) that builds each run's
+//! * a study kind: a module under `studies/` (as [`studies::phase`]) that builds each run's
 //!   problem and measures it with [`observe::evaluate()`], plus a file `cli/NAME.rs` with its
 //!   arguments and one variant in `main.rs`.
 #![warn(missing_docs)]
@@ -82,9 +82,8 @@
 // `!(x > y)` is deliberate where a NaN must take the "not satisfied" branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 pub mod band;
-pub mod chart;
+pub mod charts;
 pub mod contact;
-pub mod design;
 pub mod energy;
 pub mod fd;
 pub mod gait;
@@ -99,4 +98,5 @@ pub mod problem;
 pub mod rod;
 pub mod sim;
 pub mod state;
+pub mod studies;
 pub mod topology;

@@ -6,7 +6,7 @@
 //!    (with the size limits: [`crate::problem::check_for_run`]); the request, an accuracy
 //!    target or an ensemble, by [`Request::validate`];
 //! 2. **choose the accuracy**: with a target, the accuracy selection
-//!    ([`crate::design::selection`]) refines mesh and step and keeps the chosen model's run;
+//!    ([`crate::studies::accuracy::selection`]) refines mesh and step and keeps the chosen model's run;
 //! 3. **simulate and measure**: [`crate::observe::evaluate`] (or, after a selection,
 //!    [`crate::observe::measure`] of the chosen run);
 //! 4. **summarise**: [`Summary`] with the observables, the periodic analysis of a finished
@@ -19,13 +19,13 @@
 //! The library never prints: progress and the selection's lines go to the callbacks of
 //! [`Hooks`].
 
-use crate::design::{ensemble, selection};
 use crate::model::Model;
 use crate::observe::{self, Fields, Measure, Observed};
 use crate::output::{self, staging::Staging, Summary};
 use crate::plot::movie::MovieStats;
 use crate::problem::{self, keys, Problem};
 use crate::sim::Outcome;
+use crate::studies::{accuracy::selection, ensemble};
 use std::path::{Path, PathBuf};
 
 /// The range of an accuracy target (relative error of `v_s/v_m`).

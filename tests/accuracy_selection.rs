@@ -28,8 +28,8 @@
 //!
 //! **It can fail.** Assuming second order in the mesh (`MESH_RATES = (0.25, 0.25)`: the bound
 //! `d/3`) fails it at the 0.5 % target: the mesh error 0.31 % lies above its estimate 0.22 %.
-use slither::design::selection::select;
 use slither::model::Model;
+use slither::studies::accuracy::selection::select;
 use slither::{observe, problem, sim};
 
 /// The converged `v_s/v_m` of the scene (module doc) and its uncertainty.
@@ -115,10 +115,10 @@ const FINE_DT: f64 = 5e-4;
 const FINE_DT_ERROR: f64 = 2e-4;
 
 fn v_ratio(p: &problem::Problem, elements: usize, dt: f64) -> f64 {
-    let q = slither::design::selection::accuracy_problem(
+    let q = slither::studies::accuracy::selection::accuracy_problem(
         p,
         elements,
-        slither::design::selection::Resolution::Step(dt),
+        slither::studies::accuracy::selection::Resolution::Step(dt),
     );
     let m = Model::new(&q);
     let muscles = Box::new(slither::gait::Muscles {
@@ -165,7 +165,7 @@ fn small_s_start(elements: usize, duration: f64) -> problem::Problem {
 /// as implicit Euler) and adaptive BDF2 (tolerances).
 #[test]
 fn accuracy_selection_reports_consistent_estimates() {
-    use slither::design::selection::{PairEstimate, Resolution, MESH_RATES};
+    use slither::studies::accuracy::selection::{PairEstimate, Resolution, MESH_RATES};
     for bdf2 in [false, true] {
         let mut p = small_s_start(20, 0.6);
         assert_eq!(p.solver.integrator, problem::IntegratorKind::Bdf2);
@@ -174,8 +174,9 @@ fn accuracy_selection_reports_consistent_estimates() {
             p.time.adaptive = true;
         }
         let mut lines = Vec::new();
-        let sel =
-            slither::design::selection::select(&p, 0.05, 80, &mut |l| lines.push(l.to_string()));
+        let sel = slither::studies::accuracy::selection::select(&p, 0.05, 80, &mut |l| {
+            lines.push(l.to_string())
+        });
         let r = &sel.report;
         println!("{}", lines.join("\n"));
         println!("{}", serde_json::to_string_pretty(r).unwrap());
@@ -213,7 +214,7 @@ fn accuracy_selection_reports_consistent_estimates() {
             x.dt == r.dt && x.error_tolerance == r.error_tolerance
         };
         // The chosen run is one of the runs and its value is the reported one.
-        let v = slither::chart::speed_ratio(&sel.model, &sel.outcome);
+        let v = slither::charts::speed_ratio(&sel.model, &sel.outcome);
         assert!(r
             .runs
             .iter()
@@ -298,7 +299,7 @@ fn accuracy_selection_reports_consistent_estimates() {
 /// `PairEstimate::new`) fails this test.
 #[test]
 fn envelope_bounds_the_s_start_errors_where_the_last_pairs_alone_do_not() {
-    use slither::design::selection::{PairEstimate, Resolution, MESH_RATES};
+    use slither::studies::accuracy::selection::{PairEstimate, Resolution, MESH_RATES};
     const STEPS: [f64; 5] = [2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4];
     // Rows: 25, 50, 100, 200, 400 elements; columns: STEPS; NaN where not measured.
     const NAN: f64 = f64::NAN;
@@ -358,7 +359,7 @@ fn envelope_bounds_the_s_start_errors_where_the_last_pairs_alone_do_not() {
 /// with the first; another key reuses none.
 #[test]
 fn a_selection_resumes_from_its_journal() {
-    use slither::design::selection::{select_with, Journal};
+    use slither::studies::accuracy::selection::{select_with, Journal};
     let dir = std::env::temp_dir().join(format!("slither-journal-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("accuracy_runs.jsonl");
@@ -401,8 +402,9 @@ fn a_selection_resumes_from_its_journal() {
     assert_eq!(v(ra), v(rb));
     // The chosen model's run again gives the same motion.
     assert_eq!(a.outcome.steps.accepted, b.outcome.steps.accepted);
-    let last =
-        |s: &slither::design::selection::Selection| s.outcome.observed.last().unwrap().x.clone();
+    let last = |s: &slither::studies::accuracy::selection::Selection| {
+        s.outcome.observed.last().unwrap().x.clone()
+    };
     assert_eq!(last(&a), last(&b));
     // A tighter target: the runs it shares are read back, the rest made and appended.
     let mut third = Vec::new();

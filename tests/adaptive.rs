@@ -63,7 +63,7 @@ fn adaptive_steps_meet_the_tolerance_on_the_cantilever_swing() {
         for tol in [1e-4, 1e-5, 1e-6] {
             let m = swing(integrator, 1e-3, Some(tol));
             let o = run(&m);
-            let err = slither::chart::max_distance(&final_nodes(&m, &o), &reference);
+            let err = slither::charts::max_distance(&final_nodes(&m, &o), &reference);
             let st = o.steps;
             println!(
                 "{integrator} tol {tol:e}: error {err:.3e} m ({:.1} x tol L), {} steps, {} rejected, dt {:.2e} .. {:.2e} s",
@@ -128,8 +128,8 @@ fn variable_step_bdf2_is_second_order() {
             m.real.clone().map(|i| s.node(i)).collect()
         })
         .collect();
-    let d1 = slither::chart::max_distance(&finals[0], &finals[1]);
-    let d2 = slither::chart::max_distance(&finals[1], &finals[2]);
+    let d1 = slither::charts::max_distance(&finals[0], &finals[1]);
+    let d2 = slither::charts::max_distance(&finals[1], &finals[2]);
     let order = (d1 / d2).log2();
     println!("variable-step BDF2: differences {d1:.3e}, {d2:.3e} m, observed order {order:.3}");
     assert!(order >= 1.8, "order {order}");
@@ -523,7 +523,7 @@ fn small_s_start(elements: usize, duration: f64) -> problem::Problem {
 fn gait_chart_measures_errors_and_caches_its_reference() {
     let p = small_s_start(20, 0.6);
     let m = Model::new(&p);
-    let opts = slither::chart::GaitPrecisionOptions {
+    let opts = slither::charts::GaitPrecisionOptions {
         // The scene's mesh only, without the accuracy point (the chart's defaults add two
         // finer meshes and an accuracy selection).
         meshes: vec![20],
@@ -543,7 +543,7 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
     std::fs::create_dir_all(&dir).unwrap();
     let cache = dir.join("reference.json");
     let mut lines = Vec::new();
-    let g = slither::chart::gait_precision("small", &p, &m, &opts, Some(&cache), &mut |l| {
+    let g = slither::charts::gait_precision("small", &p, &m, &opts, Some(&cache), &mut |l| {
         lines.push(l.to_string())
     })
     .unwrap();
@@ -584,7 +584,7 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
     assert!(ie[0] > ie[1], "implicit: {ie:?}");
     assert!(bdf2[0] < ie[0] && bdf2[1] < ie[1], "{bdf2:?} vs {ie:?}");
     assert!(r.converged, "reference change {}", r.change);
-    slither::chart::write_gait_precision(&dir, &g).unwrap();
+    slither::charts::write_gait_precision(&dir, &g).unwrap();
     for f in [
         "gait_precision.csv",
         "gait_precision.json",
@@ -596,7 +596,7 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
     }
     // Second time: the reference comes from the cache, identical.
     let mut lines2 = Vec::new();
-    let r2 = slither::chart::gait_reference(&p, &m, &opts, Some(&cache), &mut |l| {
+    let r2 = slither::charts::gait_reference(&p, &m, &opts, Some(&cache), &mut |l| {
         lines2.push(l.to_string())
     })
     .unwrap();
@@ -606,12 +606,12 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
     );
     assert_eq!(r2.v_ratio, r.v_ratio);
     // Another setting is another key: recomputed.
-    let opts3 = slither::chart::GaitPrecisionOptions {
+    let opts3 = slither::charts::GaitPrecisionOptions {
         reference_halvings: 0,
         ..opts.clone()
     };
     let mut lines3 = Vec::new();
-    slither::chart::gait_reference(&p, &m, &opts3, Some(&cache), &mut |l| {
+    slither::charts::gait_reference(&p, &m, &opts3, Some(&cache), &mut |l| {
         lines3.push(l.to_string())
     })
     .unwrap();

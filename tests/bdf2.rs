@@ -32,8 +32,8 @@ fn observed_order(integrator: &str) -> f64 {
         .iter()
         .map(|&dt| final_nodes(&swing(integrator, dt)))
         .collect();
-    let d1 = slither::chart::max_distance(&x[0], &x[1]);
-    let d2 = slither::chart::max_distance(&x[1], &x[2]);
+    let d1 = slither::charts::max_distance(&x[0], &x[1]);
+    let d2 = slither::charts::max_distance(&x[1], &x[2]);
     (d1 / d2).log2()
 }
 
@@ -69,7 +69,7 @@ fn s_start_nodes_bdf2(mu_forward: f64) -> Vec<[f64; 3]> {
 fn bdf2_fine_steps_are_not_sensitive_to_a_friction_perturbation() {
     let a = s_start_nodes_bdf2(0.55);
     let b = s_start_nodes_bdf2(0.5500001);
-    let d = slither::chart::max_distance(&a, &b);
+    let d = slither::charts::max_distance(&a, &b);
     println!("largest node distance after 0.6 s: {d:.3e} m");
     assert!(d > 0.0, "the perturbation changes the run");
     assert!(d < 1e-6, "{d} m");

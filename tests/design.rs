@@ -5,7 +5,9 @@
 //! loses nothing), failed simulations are recorded as failed, bad study files exit with code 2
 //! naming file, key and range, and the normalised coordinates clamp exactly to the bounds.
 
-use slither::design::{self, Dim, GaitParams, Param, Space, Status};
+use slither::studies::{
+    self, optimize::Dim, optimize::GaitParams, optimize::Param, optimize::Space, optimize::Status,
+};
 use std::path::{Path, PathBuf};
 
 mod common;
@@ -82,10 +84,10 @@ fn good_point_speed(tag: &str) -> f64 {
         .replace("stress = 9000.0", "stress = 24000.0");
     let path = setup(&format!("good_point_{tag}"), BASE, &study);
     let out = path.parent().unwrap().join("out");
-    let r = design::optimize(
-        &design::load_study(&path).unwrap(),
+    let r = studies::optimize::optimize(
+        &studies::optimize::load_study(&path).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!(r.initial.point.stress, 24000.0);
@@ -96,10 +98,10 @@ fn good_point_speed(tag: &str) -> f64 {
 #[test]
 fn optimiser_improves_on_the_start_and_writes_every_evaluation() {
     let path = setup("improves", BASE, STUDY);
-    let study = design::load_study(&path).unwrap();
+    let study = studies::optimize::load_study(&path).unwrap();
     assert_eq!(study.space.dims.len(), 2);
     let out = path.parent().unwrap().join("out");
-    let r = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let r = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
 
     // The start is the first evaluation, at the given initial point, with T = 0.5 L / v_m.
     assert_eq!(r.initial.point.stress, 9000.0);
@@ -167,7 +169,7 @@ fn optimiser_improves_on_the_start_and_writes_every_evaluation() {
     for (k, row) in rows.iter().enumerate() {
         assert_eq!(
             row.len(),
-            design::HISTORY_HEADER.split(',').count(),
+            studies::optimize::HISTORY_HEADER.split(',').count(),
             "{row:?}"
         );
         assert_eq!(row[col("eval")], format!("{}", k + 1));
@@ -222,10 +224,10 @@ fn an_interrupted_study_resumes_without_losing_evaluations() {
     let short = STUDY.replace("max_evaluations = 8", "max_evaluations = 4");
     let path = setup("resume", BASE, &short);
     let out = path.parent().unwrap().join("out");
-    let first = design::optimize(
-        &design::load_study(&path).unwrap(),
+    let first = studies::optimize::optimize(
+        &studies::optimize::load_study(&path).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!(first.evaluations, 4);
@@ -241,8 +243,8 @@ fn an_interrupted_study_resumes_without_losing_evaluations() {
     }
     // ...continued with the full budget: the first 4 come from the file, the rest are new.
     std::fs::write(&path, STUDY).unwrap();
-    let study = design::load_study(&path).unwrap();
-    let second = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let study = studies::optimize::load_study(&path).unwrap();
+    let second = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
     assert!(second.dropped_partial_row);
     assert_eq!(second.reused, first.simulations);
     assert_eq!(second.rows_before, n_first);
@@ -255,11 +257,15 @@ fn an_interrupted_study_resumes_without_losing_evaluations() {
     // Row numbers continue and the partial row is gone.
     for (k, row) in rows.iter().enumerate() {
         assert_eq!(row[0], format!("{}", k + 1));
-        assert_eq!(row.len(), design::HISTORY_HEADER.split(',').count());
+        assert_eq!(
+            row.len(),
+            studies::optimize::HISTORY_HEADER.split(',').count()
+        );
     }
     // The same 8-evaluation study run from scratch visits the same points (deterministic).
     let fresh = path.parent().unwrap().join("fresh");
-    let third = design::optimize(&study, &fresh, &mut design::Silent).unwrap();
+    let third =
+        studies::optimize::optimize(&study, &fresh, &mut studies::optimize::Silent).unwrap();
     assert_eq!(third.evaluations, second.evaluations);
     for ((a, _), (b, _)) in third.visited.iter().zip(&second.visited) {
         assert_eq!(a.point, b.point);
@@ -269,8 +275,8 @@ fn an_interrupted_study_resumes_without_losing_evaluations() {
     // A base file edited since: the old rows are not reused.
     let edited = BASE.replace("mu_sideways = 0.30", "mu_sideways = 0.31");
     std::fs::write(path.parent().unwrap().join("base.toml"), edited).unwrap();
-    let study = design::load_study(&path).unwrap();
-    let fourth = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let study = studies::optimize::load_study(&path).unwrap();
+    let fourth = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
     assert_eq!(fourth.reused, 0);
     assert_eq!(fourth.rows_other_base, rows.len());
 }
@@ -282,10 +288,10 @@ fn failed_simulations_are_recorded_as_failed() {
     let study = "[study]\nbase = \"base.toml\"\nmax_evaluations = 3\n\n[optimize]\nstress = [6000.0, 24000.0]\n";
     let path = setup("failed", &base, study);
     let out = path.parent().unwrap().join("out");
-    let r = design::optimize(
-        &design::load_study(&path).unwrap(),
+    let r = studies::optimize::optimize(
+        &studies::optimize::load_study(&path).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert!(r.best.is_none());
@@ -294,13 +300,13 @@ fn failed_simulations_are_recorded_as_failed() {
     for (e, cost) in &r.visited {
         assert_eq!(e.status, Status::Failed);
         assert!(!e.reason.is_empty());
-        assert!(*cost >= design::FAILED_COST);
+        assert!(*cost >= studies::optimize::FAILED_COST);
     }
     for row in history_rows(&out) {
         assert_eq!(row[col("status")], "failed");
         assert_eq!(
             row[col("objective")].parse::<f64>().unwrap(),
-            design::FAILED_COST
+            studies::optimize::FAILED_COST
         );
         assert!(row[col("reason")].contains("rejected"), "{row:?}");
     }
@@ -513,10 +519,10 @@ fn a_heading_limit_excludes_runs_that_veer_and_penalises_their_cost() {
     // Without a limit the fastest run of this study veers more than 1 degree off the head
     // direction; with `max_heading_deg = 1` it cannot be the optimum and costs more.
     let free = setup("heading-free", BASE, STUDY);
-    let r0 = design::optimize(
-        &design::load_study(&free).unwrap(),
+    let r0 = studies::optimize::optimize(
+        &studies::optimize::load_study(&free).unwrap(),
         &free.parent().unwrap().join("out"),
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     let fastest = r0.best.as_ref().unwrap();
@@ -533,11 +539,11 @@ fn a_heading_limit_excludes_runs_that_veer_and_penalises_their_cost() {
             "duration_pulses = 0.5\nmax_heading_deg = 1.0",
         ),
     );
-    let study = design::load_study(&limited).unwrap();
-    let r = design::optimize(
+    let study = studies::optimize::load_study(&limited).unwrap();
+    let r = studies::optimize::optimize(
         &study,
         &limited.parent().unwrap().join("out"),
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     let best = r.best.as_ref().expect("a run within 1 degree");
@@ -574,11 +580,11 @@ fn pso_study(max: usize) -> String {
 #[test]
 fn particle_swarm_runs_generations_and_resumes_deterministically() {
     let path = setup("pso", BASE, &pso_study(12));
-    let study = design::load_study(&path).unwrap();
-    assert_eq!(study.method, design::SearchMethod::ParticleSwarm);
+    let study = studies::optimize::load_study(&path).unwrap();
+    assert_eq!(study.method, studies::optimize::SearchMethod::ParticleSwarm);
     assert_eq!(study.particles, 4);
     let out = path.parent().unwrap().join("out");
-    let r = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let r = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
     // The whole budget: the first generation (the start and 3 random particles) and two more.
     assert_eq!(r.evaluations, 12);
     assert_eq!(r.simulations + r.repeats, 12);
@@ -640,16 +646,16 @@ fn particle_swarm_runs_generations_and_resumes_deterministically() {
     assert_eq!(history_rows(&out).len(), r.simulations);
 
     // A rerun replays every generation from history.csv without simulating...
-    let again = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let again = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
     assert_eq!(again.simulations, 0);
     assert_eq!(again.reused + again.repeats, 12);
     assert_eq!(again.best.unwrap().v_s, best.v_s);
     // ...and a larger budget continues the same swarm: only the new generation is simulated.
     std::fs::write(&path, pso_study(16)).unwrap();
-    let more = design::optimize(
-        &design::load_study(&path).unwrap(),
+    let more = studies::optimize::optimize(
+        &studies::optimize::load_study(&path).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!(more.evaluations, 16);
@@ -669,31 +675,32 @@ fn particle_swarm_runs_generations_and_resumes_deterministically() {
     // reflection into the bounds is deterministic).
     let cut = path.parent().unwrap().join("cut");
     std::fs::write(&path, pso_study(6)).unwrap();
-    let first = design::optimize(
-        &design::load_study(&path).unwrap(),
+    let first = studies::optimize::optimize(
+        &studies::optimize::load_study(&path).unwrap(),
         &cut,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!(first.evaluations, 6);
     std::fs::write(&path, pso_study(12)).unwrap();
-    let resumed = design::optimize(
-        &design::load_study(&path).unwrap(),
+    let resumed = studies::optimize::optimize(
+        &studies::optimize::load_study(&path).unwrap(),
         &cut,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!(resumed.reused, 6);
     assert_eq!(resumed.evaluations, 12);
-    let points =
-        |r: &design::Report| -> Vec<GaitParams> { r.visited.iter().map(|v| v.0.point).collect() };
+    let points = |r: &studies::optimize::Report| -> Vec<GaitParams> {
+        r.visited.iter().map(|v| v.0.point).collect()
+    };
     assert_eq!(points(&resumed), points(&r));
     // Another seed draws another swarm.
     std::fs::write(&path, pso_study(12).replace("seed = 7", "seed = 8")).unwrap();
-    let other = design::optimize(
-        &design::load_study(&path).unwrap(),
+    let other = studies::optimize::optimize(
+        &studies::optimize::load_study(&path).unwrap(),
         &path.parent().unwrap().join("other"),
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_ne!(other.visited[1].0.point, r.visited[1].0.point);
@@ -703,10 +710,10 @@ fn particle_swarm_runs_generations_and_resumes_deterministically() {
 fn multi_start_nelder_mead_splits_the_budget_between_starts() {
     let study = STUDY.replace("max_evaluations = 8", "max_evaluations = 12") + "starts = 2\n";
     let path = setup("multistart", BASE, &study);
-    let study = design::load_study(&path).unwrap();
+    let study = studies::optimize::load_study(&path).unwrap();
     assert_eq!(study.starts, 2);
     let out = path.parent().unwrap().join("out");
-    let r = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let r = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
     assert_eq!(r.evaluations, 12);
     assert!(r.iterations.iter().any(|i| i.start == 1));
     assert!(r.iterations.iter().any(|i| i.start == 2));
@@ -732,10 +739,10 @@ fn an_optimum_on_a_bound_is_reported_in_optimum_json_and_on_the_chart() {
                  initial = { speed = 0.3 }\n";
     let path = setup("onbound", BASE, study);
     let out = path.parent().unwrap().join("out");
-    let r = design::optimize(
-        &design::load_study(&path).unwrap(),
+    let r = studies::optimize::optimize(
+        &studies::optimize::load_study(&path).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     let best = r.best.unwrap();
@@ -761,10 +768,10 @@ fn an_optimum_on_a_bound_is_reported_in_optimum_json_and_on_the_chart() {
     let inside = STUDY.replace("max_evaluations = 8", "max_evaluations = 3");
     let path = setup("inside", BASE, &inside);
     let out = path.parent().unwrap().join("out");
-    let r = design::optimize(
-        &design::load_study(&path).unwrap(),
+    let r = studies::optimize::optimize(
+        &studies::optimize::load_study(&path).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     let b = r.best.unwrap();
@@ -773,7 +780,7 @@ fn an_optimum_on_a_bound_is_reported_in_optimum_json_and_on_the_chart() {
     let flagged = json["on_bound"].as_array().unwrap().len();
     let near = |x: f64, lo: f64, hi: f64| {
         let u = (x - lo) / (hi - lo);
-        u <= design::ON_BOUND_FRACTION || u >= 1.0 - design::ON_BOUND_FRACTION
+        u <= studies::optimize::ON_BOUND_FRACTION || u >= 1.0 - studies::optimize::ON_BOUND_FRACTION
     };
     let expected =
         near(b.point.stress, 6000.0, 24000.0) as usize + near(b.point.speed, 0.3, 0.8) as usize;

@@ -5,7 +5,7 @@
 //! follow); history rows are reused only for the exact same simulation, whichever parameters
 //! the study that wrote them varied; a history file of the older format is read and rewritten.
 
-use slither::design::{self, Param, Status};
+use slither::studies::{self, optimize::Param, optimize::Status};
 use std::path::PathBuf;
 
 mod common;
@@ -46,7 +46,7 @@ fn setup(name: &str, base: &str, study: &str) -> PathBuf {
 /// The error of a study file that must be refused.
 fn refused(name: &str, base: &str, study: &str) -> (String, PathBuf) {
     let path = setup(name, base, study);
-    match design::load_study(&path) {
+    match studies::optimize::load_study(&path) {
         Ok(_) => panic!("{name}: accepted:\n{study}"),
         Err(e) => (e.to_string(), path),
     }
@@ -56,7 +56,7 @@ fn refused(name: &str, base: &str, study: &str) -> (String, PathBuf) {
 fn periodic_bounds_are_checked_naming_file_key_value_and_range() {
     // A valid study: three dimensions in column order, starting at the base's values.
     let path = setup("valid", BASE, STUDY);
-    let s = design::load_study(&path).unwrap();
+    let s = studies::optimize::load_study(&path).unwrap();
     let params: Vec<Param> = s.space.dims.iter().map(|d| d.param).collect();
     assert_eq!(params, [Param::Period, Param::Spacing, Param::Lift]);
     let x0 = s.space.initial();
@@ -206,9 +206,9 @@ fn periodic_bounds_are_checked_naming_file_key_value_and_range() {
 #[test]
 fn a_study_varying_the_period_runs_at_the_periods_it_chooses() {
     let path = setup("moves", BASE, STUDY);
-    let study = design::load_study(&path).unwrap();
+    let study = studies::optimize::load_study(&path).unwrap();
     let out = path.parent().unwrap().join("out");
-    let r = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let r = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
     assert_eq!(r.evaluations, 8);
     let mut periods: Vec<f64> = r.visited.iter().map(|v| v.0.point.period).collect();
     periods.sort_by(f64::total_cmp);
@@ -242,7 +242,10 @@ fn a_study_varying_the_period_runs_at_the_periods_it_chooses() {
     let rows = history_rows(&out);
     assert_eq!(rows.len(), r.simulations);
     for (row, (e, _)) in rows.iter().zip(r.visited.iter()) {
-        assert_eq!(row.len(), design::HISTORY_HEADER.split(',').count());
+        assert_eq!(
+            row.len(),
+            studies::optimize::HISTORY_HEADER.split(',').count()
+        );
         assert_eq!(row[col("period")].parse::<f64>().unwrap(), e.point.period);
         assert_eq!(row[col("spacing")].parse::<f64>().unwrap(), e.point.spacing);
         assert_eq!(row[col("lift")].parse::<f64>().unwrap(), e.point.lift);
@@ -266,10 +269,10 @@ fn a_study_varying_the_period_runs_at_the_periods_it_chooses() {
     assert!(j["initial"]["periodic_cycles"].as_u64().is_some());
 
     // A rerun replays the study from the rows without simulating.
-    let again = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let again = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
     assert_eq!(again.simulations, 0);
     assert_eq!(again.reused + again.repeats, again.evaluations);
-    let points = |r: &design::Report| -> Vec<design::GaitParams> {
+    let points = |r: &studies::optimize::Report| -> Vec<studies::optimize::GaitParams> {
         r.visited.iter().map(|v| v.0.point).collect()
     };
     assert_eq!(points(&again), points(&r));
@@ -286,10 +289,10 @@ fn rows_are_reused_only_for_the_same_simulation_whichever_parameters_were_varied
     let path_a = setup("reuse", BASE, &a);
     let dir = path_a.parent().unwrap().to_path_buf();
     let out = dir.join("out");
-    let ra = design::optimize(
-        &design::load_study(&path_a).unwrap(),
+    let ra = studies::optimize::optimize(
+        &studies::optimize::load_study(&path_a).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!(ra.simulations, 3);
@@ -300,8 +303,8 @@ fn rows_are_reused_only_for_the_same_simulation_whichever_parameters_were_varied
         .replace("lift = [0.8, 1.6]\n", "")
         .replace("max_evaluations = 8", "max_evaluations = 4");
     std::fs::write(dir.join("b.toml"), &b).unwrap();
-    let study_b = design::load_study(&dir.join("b.toml")).unwrap();
-    let rb = design::optimize(&study_b, &out, &mut design::Silent).unwrap();
+    let study_b = studies::optimize::load_study(&dir.join("b.toml")).unwrap();
+    let rb = studies::optimize::optimize(&study_b, &out, &mut studies::optimize::Silent).unwrap();
     assert_eq!(rb.rows_before, 3);
     assert_eq!(rb.reused, 1, "only the shared start is reused");
     assert_eq!(rb.initial.eval, ra.initial.eval);
@@ -315,10 +318,10 @@ fn rows_are_reused_only_for_the_same_simulation_whichever_parameters_were_varied
         b.replace("duration_periods = 3.0", "duration_periods = 2.5"),
     )
     .unwrap();
-    let rc = design::optimize(
-        &design::load_study(&dir.join("c.toml")).unwrap(),
+    let rc = studies::optimize::optimize(
+        &studies::optimize::load_study(&dir.join("c.toml")).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!(rc.reused, 0);
@@ -335,24 +338,26 @@ fn a_history_of_the_older_format_is_read_reused_and_rewritten() {
         .replace("max_evaluations = 8", "max_evaluations = 3");
     let path = setup("legacy", BASE, &a);
     let out = path.parent().unwrap().join("out");
-    let study = design::load_study(&path).unwrap();
-    let first = design::optimize(&study, &out, &mut design::Silent).unwrap();
-    let legacy_cols: Vec<&str> = design::LEGACY_HISTORY_HEADER.split(',').collect();
-    let mut legacy = format!("{}\n", design::LEGACY_HISTORY_HEADER);
+    let study = studies::optimize::load_study(&path).unwrap();
+    let first = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
+    let legacy_cols: Vec<&str> = studies::optimize::LEGACY_HISTORY_HEADER
+        .split(',')
+        .collect();
+    let mut legacy = format!("{}\n", studies::optimize::LEGACY_HISTORY_HEADER);
     for row in history_rows(&out) {
         let fields: Vec<&str> = legacy_cols.iter().map(|c| row[col(c)].as_str()).collect();
         legacy += &(fields.join(",") + "\n");
     }
     // And one row of another base file, which must survive the rewrite unreused.
     legacy += "9,1000,0.05,0.5,1.2,1,1,0.01,0.02,0,0,10,U,ok,0.1,-0.01,00ff00ff00ff00ff,\n";
-    std::fs::write(out.join(design::HISTORY_FILE), &legacy).unwrap();
+    std::fs::write(out.join(studies::optimize::HISTORY_FILE), &legacy).unwrap();
 
-    let h = design::read_history(&out.join(design::HISTORY_FILE)).unwrap();
+    let h = studies::optimize::read_history(&out.join(studies::optimize::HISTORY_FILE)).unwrap();
     assert!(h.legacy);
     assert_eq!(h.rows.len(), 4);
     assert!(h.rows[0].0.point.period.is_nan() && h.rows[0].0.periodic.is_none());
 
-    let again = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let again = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
     assert_eq!(
         again.simulations, 0,
         "every row of the older file is reused"
@@ -376,7 +381,7 @@ fn a_history_of_the_older_format_is_read_reused_and_rewritten() {
     assert_eq!(rows[3][col("period")], "");
     assert_eq!(rows[3][col("base_hash")], "00ff00ff00ff00ff");
     // Read back in the current format, still reused.
-    let third = design::optimize(&study, &out, &mut design::Silent).unwrap();
+    let third = studies::optimize::optimize(&study, &out, &mut studies::optimize::Silent).unwrap();
     assert_eq!(third.simulations, 0);
 }
 
@@ -388,9 +393,9 @@ fn the_sidewinding_objective_is_minus_the_margin_and_needs_four_cycles() {
         .replace("objective = \"broadside\"", "objective = \"sidewinding\"")
         .replace("max_evaluations = 8", "max_evaluations = 4");
     let path = setup("margin", BASE, &study);
-    let s = design::load_study(&path).unwrap();
-    assert_eq!(s.objective, design::Objective::Sidewinding);
-    let e = design::simulate(&s, &s.space.initial(), &mut |_| {});
+    let s = studies::optimize::load_study(&path).unwrap();
+    assert_eq!(s.objective, studies::optimize::Objective::Sidewinding);
+    let e = studies::optimize::simulate(&s, &s.space.initial(), &mut |_| {});
     assert_eq!(e.status, Status::Ok, "{}", e.reason);
     let (m, o) = common::run_problem(&s.problem_at(&s.space.initial()));
     let p = slither::observe::periodic::of_outcome(&m, &o).unwrap();
@@ -399,8 +404,8 @@ fn the_sidewinding_objective_is_minus_the_margin_and_needs_four_cycles() {
     // Three periods hold two measured cycles: the margin is not measured, the run fails.
     let short = study.replace("duration_periods = 6.0", "duration_periods = 3.0");
     let path = setup("margin_short", BASE, &short);
-    let s = design::load_study(&path).unwrap();
-    let e = design::simulate(&s, &s.space.initial(), &mut |_| {});
+    let s = studies::optimize::load_study(&path).unwrap();
+    let e = studies::optimize::simulate(&s, &s.space.initial(), &mut |_| {});
     assert_eq!(e.status, Status::Failed);
     assert!(
         e.reason.contains("fewer than 4 full cycles"),

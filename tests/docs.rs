@@ -71,22 +71,22 @@ fn output_reference_is_the_codes() {
 #[test]
 fn study_csv_headers_are_the_schemas() {
     assert_eq!(
-        slither::design::phase::HEADER,
+        slither::studies::phase::HEADER,
         schema::header(schema::PHASE_CSV),
         "phase.csv's header and src/output/schema.rs PHASE_CSV differ: add the column there"
     );
     assert_eq!(
-        slither::design::phase::VERIFY_COLUMNS,
+        slither::studies::phase::VERIFY_COLUMNS,
         schema::header(schema::PHASE_VERIFY_CSV),
         "the verification columns and src/output/schema.rs PHASE_VERIFY_CSV differ"
     );
     assert_eq!(
-        slither::design::PERIODIC_COLUMNS,
+        slither::studies::optimize::PERIODIC_COLUMNS,
         schema::header(schema::PHASE_PERIODIC_CSV),
         "the periodic columns and src/output/schema.rs PHASE_PERIODIC_CSV differ"
     );
     assert_eq!(
-        slither::design::HISTORY_HEADER,
+        slither::studies::optimize::HISTORY_HEADER,
         schema::header(schema::HISTORY_CSV),
         "history.csv's header and src/output/schema.rs HISTORY_CSV differ: add the column there"
     );

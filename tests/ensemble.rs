@@ -1,9 +1,9 @@
-//! Ensembles (`slither::design::ensemble`, `slither run --ensemble K`): the statistics are
+//! Ensembles (`slither::studies::ensemble`, `slither run --ensemble K`): the statistics are
 //! those of the individual runs, a member is reproduced from its recorded seed, the members
 //! are perturbed as documented, and the unperturbed run's results do not change.
 mod common;
-use slither::design::ensemble::{self, Perturbation, Spec};
 use slither::problem;
+use slither::studies::ensemble::{self, Perturbation, Spec};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

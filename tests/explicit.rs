@@ -7,7 +7,7 @@
 //! reported as an error naming t and dt; scenes with ground or in static mode are refused.
 mod common;
 use common::{model, Rng};
-use slither::chart;
+use slither::charts;
 use slither::fd;
 use slither::integrator::explicit::{Explicit, Unsupported};
 use slither::integrator::{Integrator, Natural, StepError};
@@ -195,7 +195,7 @@ fn explicit_and_implicit_agree_within_the_implicit_first_order_error() {
     let tip = |x: &[[f64; 3]]| x[0];
     let run = |method, h: f64| {
         let n = (m.duration / h).round() as usize;
-        chart::simulate(&m, method, h, n).unwrap().unwrap()
+        charts::simulate(&m, method, h, n).unwrap().unwrap()
     };
     let ex = run(IntegratorKind::VelocityVerlet, 2e-5);
     let ex2 = run(IntegratorKind::VelocityVerlet, 1e-5);
@@ -229,11 +229,11 @@ fn explicit_and_implicit_agree_within_the_implicit_first_order_error() {
 /// resolution), from a bracket that is not centred on the prediction `lin`.
 fn measured_limit(m: &Model, lin: f64) -> f64 {
     let (mut lo, mut hi) = (0.6 * lin, 1.9 * lin);
-    assert!(chart::stable(m, IntegratorKind::VelocityVerlet, lo, m.duration).unwrap());
-    assert!(!chart::stable(m, IntegratorKind::VelocityVerlet, hi, m.duration).unwrap());
+    assert!(charts::stable(m, IntegratorKind::VelocityVerlet, lo, m.duration).unwrap());
+    assert!(!charts::stable(m, IntegratorKind::VelocityVerlet, hi, m.duration).unwrap());
     while hi / lo > 1.02 {
         let mid = (lo * hi).sqrt();
-        if chart::stable(m, IntegratorKind::VelocityVerlet, mid, m.duration).unwrap() {
+        if charts::stable(m, IntegratorKind::VelocityVerlet, mid, m.duration).unwrap() {
             lo = mid;
         } else {
             hi = mid;
@@ -254,7 +254,7 @@ fn explicit_blows_up_above_its_limit_and_reports_t_and_dt() {
         let mut limits = Vec::new();
         for n in elements {
             let m = cantilever_of_length(length, n, duration);
-            let lin = chart::linear_stability_limit(&m);
+            let lin = charts::linear_stability_limit(&m);
             let lo = measured_limit(&m, lin.dt);
             let rho_a = m.line_density();
             let l0 = m.length / n as f64;

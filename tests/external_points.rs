@@ -1,10 +1,10 @@
 //! Another code's points on the gait work-precision chart (`slither chart work-precision
-//! PROBLEM --external FILE`, `src/chart/external.rs`): the file's errors name the file, the
+//! PROBLEM --external FILE`, `src/charts/external.rs`): the file's errors name the file, the
 //! line and the column; a bad file stops the command before any run; the points are written
 //! (JSON, CSV, summary) with their error against their own converged value and their wall time
 //! scaled to the scene's duration.
 
-use slither::chart::{
+use slither::charts::{
     external::parse_external, read_external, write_gait_precision, GaitPoint, GaitPrecision,
     GaitPrecisionOptions, GaitReference, GaitRun,
 };

@@ -3,15 +3,15 @@
 //! files (resumable, refused input named).
 mod common;
 
-use slither::design::phase::{
+use slither::model::Model;
+use slither::observe::{self, Measure, Regime};
+use slither::problem::{self, Problem};
+use slither::studies::optimize::Status;
+use slither::studies::phase::{
     self,
     growth::{self, Growth, GrowthLine, GrowthPoint},
     Cell,
 };
-use slither::design::Status;
-use slither::model::Model;
-use slither::observe::{self, Measure, Regime};
-use slither::problem::{self, Problem};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

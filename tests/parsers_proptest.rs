@@ -9,7 +9,7 @@ mod common;
 
 use proptest::prelude::*;
 use slither::model::Model;
-use slither::{design, problem, topology};
+use slither::{problem, studies, topology};
 use std::path::{Path, PathBuf};
 
 /// Values a mutation may write after a `key =`.
@@ -290,7 +290,7 @@ proptest! {
         let study = "[study]\nbase = \"base.toml\"\nmax_evaluations = 12\nduration_pulses = 0.1\ninitial_step = 0.25\ntolerance = 1e-5\npenalty = 1.0\nmax_heading_deg = 30.0\n[optimize]\nstress = [15000.0, 35000.0]\nsigma = [0.05, 0.07]\nspeed = [0.2, 0.4]\ninitial = { stress = 24525.0 }\n";
         let path = d.join("study.toml");
         if let Ok(text) = problem::utf8(mutate(study, &muts), &path) {
-            match design::parse_study(&text, &path) {
+            match studies::optimize::parse_study(&text, &path) {
                 Err(e) => prop_assert!(e.to_string().contains("study.toml"), "{e}"),
                 Ok(st) => {
                     for dim in &st.space.dims {
@@ -311,7 +311,7 @@ proptest! {
         std::fs::write(d.join("base.toml"), TINY_GAIT).unwrap();
         let path = d.join("phase.toml");
         std::fs::write(&path, mutate("[phase]\nbase = \"base.toml\"\nweight = [100.0, 300.0]\ntorque = [5.0, 15.0]\n", &muts)).unwrap();
-        match design::phase::load(&path) {
+        match studies::phase::load(&path) {
             Err(e) => prop_assert!(e.to_string().contains("phase.toml"), "{e}"),
             Ok(ph) => {
                 prop_assert!(!ph.weight.is_empty() && !ph.torque.is_empty());
@@ -356,12 +356,12 @@ proptest! {
     #[test]
     fn history_csvs(muts in mutations()) {
         let d = scratch("history");
-        let path = d.join(design::HISTORY_FILE);
+        let path = d.join(studies::optimize::HISTORY_FILE);
         let row = "1,24525,0.0525,0.28,1.8,0.1,1.2,3.57,15,300,0.08,0.3,0.4,0.2,29.2,S,5,0.11,85,3.8,0.7,no,ok,12.5,-0.08,00ff00ff00ff00ff,\n";
-        let text = format!("{}\n{row}{}", design::HISTORY_HEADER, row.replacen('1', "2", 1));
+        let text = format!("{}\n{row}{}", studies::optimize::HISTORY_HEADER, row.replacen('1', "2", 1));
         std::fs::write(&path, mutate(&text, &muts)).unwrap();
-        match design::read_history(&path) {
-            Err(e) => prop_assert!(e.to_string().contains(design::HISTORY_FILE), "{e}"),
+        match studies::optimize::read_history(&path) {
+            Err(e) => prop_assert!(e.to_string().contains(studies::optimize::HISTORY_FILE), "{e}"),
             Ok(h) => {
                 for (e, _) in &h.rows {
                     prop_assert!(e.eval >= 1, "{e:?}");
@@ -378,14 +378,14 @@ proptest! {
         let out = d.join("out");
         std::fs::create_dir_all(&out).unwrap();
         let csv = out.join("phase.csv");
-        let header = design::phase::HEADER;
+        let header = studies::phase::HEADER;
         let text = format!("{header}\n3e2,1.5e1,2e1,ok,S,3e-1,2.9e1,6e0,2,4e-1,9.9e-1,S,1.2e-1,6e0,9.6e-1,4e-1,12.500,00000000000000ab,\n1e2,5e0,2e1,failed,-,NaN,NaN,NaN,0,NaN,NaN,-,NaN,NaN,NaN,NaN,0.000,00000000000000ab,step rejected\n");
         // The unmutated file reads back both rows.
         let unmutated = d.join("unmutated.csv");
         std::fs::write(&unmutated, &text).unwrap();
-        prop_assert_eq!(design::phase::read_phase_csv(&unmutated, 0xab).unwrap().cells.len(), 2);
+        prop_assert_eq!(studies::phase::read_phase_csv(&unmutated, 0xab).unwrap().cells.len(), 2);
         std::fs::write(&csv, mutate(&text, &muts)).unwrap();
-        match design::phase::read_phase_csv(&csv, 0xab) {
+        match studies::phase::read_phase_csv(&csv, 0xab) {
             Err(e) => prop_assert!(e.to_string().contains("phase.csv"), "{e}"),
             Ok(r) => {
                 for ((w, g), cell) in &r.cells {

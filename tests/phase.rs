@@ -52,7 +52,7 @@ fn grid_runs_writes_every_cell_and_resumes() {
     let csv = std::fs::read_to_string(out.join("phase.csv")).unwrap();
     // A gait without a launch period: the header is HEADER alone (no periodic columns), and
     // phase.json says nothing of them.
-    assert_eq!(csv.lines().next().unwrap(), slither::design::phase::HEADER);
+    assert_eq!(csv.lines().next().unwrap(), slither::studies::phase::HEADER);
     assert!(!csv.contains("periodic_cycles"));
     let info = std::fs::read_to_string(out.join("phase.json")).unwrap();
     assert!(!info.contains("periodic"), "{info}");

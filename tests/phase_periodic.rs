@@ -8,9 +8,11 @@
 
 mod common;
 use common::{ordered_rows, TINY_SIDEWINDING, TINY_S_START};
-use slither::design::phase::{self, Format, HEADER};
-use slither::design::{PeriodicColumns, HISTORY_HEADER, PERIODIC_COLUMNS};
 use slither::observe::Regime;
+use slither::studies::phase::{self, Format, HEADER};
+use slither::studies::{
+    optimize::PeriodicColumns, optimize::HISTORY_HEADER, optimize::PERIODIC_COLUMNS,
+};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -6,10 +6,10 @@
 
 mod common;
 use common::TINY_S_START as BASE;
-use slither::design::ensemble;
-use slither::design::phase::{self, Cell, Verification, Verify};
-use slither::design::Status;
 use slither::observe::Regime;
+use slither::studies::ensemble;
+use slither::studies::optimize::Status;
+use slither::studies::phase::{self, Cell, Verification, Verify};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -456,7 +456,7 @@ fn verification_of_a_sidewinding_compares_its_sidewinding_verdict() {
         .expect("a sidewinding cell has its periodic values");
     assert!(phase::cell::agrees(&c, &c));
     let mut other = c.clone();
-    other.periodic = Some(slither::design::PeriodicColumns {
+    other.periodic = Some(slither::studies::optimize::PeriodicColumns {
         sidewinding: !periodic.sidewinding,
         ..periodic
     });

@@ -132,11 +132,11 @@ fn an_accuracy_target_is_validated_in_one_place() {
     req.accuracy = Some(0.01);
     assert!(req.validate("--accuracy").is_ok());
     assert_eq!(req.target(), Some((0.01, 400)));
-    req.ensemble = Some(slither::design::ensemble::Spec::new(3));
+    req.ensemble = Some(slither::studies::ensemble::Spec::new(3));
     let e = req.validate("--accuracy").unwrap_err().to_string();
     assert!(e.contains("cannot be combined"), "{e}");
     req.accuracy = None;
     assert!(req.validate("--accuracy").is_ok());
-    req.ensemble = Some(slither::design::ensemble::Spec::new(0));
+    req.ensemble = Some(slither::studies::ensemble::Spec::new(0));
     assert!(req.validate("--accuracy").is_err());
 }

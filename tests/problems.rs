@@ -6,7 +6,7 @@ mod common;
 use slither::integrator::Natural;
 use slither::model::Model;
 use slither::problem::{self, Mode};
-use slither::{design, sim};
+use slither::{sim, studies};
 use std::path::Path;
 
 #[test]
@@ -23,12 +23,12 @@ fn every_bundled_problem_runs_over_a_short_horizon() {
         let text = std::fs::read_to_string(&path).unwrap();
         let table: toml::Table = toml::from_str(&text).unwrap();
         if table.contains_key("study") {
-            design::load_study(&path).unwrap_or_else(|e| panic!("{e}"));
+            studies::optimize::load_study(&path).unwrap_or_else(|e| panic!("{e}"));
             studies += 1;
             continue;
         }
         if table.contains_key("phase") {
-            design::phase::load(&path).unwrap_or_else(|e| panic!("{e}"));
+            studies::phase::load(&path).unwrap_or_else(|e| panic!("{e}"));
             studies += 1;
             continue;
         }

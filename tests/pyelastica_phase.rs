@@ -13,10 +13,10 @@
 //! Needs PyElastica's frames, so it is ignored in the ordinary suite:
 //! `PE_PHASE_DIR=out/pyelastica_phase cargo test --release --test pyelastica_phase --
 //! --ignored --nocapture` (what `lab/pyelastica_phase/pyelastica_phase.sh label` runs).
-use slither::design::phase::{self, cell_problem};
 use slither::model::Model;
 use slither::observe::{self, classify, Regime};
 use slither::sim::{self, Frame};
+use slither::studies::phase::{self, cell_problem};
 use std::path::Path;
 
 /// PyElastica's frames of one run (slither's axes and node order).

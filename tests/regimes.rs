@@ -4,9 +4,9 @@
 //! base at W = 3000, G = 20 barely moves (still F or N). The juvenile S-start stays S
 //! (`tests/gaits.rs`). Each scene is one 4 s simulation (about 20-40 s in release).
 
-use slither::design::phase::cell_problem;
 use slither::model::Model;
 use slither::observe::{self, Observables, Regime};
+use slither::studies::phase::cell_problem;
 use slither::{problem, sim};
 use std::path::Path;
 

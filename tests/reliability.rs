@@ -153,7 +153,7 @@ fn phase_csv_torn_last_row_is_dropped_and_resimulated() {
     let again = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(again.lines().count(), 3, "{again}");
     assert!(again.ends_with('\n'));
-    let columns = slither::design::phase::HEADER.split(',').count();
+    let columns = slither::studies::phase::HEADER.split(',').count();
     for l in again.lines() {
         assert_eq!(l.split(',').count(), columns, "{l}");
     }

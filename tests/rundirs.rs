@@ -168,12 +168,12 @@ fn gallery_thumbnails_are_the_cells_at_their_writhe_snapshot() {
         "[phase]\nbase = \"base.toml\"\nweight = [300.0, 600.0]\ntorque = [0.0, 15.0]\n",
     )
     .unwrap();
-    let ph = slither::design::phase::load(&f).unwrap();
+    let ph = slither::studies::phase::load(&f).unwrap();
     let cells: Vec<_> = [(300.0, 0.0), (300.0, 15.0), (600.0, 15.0)]
         .iter()
-        .map(|&(w, g)| slither::design::phase::simulate(&ph.base, w, g))
+        .map(|&(w, g)| slither::studies::phase::simulate(&ph.base, w, g))
         .collect();
-    let th = slither::design::phase::gallery::thumbs(&ph, &cells);
+    let th = slither::studies::phase::gallery::thumbs(&ph, &cells);
     assert_eq!(th.len(), 3);
     // t* = (L/2 - s_b0) / v_m of the tiny S-start is past its 0.1 s: the last frame, t = 0.1;
     // without a torque (G = 0) there is no gait, and the last frame is shown too.

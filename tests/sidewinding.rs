@@ -149,14 +149,20 @@ fn the_bundled_scene_lays_parallel_tracks_at_an_angle_to_its_axis() {
 #[test]
 fn the_broadside_objective_is_checked_on_load() {
     let study = |body: &str| {
-        slither::design::parse_study(
+        slither::studies::optimize::parse_study(
             &format!("{body}\n[optimize]\nspeed = [0.2, 0.3]\n"),
             Path::new("problems/inline_study.toml"),
         )
     };
     let ok = study("[study]\nbase = \"sidewinding.toml\"\nobjective = \"broadside\"").unwrap();
-    assert_eq!(ok.objective, slither::design::Objective::Broadside);
-    assert_eq!(ok.turn_penalty, slither::design::DEFAULT_TURN_PENALTY);
+    assert_eq!(
+        ok.objective,
+        slither::studies::optimize::Objective::Broadside
+    );
+    assert_eq!(
+        ok.turn_penalty,
+        slither::studies::optimize::DEFAULT_TURN_PENALTY
+    );
     let e = study("[study]\nbase = \"s_start.toml\"\nobjective = \"broadside\"")
         .unwrap_err()
         .to_string();

@@ -2,7 +2,7 @@
 //! evaluation runs at it, the choice is recorded and reused on resume, bad values exit 2.
 mod common;
 use common::TINY_S_START as BASE;
-use slither::design::{self, accuracy::StudyAccuracy};
+use slither::studies::{self, accuracy::StudyAccuracy};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -58,7 +58,7 @@ fn phase_cells_run_at_the_selected_model_and_resume_reuses_the_choice() {
         serde_json::from_str(&std::fs::read_to_string(out.join("phase.json")).unwrap()).unwrap();
     let chosen: StudyAccuracy = serde_json::from_value(info["accuracy"].clone()).unwrap();
     let recorded: StudyAccuracy = serde_json::from_str(
-        &std::fs::read_to_string(out.join(design::accuracy::ACCURACY_FILE)).unwrap(),
+        &std::fs::read_to_string(out.join(studies::accuracy::ACCURACY_FILE)).unwrap(),
     )
     .unwrap();
     assert_eq!(chosen, recorded);
@@ -70,7 +70,7 @@ fn phase_cells_run_at_the_selected_model_and_resume_reuses_the_choice() {
     );
     assert!(chosen.selection["runs"].as_array().unwrap().len() >= 3);
     // The rows are keyed by the base file and the chosen model.
-    let ph = design::phase::load(&file).unwrap();
+    let ph = studies::phase::load(&file).unwrap();
     assert_eq!(chosen.base_file_hash, format!("{:016x}", ph.base_hash));
     assert_eq!(info["base_hash"], format!("{:016x}", chosen.row_hash()));
     // Each cell is the simulation of that cell at the chosen model (adaptive BDF2 at the chosen
@@ -91,14 +91,14 @@ fn phase_cells_run_at_the_selected_model_and_resume_reuses_the_choice() {
     // (Rows are in the order the cells finished.)
     for row in &rows {
         let g: f64 = row.split(',').nth(1).unwrap().parse().unwrap();
-        let c = design::phase::simulate(&at_model, 300.0, g);
+        let c = studies::phase::simulate(&at_model, 300.0, g);
         let mut f: Vec<&str> = row.split(',').collect();
         f[16] = "";
         assert_eq!(
-            design::phase::comparable_row(&c, chosen.row_hash()),
+            studies::phase::comparable_row(&c, chosen.row_hash()),
             f.join(",")
         );
-        let base_cell = design::phase::simulate(&ph.base, 300.0, g);
+        let base_cell = studies::phase::simulate(&ph.base, 300.0, g);
         differs |= base_cell.v_s_over_v_m != c.v_s_over_v_m;
     }
     assert!(differs, "the cells did not change with the model");
@@ -119,7 +119,7 @@ fn phase_cells_run_at_the_selected_model_and_resume_reuses_the_choice() {
     let err = String::from_utf8_lossy(&o.stderr).into_owned();
     assert!(o.status.success(), "{err}");
     assert!(err.contains("2 simulated, 0 reused"), "{err}");
-    assert!(!out.join(design::accuracy::ACCURACY_FILE).exists());
+    assert!(!out.join(studies::accuracy::ACCURACY_FILE).exists());
     let info: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("phase.json")).unwrap()).unwrap();
     assert!(info.get("accuracy").is_none(), "{info}");
@@ -146,10 +146,10 @@ fn optimize_evaluations_run_at_the_selected_model() {
     let row_hash = format!("{:016x}", chosen.row_hash());
     assert_eq!(optimum["base_hash"], row_hash.as_str());
     // The library path reuses the record (no second selection) and sets the model.
-    let mut study = design::load_study(&file).unwrap();
+    let mut study = studies::optimize::load_study(&file).unwrap();
     let mut lines = Vec::new();
     let reused =
-        design::accuracy::prepare_study(&mut study, &out, &mut |l| lines.push(l.to_string()))
+        studies::optimize::prepare_accuracy(&mut study, &out, &mut |l| lines.push(l.to_string()))
             .unwrap();
     assert!(reused && lines.is_empty(), "{lines:?}");
     assert_eq!(study.base.rod.elements, chosen.elements);
@@ -162,16 +162,16 @@ fn optimize_evaluations_run_at_the_selected_model() {
     let k = (1e-2 / h).log2();
     assert!((k - k.round()).abs() < 1e-9, "{h}");
     // The first evaluation (the start) is the simulation at the chosen model.
-    let history = std::fs::read_to_string(out.join(design::HISTORY_FILE)).unwrap();
+    let history = std::fs::read_to_string(out.join(studies::optimize::HISTORY_FILE)).unwrap();
     let first: Vec<&str> = history.lines().nth(1).unwrap().split(',').collect();
     let col = |name: &str| {
-        design::HISTORY_HEADER
+        studies::optimize::HISTORY_HEADER
             .split(',')
             .position(|c| c == name)
             .unwrap()
     };
     assert_eq!(first[col("base_hash")], row_hash, "{history}");
-    let e = design::simulate(&study, &study.space.initial(), &mut |_| {});
+    let e = studies::optimize::simulate(&study, &study.space.initial(), &mut |_| {});
     assert_eq!(
         first[col("v_s_over_v_m")].parse::<f64>().unwrap(),
         e.v_s_over_v_m,

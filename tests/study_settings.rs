@@ -4,7 +4,7 @@
 //! objective; base files count by their effective content (a comment is no change); `merge`
 //! follows the current phase file or refuses naming the difference.
 
-use slither::design;
+use slither::studies;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -41,17 +41,17 @@ fn a_changed_objective_is_simulated_again_and_a_comment_is_no_change() {
     let file = dir.join("study.toml");
     std::fs::write(&file, study("broadside")).unwrap();
     let out = dir.join("out");
-    let a = design::optimize(
-        &design::load_study(&file).unwrap(),
+    let a = studies::optimize::optimize(
+        &studies::optimize::load_study(&file).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!((a.simulations, a.reused), (3, 0));
     let o = json(&out.join("optimum.json"));
     let s = &o["settings"];
     assert_eq!(s["objective"], "broadside");
-    assert_eq!(s["turn_penalty"], design::DEFAULT_TURN_PENALTY);
+    assert_eq!(s["turn_penalty"], studies::optimize::DEFAULT_TURN_PENALTY);
     assert_eq!(s["stationary_penalty"], 0.0);
     assert_eq!(s["max_heading_deg"], 170.0);
     assert_eq!(s["penalty"], 1.0);
@@ -66,10 +66,10 @@ fn a_changed_objective_is_simulated_again_and_a_comment_is_no_change() {
     // The objective changed: no row is reused with its broadside score; every point is
     // simulated again and scored -v_s, and the best is the fastest.
     std::fs::write(&file, study("v_s")).unwrap();
-    let b = design::optimize(
-        &design::load_study(&file).unwrap(),
+    let b = studies::optimize::optimize(
+        &studies::optimize::load_study(&file).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!(b.reused, 0, "rows scored by another objective were reused");
@@ -98,19 +98,19 @@ fn a_changed_objective_is_simulated_again_and_a_comment_is_no_change() {
         ),
     )
     .unwrap();
-    let c = design::optimize(
-        &design::load_study(&file).unwrap(),
+    let c = studies::optimize::optimize(
+        &studies::optimize::load_study(&file).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!((c.reused, c.simulations), (3, 0));
     // A heading limit is applied when rows are read: changing it reuses them too.
     std::fs::write(&file, study("v_s").replace("170.0", "120.0")).unwrap();
-    let d = design::optimize(
-        &design::load_study(&file).unwrap(),
+    let d = studies::optimize::optimize(
+        &studies::optimize::load_study(&file).unwrap(),
         &out,
-        &mut design::Silent,
+        &mut studies::optimize::Silent,
     )
     .unwrap();
     assert_eq!((d.reused, d.simulations), (3, 0));

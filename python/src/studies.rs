@@ -5,7 +5,7 @@ use crate::{detached, Watch};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use slither::design::{self, phase::PhaseError, DesignError};
+use slither::studies::{self, optimize::OptimizeError, phase::PhaseError};
 use slither::{output, problem, topology as topo};
 use std::path::{Path, PathBuf};
 
@@ -48,8 +48,8 @@ struct Observer<'a> {
     max: usize,
 }
 
-impl design::EvaluationObserver for Observer<'_> {
-    fn started(&mut self, _count: usize, _p: &design::GaitParams, _cached: bool) {
+impl studies::optimize::EvaluationObserver for Observer<'_> {
+    fn started(&mut self, _count: usize, _p: &studies::optimize::GaitParams, _cached: bool) {
         self.watch.raise_pending();
         self.watch.poll();
     }
@@ -59,7 +59,7 @@ impl design::EvaluationObserver for Observer<'_> {
         self.watch.poll_deferred();
     }
 
-    fn finished(&mut self, count: usize, e: &design::Evaluation, reused: bool) {
+    fn finished(&mut self, count: usize, e: &studies::optimize::Evaluation, reused: bool) {
         if self.lines {
             let source = if reused {
                 "reused from history.csv".to_string()
@@ -67,11 +67,11 @@ impl design::EvaluationObserver for Observer<'_> {
                 format!("{:.1} s", e.wall_time_s)
             };
             let result = match e.status {
-                design::Status::Ok => format!(
+                studies::optimize::Status::Ok => format!(
                     "v_s = {:.5} m/s, v_s/v_m = {:.4}, {:.1} deg, regime {}",
                     e.v_s, e.v_s_over_v_m, e.displacement_angle_deg, e.regime
                 ),
-                design::Status::Failed => format!("FAILED: {}", e.reason),
+                studies::optimize::Status::Failed => format!("FAILED: {}", e.reason),
             };
             say(&format!(
                 "eval {count}/{} (row {}): stress {} Pa, sigma {}, speed {} m/s -> {result} [{source}]",
@@ -92,7 +92,8 @@ pub fn optimize(
     out: PathBuf,
     progress: bool,
 ) -> PyResult<Py<PyDict>> {
-    let mut s = design::load_study(&study).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let mut s =
+        studies::optimize::load_study(&study).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let _lock = lock_out(&out)?;
     let r = detached(py, |watch| {
         let mut log = |line: &str| {
@@ -101,10 +102,10 @@ pub fn optimize(
                 say(line)
             }
         };
-        design::accuracy::prepare_study(&mut s, &out, &mut log).map_err(|e| {
+        studies::optimize::prepare_accuracy(&mut s, &out, &mut log).map_err(|e| {
             PyOSError::new_err(format!(
                 "{}: {e}",
-                out.join(design::accuracy::ACCURACY_FILE).display()
+                out.join(studies::accuracy::ACCURACY_FILE).display()
             ))
         })?;
         let mut obs = Observer {
@@ -112,10 +113,12 @@ pub fn optimize(
             lines: progress,
             max: s.max_evaluations,
         };
-        design::optimize(&s, &out, &mut obs).map_err(|e| match e {
-            DesignError::History { .. } => PyValueError::new_err(e.to_string()),
-            DesignError::Io { .. } | DesignError::Plot { .. } => PyOSError::new_err(e.to_string()),
-            DesignError::Solver(_) => PyRuntimeError::new_err(e.to_string()),
+        studies::optimize::optimize(&s, &out, &mut obs).map_err(|e| match e {
+            OptimizeError::History { .. } => PyValueError::new_err(e.to_string()),
+            OptimizeError::Io { .. } | OptimizeError::Plot { .. } => {
+                PyOSError::new_err(e.to_string())
+            }
+            OptimizeError::Solver(_) => PyRuntimeError::new_err(e.to_string()),
         })
     })??;
     let d = PyDict::new(py);
@@ -140,13 +143,13 @@ pub fn phase(
     shard: Option<&str>,
     progress: bool,
 ) -> PyResult<Py<PyDict>> {
-    let shard: Option<design::phase::Shard> = shard
+    let shard: Option<studies::phase::Shard> = shard
         .map(|s| {
             s.parse()
                 .map_err(|e: String| PyValueError::new_err(format!("shard {e}")))
         })
         .transpose()?;
-    let mut ph = design::phase::load(&file).map_err(problem_error)?;
+    let mut ph = studies::phase::load(&file).map_err(problem_error)?;
     let _lock = lock_out(&out)?;
     let t0 = std::time::Instant::now();
     let sw = detached(py, |watch| {
@@ -156,19 +159,19 @@ pub fn phase(
                 say(line)
             }
         };
-        design::phase::prepare_accuracy(&mut ph, &out, &mut log).map_err(|e| {
+        studies::phase::prepare_accuracy(&mut ph, &out, &mut log).map_err(|e| {
             PyOSError::new_err(format!(
                 "{}: {e}",
-                out.join(design::accuracy::ACCURACY_FILE).display()
+                out.join(studies::accuracy::ACCURACY_FILE).display()
             ))
         })?;
-        let report = |done: usize, todo: usize, c: &design::phase::Cell| {
+        let report = |done: usize, todo: usize, c: &studies::phase::Cell| {
             if progress {
                 say(&format!(
                     "cell {done}/{todo}: W = {} G = {}: {}",
                     c.weight,
                     c.torque,
-                    if c.status == design::Status::Ok {
+                    if c.status == studies::optimize::Status::Ok {
                         format!(
                             "regime {}, v_s/v_m = {:.4}",
                             c.regime.map_or("-", |r| r.as_str()),
@@ -180,7 +183,7 @@ pub fn phase(
                 ));
             }
         };
-        let refine_report = |done: usize, c: &design::phase::Cell| {
+        let refine_report = |done: usize, c: &studies::phase::Cell| {
             if progress {
                 say(&format!(
                     "refine {done}: W = {} G = {}: {}",
@@ -190,7 +193,7 @@ pub fn phase(
                 ));
             }
         };
-        let growth_report = |done: usize, c: &design::phase::Cell| {
+        let growth_report = |done: usize, c: &studies::phase::Cell| {
             if progress {
                 say(&format!(
                     "growth {done}: W = {} G = {}: {}",
@@ -200,17 +203,18 @@ pub fn phase(
                 ));
             }
         };
-        design::phase::sweep_shard(&ph, &out, shard, &report, &refine_report, &growth_report).map_err(|e| match e {
-            PhaseError::Csv { .. } | PhaseError::Header { .. } => {
-                PyValueError::new_err(e.to_string())
-            }
-            _ => PyOSError::new_err(e.to_string()),
-        })
+        studies::phase::sweep_shard(&ph, &out, shard, &report, &refine_report, &growth_report)
+            .map_err(|e| match e {
+                PhaseError::Csv { .. } | PhaseError::Header { .. } => {
+                    PyValueError::new_err(e.to_string())
+                }
+                _ => PyOSError::new_err(e.to_string()),
+            })
     })??;
     let failed = sw
         .cells
         .iter()
-        .filter(|c| c.status != design::Status::Ok)
+        .filter(|c| c.status != studies::optimize::Status::Ok)
         .count();
     let d = PyDict::new(py);
     d.set_item("cells", sw.cells.len())?;

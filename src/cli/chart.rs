@@ -44,7 +44,7 @@ pub enum ChartCmd {
 }
 
 pub fn chart_cmd(which: ChartCmd) -> ExitCode {
-    use slither::chart;
+    use slither::charts;
     const SWING: &str = include_str!("../../problems/cantilever_swing.toml");
     let load = |path: &Path| problem::load(path);
     let (p, scene, out) = match &which {
@@ -98,7 +98,10 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
         // A scene with ground: implicit Euler, BDF2 and adaptive BDF2 against a fine implicit
         // Euler reference, and another code's runs when given (read first: a bad file fails
         // before the runs).
-        let external = match external.map(|f| chart::read_external(f, &name)).transpose() {
+        let external = match external
+            .map(|f| charts::read_external(f, &name))
+            .transpose()
+        {
             Ok(e) => e.unwrap_or_default(),
             Err(e) => {
                 eprintln!("error: {e}");
@@ -111,7 +114,7 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
             eprintln!("error: {}: {e}", out.display());
             return ExitCode::from(1);
         }
-        let mut opts = chart::GaitPrecisionOptions::default();
+        let mut opts = charts::GaitPrecisionOptions::default();
         if let ChartCmd::WorkPrecision {
             meshes, bdf2_dt, ..
         } = &which
@@ -119,12 +122,13 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
             opts.meshes.clone_from(meshes);
             opts.bdf2_dt.clone_from(bdf2_dt);
         }
-        let r =
-            chart::gait_precision(&name, &p, &model, &opts, Some(&cache), &mut log).and_then(|g| {
+        let r = charts::gait_precision(&name, &p, &model, &opts, Some(&cache), &mut log).and_then(
+            |g| {
                 let g = g.with_external(external);
                 eprint!("{}", g.summary());
-                chart::write_gait_precision(&out, &g)
-            });
+                charts::write_gait_precision(&out, &g)
+            },
+        );
         return match r {
             Ok(()) => {
                 eprintln!("wrote {}", out.display());
@@ -146,15 +150,15 @@ pub fn chart_cmd(which: ChartCmd) -> ExitCode {
     let r = match which {
         ChartCmd::WorkPrecision { .. } => {
             let model = Model::new(&p);
-            chart::work_precision(&name, &model, &Default::default(), &mut log).and_then(|wp| {
+            charts::work_precision(&name, &model, &Default::default(), &mut log).and_then(|wp| {
                 eprint!("{}", wp.summary());
-                chart::write_work_precision(&out, &wp)
+                charts::write_work_precision(&out, &wp)
             })
         }
         ChartCmd::Stability { .. } => {
-            chart::stability_map(&name, &p, &Default::default(), &mut log).and_then(|map| {
+            charts::stability_map(&name, &p, &Default::default(), &mut log).and_then(|map| {
                 eprint!("{}", map.summary());
-                chart::write_stability(&out, &map)
+                charts::write_stability(&out, &map)
             })
         }
     };

@@ -2,7 +2,7 @@
 //! directory holds the results of one kind of subcommand (a study never overwrites a run's
 //! figures, nor a run a study's), `merge` never writes into one of its own inputs, and a phase
 //! directory keeps one grid.
-use slither::design;
+use slither::studies;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -86,11 +86,11 @@ pub fn check_merge_out(dirs: &[std::path::PathBuf], out: &Path) -> Result<(), Ex
 /// Refuse (exit 2) a phase directory written for another grid that the new grid does not
 /// contain: its `phase.csv` would keep the old grid's rows beside the new ones. A grid that
 /// extends the old one (every old weight and torque kept) reuses its cells.
-pub fn check_phase_grid(out: &Path, ph: &design::phase::Phase) -> Result<(), ExitCode> {
+pub fn check_phase_grid(out: &Path, ph: &studies::phase::Phase) -> Result<(), ExitCode> {
     let Ok(text) = std::fs::read_to_string(out.join("phase.json")) else {
         return Ok(());
     };
-    let Ok(info) = serde_json::from_str::<design::phase::RunInfo>(&text) else {
+    let Ok(info) = serde_json::from_str::<studies::phase::RunInfo>(&text) else {
         return Ok(()); // not ours to judge: the sweep reports an unreadable file itself
     };
     let within = |old: &[f64], new: &[f64]| {

@@ -1,7 +1,7 @@
 //! `slither merge`: combine the output directories of sharded `slither phase` runs.
 use super::lock_out;
 use super::phase::{growth_failed, growth_line, growth_summary, refine_line, refine_summary};
-use slither::design;
+use slither::studies;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -29,10 +29,10 @@ pub fn merge(args: &Args) -> ExitCode {
         return code;
     }
     let t0 = Instant::now();
-    let report = |done: usize, c: &design::phase::Cell| eprintln!("{}", refine_line(done, c));
+    let report = |done: usize, c: &studies::phase::Cell| eprintln!("{}", refine_line(done, c));
     let growth_report =
-        |done: usize, c: &design::phase::Cell| eprintln!("{}", growth_line(done, c));
-    match design::phase::merge(dirs, out, &report, &growth_report) {
+        |done: usize, c: &studies::phase::Cell| eprintln!("{}", growth_line(done, c));
+    match studies::phase::merge(dirs, out, &report, &growth_report) {
         Ok(m) => {
             eprintln!(
                 "merged {} cells from {} directories ({} found twice with identical results); wrote {}",
@@ -55,7 +55,9 @@ pub fn merge(args: &Args) -> ExitCode {
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(match e {
-                design::phase::PhaseError::Io { .. } | design::phase::PhaseError::Plot { .. } => 1,
+                studies::phase::PhaseError::Io { .. } | studies::phase::PhaseError::Plot { .. } => {
+                    1
+                }
                 _ => 2,
             })
         }

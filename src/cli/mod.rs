@@ -14,7 +14,7 @@ pub mod signals;
 pub mod status;
 pub mod topology;
 
-use slither::{design, output, problem};
+use slither::{output, problem, studies};
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -109,14 +109,14 @@ pub fn lock_out(out: &Path) -> Result<output::lock::OutLock, ExitCode> {
     Ok(lock)
 }
 
-/// A study's `[accuracy]` after [`design::accuracy::prepare_study`] or [`design::phase::prepare_accuracy`]
+/// A study's `[accuracy]` after [`studies::optimize::prepare_accuracy`] or [`studies::phase::prepare_accuracy`]
 /// (`prepared`: whether a recorded choice was reused): prints the choice. `Err` is the exit
 /// code (1: `accuracy.json` could not be written).
 pub fn study_accuracy(
     out: &Path,
     quiet: bool,
     prepared: std::io::Result<bool>,
-    chosen: Option<&design::accuracy::StudyAccuracy>,
+    chosen: Option<&studies::accuracy::StudyAccuracy>,
 ) -> Result<(), ExitCode> {
     match prepared {
         Ok(reused) => {
@@ -142,7 +142,7 @@ pub fn study_accuracy(
         Err(e) => {
             eprintln!(
                 "error: {}: {e}",
-                out.join(design::accuracy::ACCURACY_FILE).display()
+                out.join(studies::accuracy::ACCURACY_FILE).display()
             );
             Err(ExitCode::from(1))
         }
@@ -160,6 +160,6 @@ pub fn selection_log(quiet: bool) -> impl FnMut(&str) {
 
 /// The time resolution of an accuracy choice, for messages.
 pub fn model_label(dt: Option<f64>, tolerance: Option<f64>) -> String {
-    slither::design::selection::Resolution::from_parts(dt, tolerance)
+    slither::studies::accuracy::selection::Resolution::from_parts(dt, tolerance)
         .map_or("no time resolution".into(), |r| r.to_string())
 }

@@ -2,7 +2,7 @@
 //! and speed).
 use super::{lock_out, selection_log, study_accuracy};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use slither::design;
+use slither::studies;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -23,7 +23,7 @@ pub struct Args {
     #[arg(long, value_name = "K")]
     pub ensemble: Option<usize>,
     /// Seed of `--ensemble` (the runner-up's ensemble uses seed + 1).
-    #[arg(long, default_value_t = slither::design::ensemble::SEED, requires = "ensemble")]
+    #[arg(long, default_value_t = slither::studies::ensemble::SEED, requires = "ensemble")]
     pub ensemble_seed: u64,
     /// Change a key for this study, validated like the file: keys of `[study]`,
     /// `[optimize]` and `[accuracy]` edit the study file (`--set study.max_evaluations=60`),
@@ -41,7 +41,7 @@ struct StudyProgress {
     max: usize,
     done: usize,
     /// The search space (which parameters the log lines name).
-    space: design::Space,
+    space: studies::optimize::Space,
 }
 
 impl StudyProgress {
@@ -54,8 +54,8 @@ impl StudyProgress {
     }
 }
 
-impl design::EvaluationObserver for StudyProgress {
-    fn started(&mut self, count: usize, p: &design::GaitParams, cached: bool) {
+impl studies::optimize::EvaluationObserver for StudyProgress {
+    fn started(&mut self, count: usize, p: &studies::optimize::GaitParams, cached: bool) {
         if let Some(b) = &self.bar {
             b.set_message(format!(
                 "eval {count}/{}: {}{}",
@@ -72,7 +72,7 @@ impl design::EvaluationObserver for StudyProgress {
         }
     }
 
-    fn finished(&mut self, count: usize, e: &design::Evaluation, reused: bool) {
+    fn finished(&mut self, count: usize, e: &studies::optimize::Evaluation, reused: bool) {
         self.done = count;
         if let Some(b) = &self.bar {
             b.set_position(self.done as u64 * 100);
@@ -83,7 +83,7 @@ impl design::EvaluationObserver for StudyProgress {
             format!("{:.1} s", e.wall_time_s)
         };
         let result = match e.status {
-            design::Status::Ok => format!(
+            studies::optimize::Status::Ok => format!(
                 "v_s = {:.5} m/s, v_s/v_m = {:.4}, {:.1} deg, Wr_max = {:.3}, regime {}{}",
                 e.v_s,
                 e.v_s_over_v_m,
@@ -93,7 +93,7 @@ impl design::EvaluationObserver for StudyProgress {
                 e.periodic
                     .map_or(String::new(), |c| format!("; {}", c.describe()))
             ),
-            design::Status::Failed => format!("FAILED: {}", e.reason),
+            studies::optimize::Status::Failed => format!("FAILED: {}", e.reason),
         };
         self.say(format!(
             "eval {count}/{} (row {}): {} (G = {:.3}) -> {result} [{source}]",
@@ -108,7 +108,7 @@ impl design::EvaluationObserver for StudyProgress {
 pub fn optimize(args: &Args) -> ExitCode {
     let (path, out, quiet) = (args.study.as_path(), args.out.as_path(), args.quiet);
     let settings: Vec<&slither::problem::set::Setting> = args.set.iter().collect();
-    let mut study = match design::load_study_with(path, &settings) {
+    let mut study = match studies::optimize::load_study_with(path, &settings) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");
@@ -127,12 +127,12 @@ pub fn optimize(args: &Args) -> ExitCode {
             eprintln!("error: --ensemble {k} is not allowed: must be an integer in [2, 1000] (runs per point)");
             return ExitCode::from(2);
         }
-        study.ensemble = Some(design::ensemble::Spec {
+        study.ensemble = Some(studies::ensemble::Spec {
             seed: args.ensemble_seed,
-            ..design::ensemble::Spec::new(k)
+            ..studies::ensemble::Spec::new(k)
         });
     }
-    let prepared = design::accuracy::prepare_study(&mut study, out, &mut selection_log(quiet));
+    let prepared = studies::optimize::prepare_accuracy(&mut study, out, &mut selection_log(quiet));
     if let Err(code) = study_accuracy(out, quiet, prepared, study.chosen.as_ref()) {
         return code;
     }
@@ -154,9 +154,9 @@ pub fn optimize(args: &Args) -> ExitCode {
         done: 0,
         space: study.space.clone(),
     };
-    let history = out.join(design::HISTORY_FILE);
+    let history = out.join(studies::optimize::HISTORY_FILE);
     announce(path, &study, &history, &mut progress);
-    let result = design::optimize(&study, out, &mut progress);
+    let result = studies::optimize::optimize(&study, out, &mut progress);
     if let Some(b) = progress.bar.take() {
         b.finish_and_clear();
     }
@@ -165,7 +165,7 @@ pub fn optimize(args: &Args) -> ExitCode {
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(match e {
-                design::DesignError::History { .. } => 2,
+                studies::optimize::OptimizeError::History { .. } => 2,
                 _ => 1,
             });
         }
@@ -193,7 +193,12 @@ pub fn optimize(args: &Args) -> ExitCode {
 }
 
 /// The lines that open a study: resuming, the method, the space and the budget.
-fn announce(path: &Path, study: &design::Study, history: &Path, progress: &mut StudyProgress) {
+fn announce(
+    path: &Path,
+    study: &studies::optimize::Study,
+    history: &Path,
+    progress: &mut StudyProgress,
+) {
     let names: Vec<String> = study
         .space
         .dims
@@ -216,11 +221,11 @@ fn announce(path: &Path, study: &design::Study, history: &Path, progress: &mut S
         ));
     }
     let method = match study.method {
-        design::SearchMethod::NelderMead if study.starts > 1 => {
+        studies::optimize::SearchMethod::NelderMead if study.starts > 1 => {
             format!("Nelder-Mead ({} starts)", study.starts)
         }
-        design::SearchMethod::NelderMead => "Nelder-Mead".to_string(),
-        design::SearchMethod::ParticleSwarm => format!(
+        studies::optimize::SearchMethod::NelderMead => "Nelder-Mead".to_string(),
+        studies::optimize::SearchMethod::ParticleSwarm => format!(
             "particle swarm ({} particles per generation, in parallel)",
             study.particles
         ),
@@ -239,7 +244,12 @@ fn announce(path: &Path, study: &design::Study, history: &Path, progress: &mut S
 }
 
 /// Why a study found no best evaluation.
-fn no_best(path: &Path, study: &design::Study, r: &design::Report, history: &Path) {
+fn no_best(
+    path: &Path,
+    study: &studies::optimize::Study,
+    r: &studies::optimize::Report,
+    history: &Path,
+) {
     if let (Some(max), true) = (study.max_heading_deg, r.failed < r.simulations + r.reused) {
         eprintln!(
             "error: {}: no finished run headed within max_heading_deg = {max} degrees of the initial head direction ({} evaluations); see {}",
@@ -262,9 +272,9 @@ fn no_best(path: &Path, study: &design::Study, r: &design::Report, history: &Pat
 fn report(
     path: &Path,
     out: &Path,
-    study: &design::Study,
-    r: &design::Report,
-    best: &design::Evaluation,
+    study: &studies::optimize::Study,
+    r: &studies::optimize::Report,
+    best: &studies::optimize::Evaluation,
     history: &Path,
 ) {
     if r.dropped_partial_row {
@@ -317,7 +327,7 @@ fn report(
         eprintln!("       {}", c.describe());
     }
     if let Some(c) = &r.check {
-        let say = |e: &design::EnsembleOf| {
+        let say = |e: &studies::optimize::EnsembleOf| {
             e.ensemble_objective
                 .map_or("no finished member".to_string(), |s| {
                     format!(
@@ -358,10 +368,10 @@ fn report(
             _ => eprintln!("no runner-up to compare with"),
         }
     }
-    for (param, side) in design::on_bound(study, r) {
+    for (param, side) in studies::optimize::on_bound(study, r) {
         eprintln!(
             "note: the optimum lies on the {side} bound of {param} (within {} of the range): widen optimize.{param} to follow it",
-            design::ON_BOUND_FRACTION
+            studies::optimize::ON_BOUND_FRACTION
         );
     }
 }

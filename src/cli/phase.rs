@@ -2,7 +2,7 @@
 //! shard), with its boundary refinement.
 use super::{lock_out, selection_log, study_accuracy};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use slither::design;
+use slither::studies;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -21,7 +21,7 @@ pub struct Args {
     /// Run only shard I of N (cell k of the weight-major grid belongs to shard k % N + 1):
     /// for a job array; `slither merge` combines the shard directories. No figures.
     #[arg(long, value_name = "I/N")]
-    pub shard: Option<design::phase::Shard>,
+    pub shard: Option<studies::phase::Shard>,
     /// Run even above the size limits (10 000 cells, 2e7 time steps in all).
     #[arg(long)]
     pub force: bool,
@@ -62,9 +62,9 @@ pub struct Args {
 /// and its name for messages.
 fn selected(
     args: &Args,
-    ph: &design::phase::Phase,
-) -> Option<Result<(f64, f64, design::phase::Protocol, String), String>> {
-    use design::phase::select;
+    ph: &studies::phase::Phase,
+) -> Option<Result<(f64, f64, studies::phase::Protocol, String), String>> {
+    use studies::phase::select;
     let grid = |(i, j): (usize, usize)| {
         let (w, g) = (ph.weight[i], ph.torque[j]);
         (
@@ -92,7 +92,7 @@ fn selected(
         (
             p.weight,
             p.torque,
-            design::phase::growth::PROTOCOL,
+            studies::phase::growth::PROTOCOL,
             format!(
                 "growth size {} m (W = {}, G = {})",
                 p.diameter, p.weight, p.torque
@@ -106,8 +106,8 @@ fn selected(
 /// directory `out`.
 fn rerun_cell(
     args: &Args,
-    mut ph: design::phase::Phase,
-    chosen: Result<(f64, f64, design::phase::Protocol, String), String>,
+    mut ph: studies::phase::Phase,
+    chosen: Result<(f64, f64, studies::phase::Protocol, String), String>,
 ) -> ExitCode {
     let (w, g, protocol, name) = match chosen {
         Ok(c) => c,
@@ -123,12 +123,12 @@ fn rerun_cell(
     }
     if ph.accuracy.is_some() {
         let prepared =
-            design::phase::prepare_accuracy(&mut ph, out, &mut selection_log(args.quiet));
+            studies::phase::prepare_accuracy(&mut ph, out, &mut selection_log(args.quiet));
         if let Err(code) = study_accuracy(out, args.quiet, prepared, ph.chosen.as_ref()) {
             return code;
         }
     }
-    let p = design::phase::cell_problem_with(&ph.base, w, g, protocol);
+    let p = studies::phase::cell_problem_with(&ph.base, w, g, protocol);
     let what = format!("{}: {name}", args.file.display());
     if let Some(file) = &args.dump_problem {
         let from = format!("{what}{}", super::run::settings_label(&args.set));
@@ -150,7 +150,7 @@ pub fn phase(args: &Args) -> ExitCode {
         args.shard,
     );
     let settings: Vec<&slither::problem::set::Setting> = args.set.iter().collect();
-    let mut ph = match design::phase::load_with(path, &settings) {
+    let mut ph = match studies::phase::load_with(path, &settings) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");
@@ -184,7 +184,7 @@ pub fn phase(args: &Args) -> ExitCode {
     {
         return code;
     }
-    let prepared = design::phase::prepare_accuracy(&mut ph, out, &mut selection_log(quiet));
+    let prepared = studies::phase::prepare_accuracy(&mut ph, out, &mut selection_log(quiet));
     if let Err(code) = study_accuracy(out, quiet, prepared, ph.chosen.as_ref()) {
         return code;
     }
@@ -216,7 +216,7 @@ pub fn phase(args: &Args) -> ExitCode {
     if let (Some(v), false) = (&ph.verify, quiet) {
         eprintln!("{}", verify_line(v));
     }
-    let report = |done: usize, todo: usize, c: &design::phase::Cell| {
+    let report = |done: usize, todo: usize, c: &studies::phase::Cell| {
         let line = cell_line(done, todo, c);
         match &bar {
             Some(b) => {
@@ -227,25 +227,25 @@ pub fn phase(args: &Args) -> ExitCode {
             None => {}
         }
     };
-    let refine_report = |done: usize, c: &design::phase::Cell| {
+    let refine_report = |done: usize, c: &studies::phase::Cell| {
         let line = refine_line(done, c);
         match &bar {
             Some(b) => b.println(line),
-            None if !quiet || c.status != design::Status::Ok => eprintln!("{line}"),
+            None if !quiet || c.status != studies::optimize::Status::Ok => eprintln!("{line}"),
             None => {}
         }
     };
-    let growth_report = |done: usize, c: &design::phase::Cell| {
+    let growth_report = |done: usize, c: &studies::phase::Cell| {
         let line = growth_line(done, c);
         match &bar {
             Some(b) => b.println(line),
-            None if !quiet || c.status != design::Status::Ok => eprintln!("{line}"),
+            None if !quiet || c.status != studies::optimize::Status::Ok => eprintln!("{line}"),
             None => {}
         }
     };
     let t0 = Instant::now();
     let result =
-        design::phase::sweep_shard(&ph, out, shard, &report, &refine_report, &growth_report);
+        studies::phase::sweep_shard(&ph, out, shard, &report, &refine_report, &growth_report);
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
@@ -254,8 +254,8 @@ pub fn phase(args: &Args) -> ExitCode {
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(match e {
-                design::phase::PhaseError::Csv { .. }
-                | design::phase::PhaseError::Header { .. } => 2,
+                studies::phase::PhaseError::Csv { .. }
+                | studies::phase::PhaseError::Header { .. } => 2,
                 _ => 1,
             });
         }
@@ -264,8 +264,8 @@ pub fn phase(args: &Args) -> ExitCode {
 }
 
 /// One refinement simulation, for the log.
-pub fn refine_line(done: usize, c: &design::phase::Cell) -> String {
-    if c.status == design::Status::Ok {
+pub fn refine_line(done: usize, c: &studies::phase::Cell) -> String {
+    if c.status == studies::optimize::Status::Ok {
         format!(
             "refine {done}: W = {} G = {}: regime {}, v_s/v_m = {:.4}, {:.1} s",
             c.weight,
@@ -283,12 +283,12 @@ pub fn refine_line(done: usize, c: &design::phase::Cell) -> String {
 }
 
 /// One simulation of the growth line, for the log.
-pub fn growth_line(done: usize, c: &design::phase::Cell) -> String {
+pub fn growth_line(done: usize, c: &studies::phase::Cell) -> String {
     refine_line(done, c).replacen("refine", "growth", 1)
 }
 
 /// The growth line's verdict, for the last lines of `phase` and `merge`.
-pub fn growth_summary(g: &design::phase::growth::GrowthLine, simulated: usize) -> String {
+pub fn growth_summary(g: &studies::phase::growth::GrowthLine, simulated: usize) -> String {
     format!(
         "growth line ({} sizes, {simulated} simulated now): {}; wrote growth.csv, growth.json, growth.png",
         g.points.len(),
@@ -299,7 +299,7 @@ pub fn growth_summary(g: &design::phase::growth::GrowthLine, simulated: usize) -
 /// Exit 3 (after an error line) when every size of the growth line failed: the line has no
 /// verdict, and a job script must not take it for "no size S-starts".
 pub fn growth_failed(
-    g: &design::phase::growth::GrowthLine,
+    g: &studies::phase::growth::GrowthLine,
     csv: &std::path::Path,
 ) -> Result<(), ExitCode> {
     if g.all_failed() {
@@ -314,7 +314,7 @@ pub fn growth_failed(
 }
 
 /// The refinement's counts, for the last lines of `phase` and `merge`.
-pub fn refine_summary(r: &design::phase::refine::Refinement, elapsed_s: f64) -> String {
+pub fn refine_summary(r: &studies::phase::refine::Refinement, elapsed_s: f64) -> String {
     let stopped = r.points.iter().filter(|p| p.failed.is_some()).count();
     format!(
         "refinement ({} bisection steps): {} neighbour pairs, {} boundary points ({} stopped early by a failed simulation); {} simulated, {} reused, {} failed; {:.1} s since start; wrote refine.csv",
@@ -330,8 +330,8 @@ pub fn refine_summary(r: &design::phase::refine::Refinement, elapsed_s: f64) -> 
 }
 
 /// One cell of the grid, for the log.
-pub fn cell_line(done: usize, todo: usize, c: &design::phase::Cell) -> String {
-    if c.status == design::Status::Ok {
+pub fn cell_line(done: usize, todo: usize, c: &studies::phase::Cell) -> String {
+    if c.status == studies::optimize::Status::Ok {
         let agreement = c.verify.as_ref().map_or(String::new(), |v| {
             format!(
                 ", agreement {:.2} (v_s/v_m {:.4} .. {:.4})",
@@ -360,7 +360,7 @@ pub fn cell_line(done: usize, todo: usize, c: &design::phase::Cell) -> String {
 }
 
 /// How a study verifies each cell, for the log.
-fn verify_line(v: &design::phase::Verify) -> String {
+fn verify_line(v: &studies::phase::Verify) -> String {
     format!(
             "verification: {} runs per cell ({}{} perturbed, seed {}, steps dt/{} .. dt*{}); the reported label is the {} run's",
             v.runs(),
@@ -376,8 +376,8 @@ fn verify_line(v: &design::phase::Verify) -> String {
 /// code.
 fn finish(
     args: &Args,
-    ph: &design::phase::Phase,
-    sw: &design::phase::Sweep,
+    ph: &studies::phase::Phase,
+    sw: &studies::phase::Sweep,
     t0: Instant,
 ) -> ExitCode {
     let (path, out, quiet) = (args.file.as_path(), args.out.as_path(), args.quiet);
@@ -390,7 +390,7 @@ fn finish(
     let failed = sw
         .cells
         .iter()
-        .filter(|c| c.status != design::Status::Ok)
+        .filter(|c| c.status != studies::optimize::Status::Ok)
         .count();
     eprintln!(
         "{}: {} cells ({} simulated, {} reused, {} failed) in {:.1} s; wrote {}",
@@ -412,7 +412,7 @@ fn finish(
         }
     }
     if args.gallery {
-        match design::phase::gallery::write_gallery(ph, &sw.cells, out) {
+        match studies::phase::gallery::write_gallery(ph, &sw.cells, out) {
             Ok(p) if !quiet => eprintln!("wrote {}", p.display()),
             Ok(_) => {}
             Err(e) => {

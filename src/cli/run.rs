@@ -1,7 +1,7 @@
 //! `slither run`: simulate a problem file and write its results, figures and summary.
 use super::{lock_out, model_label};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use slither::design::{ensemble, selection};
+use slither::studies::{accuracy::selection, ensemble};
 use slither::{output, pipeline, problem};
 use std::cell::RefCell;
 use std::io::IsTerminal;

@@ -12,8 +12,8 @@
 //! For each: the lock (`.slither.lock`: process, host and whether the process lives, "unknown"
 //! for another host's) and the command that resumes it. Exit 0, or 2 for a folder that is none
 //! of these.
-use slither::design::phase::{RunInfo, Shard};
 use slither::output::lock::{LockInfo, LOCK_FILE};
+use slither::studies::phase::{RunInfo, Shard};
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

@@ -1,7 +1,7 @@
 //! The one evaluation pipeline: simulate a model with its own gait and integrator, then
 //! measure the run. Every caller that runs a scene for its observables goes through here: `slither
-//! run`, an optimisation's evaluation ([`crate::design`]), a phase cell
-//! ([`crate::design::phase`]) and the speed-against-accuracy charts ([`crate::chart`]).
+//! run`, an optimisation's evaluation ([`crate::studies::optimize`]), a phase cell
+//! ([`crate::studies::phase`]) and the speed-against-accuracy charts ([`crate::charts`]).
 //!
 //! [`evaluate`] = [`crate::sim::run_gait`] with the model's `[solver] integrator`, then
 //! [`measure`]. A failed step is not an `Err`: the outcome keeps its error and everything up to

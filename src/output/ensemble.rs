@@ -1,6 +1,6 @@
 //! What `slither run --ensemble K` writes into `summary.json` (`ensemble`): the members'
 //! perturbations, their results and the statistics over them. The runs themselves are
-//! [`crate::design::ensemble`]'s; the types live here so that the summary does not depend on
+//! [`crate::studies::ensemble`]'s; the types live here so that the summary does not depend on
 //! the studies.
 
 use serde::{Deserialize, Serialize};
@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 /// Default relative standard deviation of each friction coefficient's perturbation.
 pub const FRICTION: f64 = 1e-3;
-/// Default size of the initial-shape perturbation, in diameters (see `crate::design::ensemble`).
+/// Default size of the initial-shape perturbation, in diameters (see `crate::studies::ensemble`).
 pub const SHAPE: f64 = 1e-3;
 /// Default step ladder: the members' steps run from `dt / STEP` to `dt * STEP`.
 pub const STEP: f64 = 2.5;

@@ -99,12 +99,12 @@ pub struct Summary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub accuracy: Option<AccuracyReport>,
     /// `slither run --ensemble K`: the perturbed runs and the spread of every scalar
-    /// observable over them ([`ensemble`], run by `crate::design::ensemble`); absent otherwise.
+    /// observable over them ([`ensemble`], run by `crate::studies::ensemble`); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ensemble: Option<ensemble::Ensemble>,
 }
 
-/// How `slither run --accuracy` chose its model (see `crate::design::selection`).
+/// How `slither run --accuracy` chose its model (see `crate::studies::accuracy::selection`).
 #[derive(Clone, Debug, Serialize)]
 pub struct AccuracyReport {
     /// Allowed relative error of `v_s/v_m`.
@@ -123,7 +123,7 @@ pub struct AccuracyReport {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error_tolerance: Option<f64>,
     /// Estimated relative error of `v_s/v_m` from the time stepping at the chosen model (a
-    /// bound under the assumptions of [`crate::design::selection::PairEstimate`]).
+    /// bound under the assumptions of [`crate::studies::accuracy::selection::PairEstimate`]).
     pub time_error: f64,
     /// The mesh the time error was measured on (always the chosen one: its time pair is run).
     pub time_error_elements: usize,
@@ -145,7 +145,7 @@ pub struct AccuracyReport {
     pub mesh_order_observed: Option<f64>,
     /// Richardson extrapolation of `v_s/v_m` to the limits of time and mesh refinement: the
     /// chosen value plus the middle of each interval of limits the estimates allow
-    /// ([`crate::design::selection::PairEstimate`]).
+    /// ([`crate::studies::accuracy::selection::PairEstimate`]).
     pub v_s_over_v_m_extrapolated: f64,
     /// Uncertainty of the extrapolation (absolute): the estimated error of the answer plus
     /// the extrapolation's correction, so its interval contains the answer's. The answer of

@@ -304,7 +304,7 @@ pub const PHASE_VERIFY_CSV: &[Field] = &[
     f("verify_seed", "", "the cell's seed (hex): perturbed run k has seed ensemble::member_seed(seed, k)"),
 ];
 
-/// The periodic columns ([`crate::design::PERIODIC_COLUMNS`]): in [`HISTORY_CSV`] and, last,
+/// The periodic columns ([`crate::studies::optimize::PERIODIC_COLUMNS`]): in [`HISTORY_CSV`] and, last,
 /// in [`PHASE_PERIODIC_CSV`].
 const PERIODIC_CYCLES: Field = f(
     "periodic_cycles",

@@ -61,7 +61,7 @@ pub struct Problem {
     #[serde(default)]
     pub gait: GaitSpec,
     /// Accuracy target: `slither run` picks the tolerance and the mesh
-    /// (`crate::design::selection`). Absent: run the file as written.
+    /// (`crate::studies::accuracy::selection`). Absent: run the file as written.
     pub accuracy: Option<AccuracySpec>,
 }
 

@@ -129,7 +129,7 @@ pub struct SolverSpec {
 
 /// The time integrator: `[solver] integrator` in a problem file, and the one name of an
 /// integrator in the solver ([`crate::integrator::scheme_for`]), the charts
-/// ([`crate::chart`]) and their files (`implicit`, `explicit`, `bdf2`: [`IntegratorKind::name`]).
+/// ([`crate::charts`]) and their files (`implicit`, `explicit`, `bdf2`: [`IntegratorKind::name`]).
 #[derive(Clone, Copy, Default, Deserialize, serde::Serialize, PartialEq, Eq)]
 pub enum IntegratorKind {
     /// Variational implicit Euler (Newton), the production integrator (`"implicit"`).
@@ -147,7 +147,7 @@ pub enum IntegratorKind {
 
 /// `Implicit`, `Explicit` or `Bdf2`: the names the variants had before they were named for
 /// their methods. The resume keys of the studies hash the problem's debug text
-/// ([`crate::design::problem_hash`]), so this text must stay for `history.csv`, `phase.csv`
+/// ([`crate::studies::problem_hash`]), so this text must stay for `history.csv`, `phase.csv`
 /// and the charts' cached references written earlier to be reused.
 impl std::fmt::Debug for IntegratorKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

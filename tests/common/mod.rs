@@ -42,9 +42,12 @@ pub fn run_file(path: &str) -> (Model, slither::sim::Outcome) {
 
 /// Data rows of a study's `history.csv` in `out` (header checked).
 pub fn history_rows(out: &Path) -> Vec<Vec<String>> {
-    let text = std::fs::read_to_string(out.join(slither::design::HISTORY_FILE)).unwrap();
+    let text = std::fs::read_to_string(out.join(slither::studies::optimize::HISTORY_FILE)).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some(slither::design::HISTORY_HEADER));
+    assert_eq!(
+        lines.next(),
+        Some(slither::studies::optimize::HISTORY_HEADER)
+    );
     lines
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect()
@@ -52,7 +55,7 @@ pub fn history_rows(out: &Path) -> Vec<Vec<String>> {
 
 /// Index of the `history.csv` column `name`.
 pub fn col(name: &str) -> usize {
-    slither::design::HISTORY_HEADER
+    slither::studies::optimize::HISTORY_HEADER
         .split(',')
         .position(|c| c == name)
         .unwrap()

@@ -1,4 +1,4 @@
-//! The figures of a regime phase diagram ([`crate::design::phase`]): the regime map over
+//! The figures of a regime phase diagram ([`crate::studies::phase`]): the regime map over
 //! scaled weight and torque with its fitted boundary lines, the speed chart, and the paper's
 //! Fig. 3 (writhe against `W/G`, speed against writhe). The diagram's cells and lines come in
 //! as [`MapCell`] and [`MapLine`], the values a figure shows, so this layer needs nothing of

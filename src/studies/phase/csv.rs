@@ -7,13 +7,13 @@
 //! the same format.
 use super::cell::Cell;
 use super::PhaseError;
-use crate::design::{PeriodicColumns, Status};
 use crate::observe::Regime;
+use crate::studies::{optimize::PeriodicColumns, optimize::Status};
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::Path;
 
-pub use crate::design::PERIODIC_COLUMNS;
+pub use crate::studies::optimize::PERIODIC_COLUMNS;
 
 /// Header of `phase.csv` (the column order is fixed; units in the README).
 pub const HEADER: &str = "weight,torque,W_over_G,status,regime,v_s_over_v_m,displacement_angle_deg,max_elevation_over_a,lifted_arcs_max,writhe_max,lambda_pulse_r2,regime_detail,max_elevation_over_length,two_arc_lift_over_a,lambda_pulse_speed_over_v_m,writhe_snapshot,wall_time_s,base_hash,reason";
@@ -148,7 +148,7 @@ impl Cell {
     }
 
     fn plain_row(&self, hash: u64) -> String {
-        let clean = crate::design::csv_field(&self.reason);
+        let clean = crate::studies::csv_field(&self.reason);
         format!(
             "{:e},{:e},{:e},{},{},{:e},{:e},{:e},{},{:e},{:e},{},{:e},{:e},{:e},{:e},{:.3},{:016x},{}",
             self.weight,
@@ -443,7 +443,7 @@ mod tests {
         let c = Cell {
             weight: 300.0,
             torque: 15.0,
-            status: crate::design::Status::Failed,
+            status: crate::studies::optimize::Status::Failed,
             regime: None,
             regime_detail: "-".into(),
             v_s_over_v_m: f64::NAN,
@@ -485,7 +485,7 @@ mod tests {
         assert_eq!(d.reason, "step rejected; at t = 1;again");
         // An M cell keeps its label and the criteria it missed.
         let m = Cell {
-            status: crate::design::Status::Ok,
+            status: crate::studies::optimize::Status::Ok,
             regime: Some(Regime::M),
             regime_detail: "heading;pulse_speed".into(),
             v_s_over_v_m: 0.29,
@@ -502,7 +502,7 @@ mod tests {
         assert!(Cell::parse(&bad, PLAIN).is_none());
         // A verified cell round-trips its verification columns, and is not a plain row.
         let v = Cell {
-            verify: Some(crate::design::phase::cell::Verification {
+            verify: Some(crate::studies::phase::cell::Verification {
                 label_agreement: 0.75,
                 v_s_over_v_m_min: 0.25,
                 v_s_over_v_m_max: 0.3125,
@@ -533,7 +533,7 @@ mod tests {
         let c = Cell {
             weight: 300.0,
             torque: 15.0,
-            status: crate::design::Status::Ok,
+            status: crate::studies::optimize::Status::Ok,
             regime: Some(Regime::F),
             regime_detail: "-".into(),
             v_s_over_v_m: 0.25,
@@ -562,7 +562,7 @@ mod tests {
             periodic: true,
         };
         assert_eq!(fmt.header(), format!("{HEADER},{PERIODIC_COLUMNS}"));
-        assert!(crate::design::HISTORY_HEADER.contains(PERIODIC_COLUMNS));
+        assert!(crate::studies::optimize::HISTORY_HEADER.contains(PERIODIC_COLUMNS));
         assert_eq!(
             both.header(),
             format!("{HEADER},{VERIFY_COLUMNS},{PERIODIC_COLUMNS}")
@@ -591,7 +591,7 @@ mod tests {
         assert!(Cell::parse(&bad, fmt).is_none());
         // After the verification columns in a verified periodic study.
         let v = Cell {
-            verify: Some(crate::design::phase::cell::Verification {
+            verify: Some(crate::studies::phase::cell::Verification {
                 label_agreement: 1.0,
                 v_s_over_v_m_min: 0.25,
                 v_s_over_v_m_max: 0.25,

@@ -23,9 +23,9 @@ use super::cell::{simulate_verified, Cell};
 use super::csv::{append_rows, read_phase_csv, simulate_appending, Format};
 use super::file::{Protocol, Verify, WeightVia};
 use super::PhaseError;
-use crate::design::Status;
 use crate::observe::Regime;
 use crate::problem::Problem;
+use crate::studies::optimize::Status;
 use serde::Serialize;
 use std::path::Path;
 

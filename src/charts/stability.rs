@@ -1,5 +1,5 @@
 //! The stability map: the largest stable step of each integrator over scaled weight and
-//! element count (see the module doc of [`crate::chart`]).
+//! element count (see the module doc of [`crate::charts`]).
 
 use super::*;
 

@@ -373,7 +373,7 @@ pub fn midpoint_points(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::design::phase::{boundaries, fit_boundaries};
+    use crate::studies::phase::{boundaries, fit_boundaries};
     use std::sync::atomic::AtomicUsize;
 
     /// A labeller set by `W/G` alone: S below 20, F up to 60, N beyond (the paper's kind of

@@ -11,7 +11,7 @@ pub struct StudySpec {
     /// `[optimize]`: bounds of the optimised parameters (required table).
     pub optimize: Option<OptimizeTable>,
     /// `[accuracy]`: choose the model once on the base problem for every evaluation
-    /// ([`super::accuracy`]). Absent: the base file's model.
+    /// ([`crate::studies::accuracy`]). Absent: the base file's model.
     pub accuracy: Option<problem::AccuracySpec>,
 }
 
@@ -216,11 +216,11 @@ pub struct Study {
     pub seed: u64,
     /// `[accuracy]`, if given.
     pub accuracy: Option<problem::AccuracySpec>,
-    /// The model chosen for it (set by [`super::accuracy::prepare_study`]).
-    pub chosen: Option<super::accuracy::StudyAccuracy>,
+    /// The model chosen for it (set by [`prepare_accuracy`]).
+    pub chosen: Option<crate::studies::accuracy::StudyAccuracy>,
     /// Re-evaluate the best point and the runner-up as ensembles at the end
     /// (`slither optimize --ensemble K`; [`super::report::check_optimum`]); `None`: no check.
-    pub ensemble: Option<super::ensemble::Spec>,
+    pub ensemble: Option<crate::studies::ensemble::Spec>,
 }
 
 impl Study {
@@ -383,4 +383,24 @@ pub fn parse_study_with(
     }
     check_shortest_run(&at, s, &study)?;
     Ok(study)
+}
+
+/// Apply a study file's `[accuracy]` before the study runs: choose (or reuse) the model on the
+/// base problem, set the base to it and the rows' resume key to the model's. Without
+/// `[accuracy]`, removes a stale `accuracy.json` and changes nothing. Returns whether a
+/// recorded choice was reused.
+pub fn prepare_accuracy(
+    study: &mut Study,
+    out: &Path,
+    log: &mut dyn FnMut(&str),
+) -> std::io::Result<bool> {
+    let Some(spec) = study.accuracy.clone() else {
+        accuracy::forget(out)?;
+        return Ok(false);
+    };
+    let (chosen, reused) = accuracy::choose(&study.base, &study.base_hash, &spec, out, log)?;
+    study.base = chosen.apply(&study.base);
+    study.base_hash = format!("{:016x}", chosen.row_hash());
+    study.chosen = Some(chosen);
+    Ok(reused)
 }

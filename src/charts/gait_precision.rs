@@ -451,7 +451,7 @@ pub fn gait_precision(
         let mut p = problem.clone();
         p.time.duration = Some(model.duration);
         // Up to the reference's mesh: a model finer than the reference cannot be judged by it.
-        let sel = crate::design::selection::select(&p, target, finest, log);
+        let sel = crate::studies::accuracy::selection::select(&p, target, finest, log);
         let r = &sel.report;
         let o = &sel.outcome;
         let run = GaitRun {

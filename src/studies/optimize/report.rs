@@ -50,7 +50,7 @@ pub(super) struct Optimum<'a> {
     wall_time_s: f64,
     /// The model chosen for the study's `[accuracy]` (absent without one).
     #[serde(skip_serializing_if = "Option::is_none")]
-    accuracy: Option<&'a super::accuracy::StudyAccuracy>,
+    accuracy: Option<&'a crate::studies::accuracy::StudyAccuracy>,
     /// `--ensemble K`: the best point and the runner-up re-run as ensembles (absent without).
     #[serde(skip_serializing_if = "Option::is_none")]
     ensemble: Option<&'a OptimumCheck>,
@@ -71,7 +71,7 @@ pub(super) struct Settings {
     /// `penalty`: out-of-bounds and heading penalty (m/s per unit).
     penalty: f64,
     /// `--ensemble K` (runs, seed, perturbation; null without).
-    ensemble: Option<super::ensemble::Spec>,
+    ensemble: Option<crate::studies::ensemble::Spec>,
 }
 
 impl Settings {
@@ -88,7 +88,7 @@ impl Settings {
     }
 }
 
-/// One evaluated point re-run as an ensemble ([`super::ensemble`]).
+/// One evaluated point re-run as an ensemble ([`crate::studies::ensemble`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct EnsembleOf {
     /// The evaluation it re-runs (its number in `history.csv`).
@@ -99,10 +99,10 @@ pub struct EnsembleOf {
     /// `history.csv`).
     pub objective: f64,
     /// `v_s` over the ensemble's members (m/s): mean, sd, min, max, n.
-    pub ensemble_v_s: Option<super::ensemble::Stat>,
+    pub ensemble_v_s: Option<crate::studies::ensemble::Stat>,
     /// The study's objective over the members (the same function as the search's,
     /// [`Study::objective_of`]): mean, sd, min, max, n.
-    pub ensemble_objective: Option<super::ensemble::Stat>,
+    pub ensemble_objective: Option<crate::studies::ensemble::Stat>,
     /// Members per regime label.
     pub regime_votes: std::collections::BTreeMap<String, usize>,
     /// The members' seeds, in order.
@@ -121,7 +121,7 @@ pub struct OptimumCheck {
     /// The ensembles' seed (the runner-up's is `seed + 1`).
     pub seed: u64,
     /// The perturbation sizes.
-    pub perturbation: super::ensemble::Perturbation,
+    pub perturbation: crate::studies::ensemble::Perturbation,
     /// The best point's ensemble.
     pub best: EnsembleOf,
     /// The runner-up's ensemble (null when no other point finished).
@@ -148,8 +148,8 @@ pub struct OptimumCheck {
 /// The comparison of the best's and the runner-up's ensembles of the objective `b` and `u`
 /// (lower is better): improvement, spread, improvement > spread, ranges separate.
 pub fn compare_ensembles(
-    b: &super::ensemble::Stat,
-    u: &super::ensemble::Stat,
+    b: &crate::studies::ensemble::Stat,
+    u: &crate::studies::ensemble::Stat,
 ) -> (f64, Option<f64>, Option<bool>, bool) {
     let improvement = u.mean - b.mean;
     let spread = b.sd.zip(u.sd).map(|(x, y)| x.hypot(y));
@@ -166,7 +166,7 @@ pub fn compare_ensembles(
 pub fn check_optimum(
     study: &Study,
     r: &Report,
-    spec: &super::ensemble::Spec,
+    spec: &crate::studies::ensemble::Spec,
 ) -> Option<OptimumCheck> {
     let best = r.best.as_ref()?;
     let runner_up = r
@@ -176,11 +176,11 @@ pub fn check_optimum(
         .filter(|e| e.status == Status::Ok && study.meets_heading(e) && e.point != best.point)
         .max_by(|a, b| b.objective().total_cmp(&a.objective()));
     let of = |e: &Evaluation, seed: u64| {
-        let s = super::ensemble::Spec { seed, ..*spec };
+        let s = crate::studies::ensemble::Spec { seed, ..*spec };
         let pr = study.problem_at(&e.point);
-        let en = super::ensemble::run(&pr, &s, &|_, _| {});
-        let objective =
-            super::ensemble::Stat::of(en.members.iter().filter(|m| m.status == "ok").map(|m| {
+        let en = crate::studies::ensemble::run(&pr, &s, &|_, _| {});
+        let objective = crate::studies::ensemble::Stat::of(
+            en.members.iter().filter(|m| m.status == "ok").map(|m| {
                 let get = |k: &str| m.observables.get(k).copied().flatten().unwrap_or(f64::NAN);
                 study.objective_of(&ObjectiveInputs {
                     v_s: get("v_s"),
@@ -190,7 +190,8 @@ pub fn check_optimum(
                     stationary_contact_share_min: get("periodic.stationary_contact_share_min"),
                     sidewinding_margin: get("periodic.sidewinding_margin"),
                 })
-            }));
+            }),
+        );
         EnsembleOf {
             eval: e.eval,
             v_s: e.v_s,
@@ -321,7 +322,7 @@ pub fn on_bound(study: &Study, r: &Report) -> Vec<(&'static str, &'static str)> 
 }
 
 /// JSON numbers cannot be NaN or infinite: serde_json writes them as null.
-pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(), DesignError> {
+pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(), OptimizeError> {
     let o = Optimum {
         study: study.path.display().to_string(),
         base: study.base_path.display().to_string(),
@@ -353,16 +354,16 @@ pub(super) fn write_optimum(study: &Study, out: &Path, r: &Report) -> Result<(),
         ensemble: r.check.as_ref(),
     };
     let path = out.join("optimum.json");
-    let text = serde_json::to_string_pretty(&o).map_err(|e| DesignError::Io {
+    let text = serde_json::to_string_pretty(&o).map_err(|e| OptimizeError::Io {
         path: path.clone(),
         source: std::io::Error::other(e),
     })?;
     // Through a temporary name: a full disk leaves no truncated optimum.json.
     crate::output::write_atomic(&path, (text + "\n").as_bytes())
-        .map_err(|source| DesignError::Io { path, source })
+        .map_err(|source| OptimizeError::Io { path, source })
 }
 
-pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(), DesignError> {
+pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(), OptimizeError> {
     let ok: Vec<&Evaluation> = r
         .visited
         .iter()
@@ -429,7 +430,7 @@ pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(),
                 "v_s / v_m (dimensionless)",
                 &s,
             )
-            .map_err(|source| DesignError::Plot { path, source })?;
+            .map_err(|source| OptimizeError::Plot { path, source })?;
         }
     }
     let path = out.join("history.png");
@@ -452,7 +453,7 @@ pub(super) fn write_figures(study: &Study, out: &Path, r: &Report) -> Result<(),
                 false,
                 false,
             )
-            .map_err(|source| DesignError::Plot { path, source })?;
+            .map_err(|source| OptimizeError::Plot { path, source })?;
         }
     }
     Ok(())
@@ -508,8 +509,8 @@ pub(super) fn history_series(study: &Study, r: &Report) -> (String, Vec<Series>)
 mod tests {
     use super::*;
 
-    fn stat(mean: f64, sd: Option<f64>, min: f64, max: f64) -> super::super::ensemble::Stat {
-        super::super::ensemble::Stat {
+    fn stat(mean: f64, sd: Option<f64>, min: f64, max: f64) -> crate::studies::ensemble::Stat {
+        crate::studies::ensemble::Stat {
             mean,
             sd,
             min,

@@ -1,5 +1,5 @@
 //! The work-precision chart: error against wall time of the implicit and the explicit
-//! integrator on one scene (see the module doc of [`crate::chart`]).
+//! integrator on one scene (see the module doc of [`crate::charts`]).
 
 use super::*;
 

@@ -1,4 +1,4 @@
-//! The accuracy selection: the model chosen for a target error (`design` owns it; the
+//! The accuracy selection: the model chosen for a target error (`studies::accuracy` owns it; the
 //! command line and the studies' `[accuracy]` call it). Runs that ask for an accuracy
 //! (`slither run PROBLEM.toml --accuracy 0.01`, or `[accuracy] target`): refine the time
 //! resolution and the mesh, Richardson-style, until the estimated relative error of `v_s/v_m`

@@ -1,7 +1,7 @@
 //! `[accuracy]` in study files (`slither optimize`, `slither phase`): the model (mesh and
 //! time resolution: implicit Euler's step, or adaptive BDF2's error tolerance when the base
 //! file asks for `integrator = "bdf2"`) is chosen once, on the study's base scene, by the selection
-//! of `slither run --accuracy` ([`super::selection::select`]), and every evaluation or
+//! of `slither run --accuracy` ([`selection::select`]), and every evaluation or
 //! cell then runs at that model.
 //!
 //! ```toml
@@ -26,8 +26,10 @@
 //! `phase.csv`, `phase.json`, `optimum.json`) is then a hash of the base file's hash and the
 //! chosen model, so rows of a run at another model (or without `[accuracy]`) are never reused.
 
-use super::selection::{accuracy_problem, select, Resolution};
+pub mod selection;
+
 use crate::problem::{AccuracySpec, Problem};
+use selection::{accuracy_problem, select, Resolution};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -81,7 +83,7 @@ impl StudyAccuracy {
             Some(Resolution::Step(h)) => format!("implicit dt {h:e}"),
             None => "unknown".into(),
         };
-        super::fnv1a(
+        crate::studies::fnv1a(
             format!("{} elements {} {model}", self.base_file_hash, self.elements).as_bytes(),
         )
     }
@@ -134,24 +136,4 @@ pub fn forget(out: &Path) -> std::io::Result<()> {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(e),
         _ => Ok(()),
     }
-}
-
-/// Apply a study file's `[accuracy]` before the study runs: choose (or reuse) the model on the
-/// base problem, set the base to it and the rows' resume key to the model's. Without
-/// `[accuracy]`, removes a stale `accuracy.json` and changes nothing. Returns whether a
-/// recorded choice was reused.
-pub fn prepare_study(
-    study: &mut super::Study,
-    out: &Path,
-    log: &mut dyn FnMut(&str),
-) -> std::io::Result<bool> {
-    let Some(spec) = study.accuracy.clone() else {
-        forget(out)?;
-        return Ok(false);
-    };
-    let (chosen, reused) = choose(&study.base, &study.base_hash, &spec, out, log)?;
-    study.base = chosen.apply(&study.base);
-    study.base_hash = format!("{:016x}", chosen.row_hash());
-    study.chosen = Some(chosen);
-    Ok(reused)
 }

@@ -1,9 +1,9 @@
 //! One cell of the diagram: its simulation and the measured values.
 use super::file::{cell_problem, cell_problem_with, finer_problem, Protocol, Verify};
-use crate::design::{ensemble, PeriodicColumns, Status};
 use crate::model::Model;
 use crate::observe::{self, Regime, RegimeInputs};
 use crate::problem::Problem;
+use crate::studies::{ensemble, optimize::PeriodicColumns, optimize::Status};
 
 /// One cell of the diagram.
 #[derive(Clone, Debug)]
@@ -133,7 +133,7 @@ pub fn cell_seed(seed: u64, w: f64, g: f64) -> u64 {
     let mut bytes = seed.to_le_bytes().to_vec();
     bytes.extend(w.to_bits().to_le_bytes());
     bytes.extend(g.to_bits().to_le_bytes());
-    crate::design::fnv1a(&bytes)
+    crate::studies::fnv1a(&bytes)
 }
 
 /// Simulate one cell with its verification (`None`: [`simulate`]). The runs: the study's, with

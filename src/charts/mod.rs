@@ -15,7 +15,7 @@
 //! * **Gait work-precision** ([`gait_precision`]): scenes with ground and muscles, where the
 //!   explicit reference cannot run: implicit Euler and BDF2 over fixed steps and adaptive BDF2
 //!   over tolerances against an implicit Euler reference refined until `v_s/v_m` settles
-//!   (`src/chart/gait_precision.rs`).
+//!   (`src/charts/gait_precision.rs`).
 //! * **Stability map** ([`stability_map`]): over scaled weight `W = rho g a^2 L^3 / B` and
 //!   element count `N`, the largest step each method runs the scene with to its end by
 //!   geometric bisection (relative resolution `rtol`). Stable means: every step accepted with

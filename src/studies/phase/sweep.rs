@@ -7,11 +7,11 @@ use super::file::{Phase, Protocol, Verify};
 use super::growth::{self, Growth, GrowthLine};
 use super::refine::{self, Refinement};
 use super::PhaseError;
-use crate::design::accuracy::StudyAccuracy;
-use crate::design::Status;
 use crate::observe::Regime;
 use crate::plot::{self, phase as figs};
 use crate::problem::Problem;
+use crate::studies::accuracy::StudyAccuracy;
+use crate::studies::optimize::Status;
 use std::path::{Path, PathBuf};
 
 /// What a sweep produced.
@@ -74,7 +74,7 @@ pub struct RunInfo {
     pub phase_file: String,
     /// The base problem file.
     pub base_file: String,
-    /// Hash of the effective base problem ([`crate::design::problem_hash`], hex; with
+    /// Hash of the effective base problem ([`crate::studies::problem_hash`], hex; with
     /// `[accuracy]` the chosen model's key).
     pub base_hash: String,
     /// Scaled weights of the grid.

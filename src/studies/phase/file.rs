@@ -1,7 +1,7 @@
 //! The phase file: its `[phase]` table (base problem, grids, refinement) and `[accuracy]`,
 //! and the problem of one cell.
-use crate::design::accuracy::{self, StudyAccuracy};
 use crate::problem::{self, key_line, Problem, ProblemError};
+use crate::studies::accuracy::{self, StudyAccuracy};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -23,7 +23,7 @@ pub struct Phase {
     pub base_path: PathBuf,
     /// The base problem.
     pub base: Problem,
-    /// Hash of the effective base problem ([`crate::design::problem_hash`]: parsed, defaults
+    /// Hash of the effective base problem ([`crate::studies::problem_hash`]: parsed, defaults
     /// filled in; a comment does not count), the rows' resume key.
     pub base_hash: u64,
     /// Scaled weights `W` (dimensionless).
@@ -39,7 +39,7 @@ pub struct Phase {
     /// How a cell's `W` is set and whether the cells are dynamically similar
     /// (`weight_via`, `similar`; [`Protocol`]).
     pub protocol: Protocol,
-    /// `[accuracy]`, if given ([`crate::design::accuracy`]).
+    /// `[accuracy]`, if given ([`crate::studies::accuracy`]).
     pub accuracy: Option<problem::AccuracySpec>,
     /// The model chosen for it (set by [`prepare_accuracy`]).
     pub chosen: Option<StudyAccuracy>,
@@ -114,7 +114,7 @@ impl Protocol {
                 "{hash:016x} weight_via={:?} similar={}",
                 self.weight_via, self.similar
             );
-            crate::design::fnv1a(text.as_bytes())
+            crate::studies::fnv1a(text.as_bytes())
         }
     }
 }
@@ -130,12 +130,12 @@ pub struct Verify {
     /// the cell's reported label (and every value of its row) is then the finer run's.
     pub finer: bool,
     /// `perturbations` (default 0, at most [`MAX_PERTURBATIONS`]): also run the cell `K`
-    /// times perturbed as an ensemble ([`crate::design::ensemble`]) at the study's resolution.
+    /// times perturbed as an ensemble ([`crate::studies::ensemble`]) at the study's resolution.
     pub perturbations: usize,
-    /// `seed` (default [`crate::design::ensemble::SEED`]): the cells' seeds derive from it
+    /// `seed` (default [`crate::studies::ensemble::SEED`]): the cells' seeds derive from it
     /// and the cell's `(W, G)`, so a cell's runs do not depend on the shard it is in.
     pub seed: u64,
-    /// `step` (default [`crate::design::ensemble::STEP`], at least 1): the perturbed runs' step
+    /// `step` (default [`crate::studies::ensemble::STEP`], at least 1): the perturbed runs' step
     /// ladder, from `dt / step` to `dt * step`.
     pub step: f64,
 }
@@ -153,8 +153,8 @@ struct VerifyTable {
 
 impl Verify {
     /// The perturbation sizes of the perturbed runs.
-    pub fn perturbation(&self) -> crate::design::ensemble::Perturbation {
-        crate::design::ensemble::Perturbation {
+    pub fn perturbation(&self) -> crate::studies::ensemble::Perturbation {
+        crate::studies::ensemble::Perturbation {
             step: self.step,
             ..Default::default()
         }
@@ -167,7 +167,7 @@ impl Verify {
             "{base_hash:016x} finer={} perturbations={} seed={} step={:e}",
             self.finer, self.perturbations, self.seed, self.step
         );
-        crate::design::fnv1a(text.as_bytes())
+        crate::studies::fnv1a(text.as_bytes())
     }
 
     /// Runs per cell: the study's, the finer one, the perturbed ones.
@@ -325,7 +325,7 @@ fn parse(
         accuracy: f.accuracy,
         chosen: None,
         file: path.into(),
-        base_hash: crate::design::problem_hash(&base),
+        base_hash: crate::studies::problem_hash(&base),
         base_path,
         base,
         weight,
@@ -422,7 +422,7 @@ fn verify(at: &At, t: &PhaseTable) -> Result<Option<Verify>, ProblemError> {
                     "seed an integer >= 0",
                 ));
             }
-            let step = v.step.unwrap_or(crate::design::ensemble::STEP);
+            let step = v.step.unwrap_or(crate::studies::ensemble::STEP);
             if !(step.is_finite() && (1.0..=10.0).contains(&step)) {
                 return Err(at.invalid(
                     "verify",
@@ -433,7 +433,7 @@ fn verify(at: &At, t: &PhaseTable) -> Result<Option<Verify>, ProblemError> {
             let verify = Verify {
                 finer: v.finer,
                 perturbations: v.perturbations as usize,
-                seed: v.seed.map_or(crate::design::ensemble::SEED, |s| s as u64),
+                seed: v.seed.map_or(crate::studies::ensemble::SEED, |s| s as u64),
                 step,
             };
             (verify.runs() > 1).then_some(verify)
@@ -558,7 +558,7 @@ pub fn finer_problem(p: &Problem) -> Problem {
 }
 
 /// Apply the phase file's `[accuracy]` before the sweep (as
-/// [`crate::design::accuracy::prepare_study`] does for an optimisation): every cell runs at the
+/// [`crate::studies::optimize::prepare_accuracy`] does for an optimisation): every cell runs at the
 /// chosen model, and the rows' resume key is the model's. Without `[accuracy]`, removes a stale
 /// `accuracy.json` and changes nothing. Returns whether a recorded choice was reused.
 pub fn prepare_accuracy(

@@ -4,8 +4,8 @@ use super::csv::{comparable_row, read_phase_csv, Format};
 use super::refine::Refinement;
 use super::sweep::{finish, write_info, RunInfo};
 use super::PhaseError;
-use crate::design::problem_hash;
 use crate::problem;
+use crate::studies::problem_hash;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -280,7 +280,7 @@ fn shard_rows(
     for (key, c) in rows.cells {
         // A row's regime is a function of its values: a label that disagrees was edited
         // (or written by another version) and would enter the map unchecked.
-        if let (crate::design::Status::Ok, Some(stated)) = (c.status, c.regime) {
+        if let (crate::studies::optimize::Status::Ok, Some(stated)) = (c.status, c.regime) {
             let computed = crate::observe::classify(&c.regime_inputs()).0;
             if computed != stated {
                 return Err(mismatch(

@@ -49,8 +49,8 @@ impl Journal {
     pub fn key(problem_text: &str, build: &[u8]) -> String {
         format!(
             "{:016x}-{:016x}",
-            crate::design::fnv1a(problem_text.as_bytes()),
-            crate::design::fnv1a(build)
+            crate::studies::fnv1a(problem_text.as_bytes()),
+            crate::studies::fnv1a(build)
         )
     }
 

@@ -24,7 +24,7 @@
 //!
 //! `verify = { finer = true, perturbations = K }` (optional `seed`, `step`; [`file::Verify`]):
 //! each cell is also run at half the step and twice the elements and `K` times perturbed
-//! ([`crate::design::ensemble`]); the reported label is the finest run's, `phase.csv` gains
+//! ([`crate::studies::ensemble`]); the reported label is the finest run's, `phase.csv` gains
 //! the agreement of the runs, the spread of `v_s/v_m` and the labels at both resolutions
 //! ([`cell::simulate_verified`]), and the boundaries are fitted through unanimous cells only
 //! ([`sweep::confident_labels`], [`sweep::Exclusions`] in `boundaries.json`).

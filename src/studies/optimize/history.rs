@@ -12,7 +12,7 @@ pub const HISTORY_FILE: &str = "history.csv";
 pub const HISTORY_HEADER: &str = "eval,stress,sigma,speed,period,spacing,lift,duration,G,W,v_s,v_s_over_v_m,writhe_max,writhe_mean,displacement_angle_deg,regime,periodic_cycles,displacement_over_length_min,broadside_deg_min,turn_deg_max_abs,stationary_contact_share_min,sidewinding,status,wall_time_s,objective,base_hash,reason";
 
 /// The periodic columns, in order: in [`HISTORY_HEADER`] after `regime`, and last in the rows
-/// of a phase study of a gait with a launch period ([`crate::design::phase::Format`]). Written
+/// of a phase study of a gait with a launch period ([`crate::studies::phase::Format`]). Written
 /// and read by [`PeriodicColumns::csv_fields`] and [`PeriodicColumns::parse_fields`].
 pub const PERIODIC_COLUMNS: &str = "periodic_cycles,displacement_over_length_min,broadside_deg_min,turn_deg_max_abs,stationary_contact_share_min,sidewinding";
 
@@ -208,7 +208,7 @@ impl Evaluation {
     }
 
     pub(super) fn csv_row(&self, base_hash: &str) -> String {
-        let reason = super::csv_field(&self.reason);
+        let reason = crate::studies::csv_field(&self.reason);
         // Numbers in their shortest round-trip form, with an exponent outside [1e-4, 1e7)
         // (the failed-run objective is not written as 300 digits); an unrecorded value
         // (NaN period, spacing or lift of a legacy row) is an empty field.
@@ -284,13 +284,13 @@ pub(super) fn rewrite_history(path: &Path, rows: &[(Evaluation, String)]) -> std
 /// Read `path` if it exists (a missing file is an empty history). A last line without its
 /// newline (a write cut short) is removed from the file; any other malformed line is an error
 /// naming its line.
-pub fn read_history(path: &Path) -> Result<History, DesignError> {
+pub fn read_history(path: &Path) -> Result<History, OptimizeError> {
     let mut h = History::default();
     let text = match std::fs::read_to_string(path) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(h),
         Err(source) => {
-            return Err(DesignError::Io {
+            return Err(OptimizeError::Io {
                 path: path.into(),
                 source,
             })
@@ -304,13 +304,13 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
             .write(true)
             .open(path)
             .and_then(|f| f.set_len(keep as u64));
-        f.map_err(|source| DesignError::Io {
+        f.map_err(|source| OptimizeError::Io {
             path: path.into(),
             source,
         })?;
         h.dropped_partial = true;
     }
-    let bad = |line: usize, message: String| DesignError::History {
+    let bad = |line: usize, message: String| OptimizeError::History {
         file: path.into(),
         line,
         message,
@@ -344,8 +344,8 @@ pub fn read_history(path: &Path) -> Result<History, DesignError> {
 fn parse_row(
     line: &str,
     columns: &[&str],
-    bad: &dyn Fn(String) -> DesignError,
-) -> Result<(Evaluation, String), DesignError> {
+    bad: &dyn Fn(String) -> OptimizeError,
+) -> Result<(Evaluation, String), OptimizeError> {
     let width = columns.len();
     let f: Vec<&str> = line.splitn(width, ',').collect();
     if f.len() != width {
@@ -357,7 +357,7 @@ fn parse_row(
     // The field of a column (absent from a legacy file: None).
     let field = |name: &str| columns.iter().position(|c| *c == name).map(|i| f[i].trim());
     let text = |name: &str| field(name).unwrap_or("");
-    let num = |name: &str| -> Result<f64, DesignError> {
+    let num = |name: &str| -> Result<f64, OptimizeError> {
         let v = text(name);
         v.parse::<f64>()
             .map_err(|_| bad(format!("column `{name}` = {v:?} is not a number")))
@@ -365,7 +365,7 @@ fn parse_row(
     // The gait parameters and the duration are inputs of a re-run: finite and positive (the
     // spacing and the lift finite); an empty or absent period, spacing or lift is the base
     // file's (NaN here).
-    let input = |name: &str, positive: bool| -> Result<f64, DesignError> {
+    let input = |name: &str, positive: bool| -> Result<f64, OptimizeError> {
         if matches!(name, "period" | "spacing" | "lift") && text(name).is_empty() {
             return Ok(f64::NAN);
         }

@@ -68,29 +68,23 @@
 //!
 //! # Layout
 //!
-//! `objective.rs` what a study minimises and its rows' key; `digest.rs` the resume keys' hashes (of the effective problem, not its text); `study.rs` the study file (schema, validation, the search space); `history.rs` the
-//! evaluations and `history.csv`; `simulate.rs` one evaluation (a simulation); `search.rs` the
-//! argmin glue (cost function, budgeted solvers, iteration observer) and [`optimize`];
-//! `report.rs` `optimum.json` and the figures; [`phase`] the regime phase diagram (with
-//! [`phase::refine`], its boundaries by bisection); [`accuracy`] a study's `[accuracy]` table
-//! (the model chosen once for every run).
+//! `objective.rs` what a study minimises and its rows' key; `study.rs` the study file
+//! (schema, validation in `study_validate.rs`, the search space in `space.rs`); `history.rs`
+//! the evaluations and `history.csv`; `simulate.rs` one evaluation (a simulation);
+//! `search.rs` the argmin glue (cost function, budgeted solvers, iteration observer) and
+//! [`optimize`]; `report.rs` `optimum.json` and the figures. A study's `[accuracy]` table is
+//! [`crate::studies::accuracy`]'s, applied by [`prepare_accuracy`]; the resume keys' hashes
+//! are [`crate::studies::problem_hash`]'s.
 
-pub mod accuracy;
-mod digest;
-pub mod ensemble;
 mod history;
 mod objective;
-pub mod phase;
 mod report;
 mod search;
-pub mod selection;
 mod simulate;
 mod space;
 mod study;
 mod study_validate;
 
-pub(crate) use digest::fnv1a;
-pub use digest::problem_hash;
 use history::{key, rewrite_history, Key};
 pub use history::{
     read_history, Evaluation, History, PeriodicColumns, Status, HISTORY_FILE, HISTORY_HEADER,
@@ -106,9 +100,9 @@ pub use simulate::simulate;
 pub use space::{Dim, GaitParams, Param, Space};
 use study::OPTIMIZE_ONE_OF;
 pub use study::{
-    load_study, load_study_with, parse_study, parse_study_with, InitialTable, OptimizeTable,
-    SearchMethod, Study, StudyError, StudySpec, StudyTable, DEFAULT_PARTICLES, ON_BOUND_FRACTION,
-    STUDY_TABLES,
+    load_study, load_study_with, parse_study, parse_study_with, prepare_accuracy, InitialTable,
+    OptimizeTable, SearchMethod, Study, StudyError, StudySpec, StudyTable, DEFAULT_PARTICLES,
+    ON_BOUND_FRACTION, STUDY_TABLES,
 };
 use study_validate::{
     base_problem, check_search_settings, check_shortest_run, dims, durations, method_sizes,
@@ -117,6 +111,7 @@ use study_validate::{
 
 use crate::model::Model;
 use crate::problem::{self, key_line, Problem, ProblemError};
+use crate::studies::{accuracy, fnv1a, problem_hash};
 use crate::{gait, observe, plot};
 use argmin::core::observers::{Observe, ObserverMode};
 use argmin::core::PopulationState;
@@ -148,7 +143,7 @@ pub const FAILED_COST: f64 = 1.0e3;
 
 /// Errors of the optimiser (study-file errors are [`StudyError`]).
 #[derive(Debug, thiserror::Error)]
-pub enum DesignError {
+pub enum OptimizeError {
     /// An existing `history.csv` that cannot be read back.
     #[error("{file}:{line}: {message}")]
     History {
@@ -216,16 +211,4 @@ pub struct Report {
     pub wall_time_s: f64,
     /// The ensemble check of the best point against the runner-up (`Study::ensemble`).
     pub check: Option<OptimumCheck>,
-}
-
-/// A free-text value (a failure reason) as one CSV field of the result files: commas and line
-/// breaks become `;`, other control characters spaces, so a row stays one line of fixed width.
-pub(crate) fn csv_field(s: &str) -> String {
-    s.chars()
-        .map(|c| match c {
-            ',' | '\n' | '\r' => ';',
-            c if c.is_control() => ' ',
-            c => c,
-        })
-        .collect()
 }

@@ -51,7 +51,7 @@ pub(super) struct Shared<'a> {
     observer: &'a mut dyn EvaluationObserver,
     /// Every answered evaluation of this run, in order.
     visited: Vec<(Evaluation, Source, f64)>,
-    fatal: Option<DesignError>,
+    fatal: Option<OptimizeError>,
 }
 
 /// The simulator as an argmin cost function over normalised coordinates. Cost calls beyond
@@ -138,7 +138,7 @@ impl Evaluator<'_> {
             if let Err(source) = written {
                 self.fatal.set(true);
                 if sh.fatal.is_none() {
-                    sh.fatal = Some(DesignError::Io {
+                    sh.fatal = Some(OptimizeError::Io {
                         path: sh.history_path.clone(),
                         source,
                     });
@@ -385,9 +385,9 @@ pub fn optimize(
     study: &Study,
     out: &Path,
     observer: &mut dyn EvaluationObserver,
-) -> Result<Report, DesignError> {
+) -> Result<Report, OptimizeError> {
     let start = Instant::now();
-    std::fs::create_dir_all(out).map_err(|source| DesignError::Io {
+    std::fs::create_dir_all(out).map_err(|source| OptimizeError::Io {
         path: out.into(),
         source,
     })?;
@@ -453,7 +453,7 @@ pub fn optimize(
     let initial = visited
         .first()
         .map(|v| v.0.clone())
-        .ok_or_else(|| DesignError::Solver("no evaluation was made".into()))?;
+        .ok_or_else(|| OptimizeError::Solver("no evaluation was made".into()))?;
     let report = Report {
         evaluations: visited.len(),
         simulations: count(Source::Simulated),
@@ -487,7 +487,7 @@ fn run_method(
     study: &Study,
     evaluator: &Evaluator,
     iterations: &Arc<Mutex<Vec<Iteration>>>,
-) -> Result<Vec<String>, DesignError> {
+) -> Result<Vec<String>, OptimizeError> {
     let (calls, limit, fatal) = (&evaluator.calls, &evaluator.limit, &evaluator.fatal);
     let mut terminations = Vec::new();
     let budgeted = |inner| Budgeted {
@@ -503,7 +503,7 @@ fn run_method(
         fatal: fatal.clone(),
     };
     let reason =
-        |run: Result<String, ArgminError>| run.map_err(|e| DesignError::Solver(e.to_string()));
+        |run: Result<String, ArgminError>| run.map_err(|e| OptimizeError::Solver(e.to_string()));
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(study.seed);
     let n = study.space.dims.len();
     match study.method {
@@ -523,7 +523,7 @@ fn run_method(
                 };
                 let nm = NelderMead::new(study.space.simplex_at(u0, study.initial_step))
                     .with_sd_tolerance(study.tolerance)
-                    .map_err(|e| DesignError::Solver(e.to_string()))?;
+                    .map_err(|e| OptimizeError::Solver(e.to_string()))?;
                 let run = Executor::new(evaluator.clone(), budgeted(nm))
                     .configure(|s| s.max_iters(study.max_evaluations as u64))
                     .add_observer(
@@ -594,7 +594,7 @@ struct Resumed {
 
 /// Read `history.csv` at `history_path` (its rows of this study answer evaluations again; a
 /// file of the older format is rewritten in the current one) and open it to append.
-fn resume(study: &Study, history_path: &Path) -> Result<Resumed, DesignError> {
+fn resume(study: &Study, history_path: &Path) -> Result<Resumed, OptimizeError> {
     let old = read_history(history_path)?;
     let rows_before = old.rows.len();
     let mut cache = HashMap::new();
@@ -625,7 +625,7 @@ fn resume(study: &Study, history_path: &Path) -> Result<Resumed, DesignError> {
     // A history of the older format is rewritten in the current one before rows are appended
     // (its rows of this base with the base's period, spacing and lift; of other bases empty).
     if old.legacy {
-        rewrite_history(history_path, &rows).map_err(|source| DesignError::Io {
+        rewrite_history(history_path, &rows).map_err(|source| OptimizeError::Io {
             path: history_path.into(),
             source,
         })?;
@@ -634,7 +634,7 @@ fn resume(study: &Study, history_path: &Path) -> Result<Resumed, DesignError> {
         .create(true)
         .append(true)
         .open(history_path)
-        .map_err(|source| DesignError::Io {
+        .map_err(|source| OptimizeError::Io {
             path: history_path.into(),
             source,
         })?;
@@ -643,7 +643,7 @@ fn resume(study: &Study, history_path: &Path) -> Result<Resumed, DesignError> {
         if empty {
             writeln!(history, "{HISTORY_HEADER}")
                 .and_then(|_| history.flush())
-                .map_err(|source| DesignError::Io {
+                .map_err(|source| OptimizeError::Io {
                     path: history_path.into(),
                     source,
                 })?;
