@@ -54,7 +54,7 @@ fn assert_generated(file: &str, generated: &str, command: &str) {
 fn key_reference_is_the_codes() {
     assert_generated(
         "docs/book/src/keys.md",
-        &slither::problem::keys::markdown(),
+        &slither::problem::reference::markdown(),
         "cargo run --release -- keys --markdown",
     );
 }
@@ -163,7 +163,7 @@ fn problem_files_shown_in_the_docs_parse() {
 #[test]
 fn keys_command_prints_the_references() {
     for (flag, text) in [
-        ("--markdown", slither::problem::keys::markdown()),
+        ("--markdown", slither::problem::reference::markdown()),
         ("--outputs-markdown", schema::markdown()),
     ] {
         let o = Command::new(env!("CARGO_BIN_EXE_slither"))

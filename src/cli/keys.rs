@@ -23,7 +23,7 @@ pub fn keys(a: &Args) -> ExitCode {
     if a.outputs_markdown {
         print!("{}", output::schema::markdown());
     } else {
-        print!("{}", problem::keys::markdown());
+        print!("{}", problem::reference::markdown());
     }
     ExitCode::SUCCESS
 }

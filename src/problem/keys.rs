@@ -6,7 +6,7 @@
 //! - the validator checks a value against `KEY.range` ([`Key::check_real`],
 //!   [`Key::check_int`]) and states [`Key::allowed`] in its error message, as does the TOML
 //!   type error of [`super::from_toml`] (through [`super::ranges::allowed`]);
-//! - `slither keys --markdown` prints [`markdown`], the user guide's key reference
+//! - `slither keys --markdown` prints [`super::reference::markdown`], the user guide's key reference
 //!   (`docs/book/src/keys.md`, kept equal to it by a test).
 //!
 //! Rules that involve several keys (`time.dt` at most `time.duration`, `gait.sigma` at least one
@@ -81,7 +81,7 @@ pub struct Key {
 }
 
 /// `[lo, hi]`.
-const fn closed(lo: f64, hi: f64) -> Range {
+pub(crate) const fn closed(lo: f64, hi: f64) -> Range {
     Range::Real {
         lo,
         lo_closed: true,
@@ -91,7 +91,7 @@ const fn closed(lo: f64, hi: f64) -> Range {
 }
 
 /// `(lo, hi]`.
-const fn open_closed(lo: f64, hi: f64) -> Range {
+pub(crate) const fn open_closed(lo: f64, hi: f64) -> Range {
     Range::Real {
         lo,
         lo_closed: false,
@@ -101,7 +101,7 @@ const fn open_closed(lo: f64, hi: f64) -> Range {
 }
 
 /// `(lo, hi)`.
-const fn open(lo: f64, hi: f64) -> Range {
+pub(crate) const fn open(lo: f64, hi: f64) -> Range {
     Range::Real {
         lo,
         lo_closed: false,
@@ -144,6 +144,15 @@ impl Key {
         match self.default {
             DefaultValue::Reals3(v) => v,
             _ => panic!("key has no array default"),
+        }
+    }
+
+    /// The integer range's ends (compile-time error when used in a `const` on a key without
+    /// one).
+    pub const fn int_range(&self) -> (u64, u64) {
+        match self.range {
+            Range::Int { lo, hi } => (lo, hi),
+            _ => panic!("key has no integer range"),
         }
     }
 
@@ -237,8 +246,10 @@ pub fn number(v: f64) -> String {
     }
 }
 
-macro_rules! keys {
-    ($($name:ident = $key:literal, $unit:literal, $default:expr, $range:expr, $rule:literal, $meaning:literal;)*) => {
+/// A table of keys: `key_table! { LIST; NAME = "table.key", unit, default, range, rule,
+/// meaning; ... }` defines one [`Key`] constant per line and `LIST`, all of them in order.
+macro_rules! key_table {
+    ($list:ident; $($name:ident = $key:literal, $unit:literal, $default:expr, $range:expr, $rule:literal, $meaning:literal;)*) => {
         $(
             #[doc = concat!("`", $key, "`: ", $meaning)]
             pub const $name: Key = Key {
@@ -250,15 +261,17 @@ macro_rules! keys {
                 meaning: $meaning,
             };
         )*
-        /// Every key, in the order of the reference.
-        pub const KEYS: &[Key] = &[$($name),*];
+        /// Every key of the table, in the order of the reference.
+        pub const $list: &[Key] = &[$($name),*];
     };
 }
+pub(crate) use key_table;
 
 use DefaultValue::{Flag, Int, Real, Reals3, Required, Rule, Word};
 use Range::{Finite, NonNegative, Positive, Text};
 
-keys! {
+key_table! {
+    KEYS;
     // [rod]
     ROD_LENGTH = "rod.length", "m", Required, Positive, "",
         "Length `L` of the rod.";
@@ -411,147 +424,9 @@ keys! {
         "Clarabel's direct KKT solver (\"faer\" needs the `clarabel-faer` feature; `SLITHER_CLARABEL_METHOD` overrides it).";
 }
 
-/// Keys of study files (`slither optimize`) and phase files (`slither phase`): their allowed
-/// values for error messages. Their defaults and meanings are documented with the study
-/// schemas in `crate::design` and in the guide's studies chapter.
-pub const STUDY_KEYS: &[(&str, &str)] = &[
-    (
-        "study.base",
-        "a path (string) to a problem file, relative to the study file",
-    ),
-    (
-        "study.max_evaluations",
-        "an integer in [n + 1, 100000] for n optimised parameters",
-    ),
-    (
-        "study.duration_pulses",
-        "a number in (0, 1000] (pulse times L / v_m)",
-    ),
-    (
-        "study.duration_periods",
-        "a number in (0, 1000] (launch periods gait.period), a sidewinding base only, not with study.duration_pulses",
-    ),
-    (
-        "study.initial_step",
-        "a number in (0, 1] (fraction of each bound's width)",
-    ),
-    ("study.tolerance", "a finite number >= 0 (m/s)"),
-    ("study.penalty", "a finite number >= 0 (m/s)"),
-    ("study.max_heading_deg", "a number in (0, 180] (degrees)"),
-    (
-        "study.objective",
-        "\"v_s\" (default), \"broadside\" or \"sidewinding\" (the last two: a sidewinding base only)",
-    ),
-    (
-        "study.turn_penalty",
-        "a finite number >= 0 (m/s per degree per cycle), only with objective = \"broadside\"",
-    ),
-    (
-        "study.stationary_penalty",
-        "a finite number >= 0 (m/s per unit of stationary share short of 0.8), only with objective = \"broadside\"",
-    ),
-    ("optimize.stress", "[lo, hi] with 0 <= lo < hi, finite (Pa)"),
-    (
-        "optimize.sigma",
-        "[lo, hi] with 0 < lo < hi <= 1, lo >= 1/rod.elements for s-start and sidewinding (fraction of rod.length)",
-    ),
-    ("optimize.speed", "[lo, hi] with 0 < lo < hi, finite (m/s)"),
-    (
-        "optimize.period",
-        "[lo, hi] with 0 < lo < hi, finite (s), a sidewinding base only",
-    ),
-    (
-        "optimize.spacing",
-        "[lo, hi] with 0 < lo < hi and gait.centers[0] + 2 hi <= 1 (fraction of rod.length), an s-start or sidewinding base with evenly spaced centres",
-    ),
-    (
-        "optimize.lift",
-        "[lo, hi] with lo < hi, finite (scale of gait.scales[1]), an s-start or sidewinding base",
-    ),
-    (
-        "optimize.initial.stress",
-        "a number within optimize.stress (Pa)",
-    ),
-    (
-        "optimize.initial.sigma",
-        "a number within optimize.sigma (fraction of rod.length)",
-    ),
-    (
-        "optimize.initial.speed",
-        "a number within optimize.speed (m/s)",
-    ),
-    (
-        "optimize.initial.period",
-        "a number within optimize.period (s)",
-    ),
-    (
-        "optimize.initial.spacing",
-        "a number within optimize.spacing (fraction of rod.length)",
-    ),
-    (
-        "optimize.initial.lift",
-        "a number within optimize.lift",
-    ),
-    (
-        "phase.weight_via",
-        "\"stiffness\" (default), \"gravity\" or \"density\": the parameter that sets W",
-    ),
-    ("phase.similar", "true or false (default false)"),
-    (
-        "phase.verify",
-        "{ finer = true | false, perturbations = K in [0, 64], seed = integer >= 0, step = number in [1, 10] }",
-    ),
-    (
-        "phase.base",
-        "a path (string) to a problem file, relative to the phase file",
-    ),
-    (
-        "phase.weight",
-        "a non-empty array of scaled weights W > 0, strictly increasing, or { from, to, count, spacing }",
-    ),
-    (
-        "phase.torque",
-        "a non-empty array of scaled torques G >= 0, strictly increasing, or { from, to, count, spacing }",
-    ),
-];
-
 /// The key of a dotted name.
 pub fn find(key: &str) -> Option<&'static Key> {
     KEYS.iter().find(|k| k.key == key)
-}
-
-/// The problem-file key reference as Markdown: one table per TOML table, every key with its
-/// unit, default, allowed values and meaning (what `slither keys --markdown` prints and the
-/// guide's `keys.md` holds).
-pub fn markdown() -> String {
-    let mut out = String::from(
-        "# Problem-file keys\n\n\
-         <!-- Generated by `slither keys --markdown` from src/problem/keys.rs; do not edit by hand. -->\n\n\
-         Every key of a problem file, with its unit, default and allowed values. A file lists only\n\
-         what it changes; unknown keys are rejected. A value outside its range stops `slither run`\n\
-         with exit code 2 and one message naming the file, line, key and the allowed values below.\n\
-         Tables `[rod]` and `[time]` are required; without `[ground]` there is no ground, and\n\
-         without `[accuracy]` the file runs as written.\n",
-    );
-    let mut table = "";
-    for k in KEYS {
-        let (t, name) = k.key.split_once('.').expect("dotted key");
-        if t != table {
-            table = t;
-            out.push_str(&format!(
-                "\n## `[{t}]`\n\n| key | unit | default | allowed | meaning |\n|---|---|---|---|---|\n"
-            ));
-        }
-        let cell = |s: &str| s.replace('|', "\\|");
-        out.push_str(&format!(
-            "| `{name}` | {} | {} | {} | {} |\n",
-            cell(k.unit),
-            cell(&k.default_text()),
-            cell(&k.allowed()),
-            cell(k.meaning),
-        ));
-    }
-    out
 }
 
 #[cfg(test)]

@@ -11,9 +11,11 @@ mod initial;
 pub mod keys;
 pub mod limits;
 pub mod ranges;
+pub mod reference;
 mod self_contact;
 pub mod set;
 mod solver;
+pub mod study_keys;
 pub mod time;
 mod validate;
 

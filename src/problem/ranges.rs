@@ -11,15 +11,12 @@ use super::{key_line, keys, ProblemError};
 use std::path::Path;
 
 /// The allowed values of a dotted key, if it is one of the documented keys: a problem-file
-/// key's [`keys::Key::allowed`], or a study or phase key's text from [`keys::STUDY_KEYS`].
+/// key's or a study or phase key's ([`super::study_keys`]) [`keys::Key::allowed`].
 /// (Enumerations whose message serde already lists get toml's message alone when not listed.)
 pub fn allowed(key: &str) -> Option<String> {
-    keys::find(key).map(|k| k.allowed()).or_else(|| {
-        keys::STUDY_KEYS
-            .iter()
-            .find(|(k, _)| *k == key)
-            .map(|(_, a)| a.to_string())
-    })
+    keys::find(key)
+        .or_else(|| super::study_keys::find(key))
+        .map(|k| k.allowed())
 }
 
 /// `(table, key, length)` of every fixed-length array in problem and study files.

@@ -110,7 +110,7 @@ use study_validate::{
 };
 
 use crate::model::Model;
-use crate::problem::{self, key_line, Problem, ProblemError};
+use crate::problem::{self, key_line, study_keys, Problem, ProblemError};
 use crate::studies::{accuracy, fnv1a, problem_hash};
 use crate::{gait, observe, plot};
 use argmin::core::observers::{Observe, ObserverMode};

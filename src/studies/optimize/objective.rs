@@ -16,7 +16,7 @@ use super::*;
 
 /// Default `turn_penalty` (m/s per degree per cycle): a turn of 5 degrees per cycle costs
 /// 0.01 m/s, about a sixth of the bundled sidewinding's lateral speed.
-pub const DEFAULT_TURN_PENALTY: f64 = 0.002;
+pub const DEFAULT_TURN_PENALTY: f64 = study_keys::STUDY_TURN_PENALTY.real();
 
 /// What a study maximises (`[study] objective`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]

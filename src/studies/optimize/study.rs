@@ -64,17 +64,18 @@ pub struct StudyTable {
     pub stationary_penalty: Option<f64>,
 }
 
+// The serde defaults of `[study]`: the key table's (`crate::problem::study_keys`).
 pub(super) fn d_max_evaluations() -> usize {
-    30
+    study_keys::STUDY_MAX_EVALUATIONS.int() as usize
 }
 pub(super) fn d_initial_step() -> f64 {
-    0.25
+    study_keys::STUDY_INITIAL_STEP.real()
 }
 pub(super) fn d_tolerance() -> f64 {
-    1e-5
+    study_keys::STUDY_TOLERANCE.real()
 }
 pub(super) fn d_penalty() -> f64 {
-    1.0
+    study_keys::STUDY_PENALTY.real()
 }
 
 /// `[optimize]`: `[lo, hi]` bounds of each optimised parameter; a parameter without bounds
@@ -141,7 +142,7 @@ impl SearchMethod {
 /// Particles per generation of the particle swarm when `[optimize] particles` is not given:
 /// four simulations per core of a 2-core machine, and five generations in the default budget
 /// of 40 evaluations of the bundled study.
-pub const DEFAULT_PARTICLES: usize = 8;
+pub const DEFAULT_PARTICLES: usize = study_keys::OPTIMIZE_PARTICLES.int() as usize;
 
 /// An optimum closer to a bound than this fraction of the bound's width (in normalised
 /// coordinates `u <= 0.01` or `u >= 0.99`) is reported as on that bound (`on_bound` in
@@ -335,13 +336,16 @@ pub fn parse_study_with(
     };
     let dims = dims(&at, opt, &base, &fixed)?;
     let n = dims.len();
-    if !(n + 1..=100_000).contains(&s.max_evaluations) {
+    let (_, most) = study_keys::STUDY_MAX_EVALUATIONS.int_range();
+    if s.max_evaluations < n + 1
+        || !study_keys::STUDY_MAX_EVALUATIONS.check_int(s.max_evaluations as u64)
+    {
         return Err(at.fail(
             "study",
             "max_evaluations",
             format!("{}", s.max_evaluations),
             format!(
-                "an integer in [{}, 100000] (the initial simplex of {n} optimised parameters needs {} evaluations)",
+                "an integer in [{}, {most}] (the initial simplex of {n} optimised parameters needs {} evaluations)",
                 n + 1,
                 n + 1
             ),
@@ -371,7 +375,7 @@ pub fn parse_study_with(
         method: opt.method,
         starts,
         particles,
-        seed: opt.seed.unwrap_or(1),
+        seed: opt.seed.unwrap_or(study_keys::OPTIMIZE_SEED.int()),
         accuracy: spec.accuracy.clone(),
         chosen: None,
         ensemble: None,

@@ -4,6 +4,7 @@
 //! Each error names the key, its line and what is allowed.
 
 use super::*;
+use crate::problem::keys::Key;
 
 /// Where a study file's errors point: its text (for line numbers) and path.
 pub(super) struct At<'a> {
@@ -28,6 +29,16 @@ impl At<'_> {
             value,
             allowed,
         })
+    }
+
+    /// A number outside its key's range ([`study_keys`]): the message states the key's
+    /// allowed values.
+    pub(super) fn real(&self, key: &Key, v: f64) -> Result<f64, StudyError> {
+        if key.check_real(v) {
+            return Ok(v);
+        }
+        let (table, name) = key.key.split_once('.').expect("dotted key");
+        Err(self.fail(table, name, format!("{v}"), key.allowed()))
     }
 
     /// The `[optimize]` table is missing or gives no bounds (`value` says which).
@@ -154,17 +165,7 @@ pub(super) fn durations(
 ) -> Result<(f64, Option<f64>), StudyError> {
     let base_duration = base.time.duration.unwrap_or(0.0);
     let duration_pulses = match s.duration_pulses {
-        Some(v) => {
-            if !(v.is_finite() && v > 0.0 && v <= 1000.0) {
-                return Err(at.fail(
-                    "study",
-                    "duration_pulses",
-                    format!("{v}"),
-                    "in (0, 1000] (pulse times L / v_m)".into(),
-                ));
-            }
-            v
-        }
+        Some(v) => at.real(&study_keys::STUDY_DURATION_PULSES, v)?,
         None => base_duration * base.gait.speed / base.rod.length,
     };
     let duration_periods = match s.duration_periods {
@@ -187,15 +188,7 @@ pub(super) fn durations(
                     "absent unless the base's gait is \"sidewinding\" (the only gait with a launch period)".into(),
                 ));
             }
-            if !(v.is_finite() && v > 0.0 && v <= 1000.0) {
-                return Err(at.fail(
-                    "study",
-                    "duration_periods",
-                    format!("{v}"),
-                    "in (0, 1000] (launch periods gait.period)".into(),
-                ));
-            }
-            Some(v)
+            Some(at.real(&study_keys::STUDY_DURATION_PERIODS, v)?)
         }
     };
     Ok((duration_pulses, duration_periods))
@@ -203,39 +196,11 @@ pub(super) fn durations(
 
 /// The simplex's settings (`initial_step`, `tolerance`, `penalty`) and the heading limit.
 pub(super) fn check_search_settings(at: &At, s: &StudyTable) -> Result<(), StudyError> {
-    if !(s.initial_step.is_finite() && s.initial_step > 0.0 && s.initial_step <= 1.0) {
-        return Err(at.fail(
-            "study",
-            "initial_step",
-            format!("{}", s.initial_step),
-            "in (0, 1] (fraction of each bound's width)".into(),
-        ));
-    }
-    if !(s.tolerance.is_finite() && s.tolerance >= 0.0) {
-        return Err(at.fail(
-            "study",
-            "tolerance",
-            format!("{}", s.tolerance),
-            "a finite number >= 0 (m/s)".into(),
-        ));
-    }
-    if !(s.penalty.is_finite() && s.penalty >= 0.0) {
-        return Err(at.fail(
-            "study",
-            "penalty",
-            format!("{}", s.penalty),
-            "a finite number >= 0 (m/s per unit normalised distance)".into(),
-        ));
-    }
+    at.real(&study_keys::STUDY_INITIAL_STEP, s.initial_step)?;
+    at.real(&study_keys::STUDY_TOLERANCE, s.tolerance)?;
+    at.real(&study_keys::STUDY_PENALTY, s.penalty)?;
     if let Some(h) = s.max_heading_deg {
-        if !(h.is_finite() && h > 0.0 && h <= 180.0) {
-            return Err(at.fail(
-                "study",
-                "max_heading_deg",
-                format!("{h}"),
-                "a number in (0, 180] (degrees)".into(),
-            ));
-        }
+        at.real(&study_keys::STUDY_MAX_HEADING_DEG, h)?;
     }
     Ok(())
 }
@@ -255,7 +220,7 @@ pub(super) fn objective(
                 "study",
                 "objective",
                 format!("{other:?}"),
-                "\"v_s\" (default), \"broadside\" or \"sidewinding\"".into(),
+                study_keys::STUDY_OBJECTIVE.allowed(),
             ))
         }
     };
@@ -268,28 +233,17 @@ pub(super) fn objective(
             format!("\"v_s\" for a base whose gait is not \"sidewinding\" (the {name} objective is measured per launch period)"),
         ));
     }
-    let turn_penalty = s.turn_penalty.unwrap_or(DEFAULT_TURN_PENALTY);
-    if let Some(t) = s.turn_penalty {
-        if objective != Objective::Broadside || !(t.is_finite() && t >= 0.0) {
-            return Err(at.fail(
-                "study",
-                "turn_penalty",
-                format!("{t}"),
-                "a finite number >= 0 (m/s per degree per cycle), only with objective = \"broadside\"".into(),
-            ));
+    // Both penalties: in range, and only with the broadside objective.
+    let penalty = |key: &Key, v: Option<f64>| match v {
+        None => Ok(key.real()),
+        Some(t) if objective != Objective::Broadside => {
+            let (table, name) = key.key.split_once('.').expect("dotted key");
+            Err(at.fail(table, name, format!("{t}"), key.allowed()))
         }
-    }
-    let stationary_penalty = s.stationary_penalty.unwrap_or(0.0);
-    if let Some(t) = s.stationary_penalty {
-        if objective != Objective::Broadside || !(t.is_finite() && t >= 0.0) {
-            return Err(at.fail(
-                "study",
-                "stationary_penalty",
-                format!("{t}"),
-                "a finite number >= 0 (m/s per unit of stationary share short of 0.8), only with objective = \"broadside\"".into(),
-            ));
-        }
-    }
+        Some(t) => at.real(key, t),
+    };
+    let turn_penalty = penalty(&study_keys::STUDY_TURN_PENALTY, s.turn_penalty)?;
+    let stationary_penalty = penalty(&study_keys::STUDY_STATIONARY_PENALTY, s.stationary_penalty)?;
     Ok((objective, turn_penalty, stationary_penalty))
 }
 
@@ -302,7 +256,9 @@ pub(super) fn method_sizes(
     n: usize,
 ) -> Result<(usize, usize), StudyError> {
     let method = opt.method;
-    let starts = opt.starts.unwrap_or(1);
+    let starts = opt
+        .starts
+        .unwrap_or(study_keys::OPTIMIZE_STARTS.int() as usize);
     if let Some(k) = opt.starts {
         if method != SearchMethod::NelderMead {
             return Err(at.fail(
@@ -312,13 +268,15 @@ pub(super) fn method_sizes(
                 "absent with method = \"particle-swarm\" (multi-start is for Nelder-Mead; the swarm sets its size with optimize.particles)".into(),
             ));
         }
-        if !(1..=1000).contains(&k) || s.max_evaluations < k * (n + 1) {
+        let key = study_keys::OPTIMIZE_STARTS;
+        if !key.check_int(k as u64) || s.max_evaluations < k * (n + 1) {
+            let (lo, hi) = key.int_range();
             return Err(at.fail(
                 "optimize",
                 "starts",
                 format!("{k}"),
                 format!(
-                    "an integer in [1, 1000] with study.max_evaluations = {} >= starts * {} (each start's simplex needs n + 1 = {} evaluations)",
+                    "an integer in [{lo}, {hi}] with study.max_evaluations = {} >= starts * {} (each start's simplex needs n + 1 = {} evaluations)",
                     s.max_evaluations,
                     n + 1,
                     n + 1
@@ -338,13 +296,15 @@ pub(super) fn method_sizes(
         (SearchMethod::NelderMead, None) => 0,
         (SearchMethod::ParticleSwarm, p) => {
             let p = p.unwrap_or(DEFAULT_PARTICLES);
-            if !(2..=1000).contains(&p) || p > s.max_evaluations {
+            let key = study_keys::OPTIMIZE_PARTICLES;
+            if !key.check_int(p as u64) || p > s.max_evaluations {
+                let (lo, hi) = key.int_range();
                 return Err(at.fail(
                     "optimize",
                     "particles",
                     format!("{p}"),
                     format!(
-                        "an integer in [2, 1000], at most study.max_evaluations = {} (one generation)",
+                        "an integer in [{lo}, {hi}], at most study.max_evaluations = {} (one generation)",
                         s.max_evaluations
                     ),
                 ));

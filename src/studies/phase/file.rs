@@ -1,5 +1,8 @@
 //! The phase file: its `[phase]` table (base problem, grids, refinement) and `[accuracy]`,
 //! and the problem of one cell.
+use crate::problem::study_keys::{
+    PHASE_REFINE_STEPS, PHASE_VERIFY_PERTURBATIONS, PHASE_VERIFY_SEED, PHASE_VERIFY_STEP,
+};
 use crate::problem::{self, key_line, Problem, ProblemError};
 use crate::studies::accuracy::{self, StudyAccuracy};
 use serde::Deserialize;
@@ -7,12 +10,12 @@ use std::path::{Path, PathBuf};
 
 /// Bisection steps per neighbour pair ([`super::refine`]) when `refine = true` and
 /// `refine_steps` is not given.
-pub const DEFAULT_STEPS: usize = 3;
+pub const DEFAULT_STEPS: usize = PHASE_REFINE_STEPS.int() as usize;
 
 /// Largest `refine_steps`: 8 steps narrow a pair to 1/256 of its grid spacing (0.001 decades
 /// on a 20-point-per-3-decades grid), finer than the regime test's own sensitivity, and each
 /// step is one more simulation per pair.
-pub const MAX_STEPS: usize = 8;
+pub const MAX_STEPS: usize = PHASE_REFINE_STEPS.int_range().1 as usize;
 
 /// A parsed and validated phase file.
 #[derive(Clone, Debug)]
@@ -120,7 +123,7 @@ impl Protocol {
 }
 
 /// Most perturbed runs per cell (`verify.perturbations`).
-pub const MAX_PERTURBATIONS: usize = 64;
+pub const MAX_PERTURBATIONS: usize = PHASE_VERIFY_PERTURBATIONS.int_range().1 as usize;
 
 /// `[phase] verify = { finer = true, perturbations = K }`: how each cell is checked
 /// ([`super::cell::simulate_verified`]).
@@ -132,10 +135,10 @@ pub struct Verify {
     /// `perturbations` (default 0, at most [`MAX_PERTURBATIONS`]): also run the cell `K`
     /// times perturbed as an ensemble ([`crate::studies::ensemble`]) at the study's resolution.
     pub perturbations: usize,
-    /// `seed` (default [`crate::studies::ensemble::SEED`]): the cells' seeds derive from it
+    /// `seed` (default `phase.verify.seed` of the key table, [`crate::studies::ensemble::SEED`]): the cells' seeds derive from it
     /// and the cell's `(W, G)`, so a cell's runs do not depend on the shard it is in.
     pub seed: u64,
-    /// `step` (default [`crate::studies::ensemble::STEP`], at least 1): the perturbed runs' step
+    /// `step` (default `phase.verify.step` of the key table, [`crate::studies::ensemble::STEP`], in [1, 10]): the perturbed runs' step
     /// ladder, from `dt / step` to `dt * step`.
     pub step: f64,
 }
@@ -388,7 +391,7 @@ fn refine_steps(at: &At, t: &PhaseTable) -> Result<usize, ProblemError> {
         None => DEFAULT_STEPS,
         Some(v) => v
             .as_integer()
-            .filter(|k| (1..=MAX_STEPS as i64).contains(k))
+            .filter(|&k| k >= 0 && PHASE_REFINE_STEPS.check_int(k as u64))
             .map(|k| k as usize)
             .ok_or_else(|| {
                 at.invalid(
@@ -408,7 +411,9 @@ fn verify(at: &At, t: &PhaseTable) -> Result<Option<Verify>, ProblemError> {
     Ok(match &t.verify {
         None => None,
         Some(v) => {
-            if !(0..=MAX_PERTURBATIONS as i64).contains(&v.perturbations) {
+            let perturbations_ok = v.perturbations >= 0
+                && PHASE_VERIFY_PERTURBATIONS.check_int(v.perturbations as u64);
+            if !perturbations_ok {
                 return Err(at.invalid(
                     "verify",
                     format!("{{ perturbations = {} }}", v.perturbations),
@@ -422,8 +427,8 @@ fn verify(at: &At, t: &PhaseTable) -> Result<Option<Verify>, ProblemError> {
                     "seed an integer >= 0",
                 ));
             }
-            let step = v.step.unwrap_or(crate::studies::ensemble::STEP);
-            if !(step.is_finite() && (1.0..=10.0).contains(&step)) {
+            let step = v.step.unwrap_or(PHASE_VERIFY_STEP.real());
+            if !PHASE_VERIFY_STEP.check_real(step) {
                 return Err(at.invalid(
                     "verify",
                     format!("{{ step = {step} }}"),
@@ -433,7 +438,7 @@ fn verify(at: &At, t: &PhaseTable) -> Result<Option<Verify>, ProblemError> {
             let verify = Verify {
                 finer: v.finer,
                 perturbations: v.perturbations as usize,
-                seed: v.seed.map_or(crate::studies::ensemble::SEED, |s| s as u64),
+                seed: v.seed.map_or(PHASE_VERIFY_SEED.int(), |s| s as u64),
                 step,
             };
             (verify.runs() > 1).then_some(verify)
