@@ -555,7 +555,7 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
         .runs
         .iter()
         .chain(&r.scatter_runs)
-        .all(|x| x.method == "implicit" && x.tolerance.is_none()));
+        .all(|x| x.method.name() == "implicit" && x.tolerance.is_none()));
     assert!(r.v_ratio.is_finite() && r.v_ratio > 0.0);
     assert!(r.scatter.is_finite());
     for pt in &g.points {
@@ -576,7 +576,7 @@ fn gait_chart_measures_errors_and_caches_its_reference() {
     let errors = |method: &str| -> Vec<f64> {
         g.points
             .iter()
-            .filter(|pt| pt.run.method == method)
+            .filter(|pt| pt.run.method.name() == method)
             .map(|pt| pt.x_error)
             .collect()
     };

@@ -5,8 +5,8 @@
 //! scaled to the scene's duration.
 
 use slither::charts::{
-    external::parse_external, read_external, write_gait_precision, GaitPoint, GaitPrecision,
-    GaitPrecisionOptions, GaitReference, GaitRun,
+    external::parse_external, read_external, write_gait_precision, GaitMethod, GaitPoint,
+    GaitPrecision, GaitPrecisionOptions, GaitReference, GaitRun,
 };
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -170,7 +170,7 @@ fn the_command_rejects_bad_meshes_and_steps() {
 /// A run of the chart with the given values (no simulation behind it).
 fn run(method: &str, elements: usize, dt: f64, v: f64, wall_s: f64) -> GaitRun {
     GaitRun {
-        method: method.into(),
+        method: GaitMethod::from_name(method).expect("a method name"),
         elements,
         dt,
         tolerance: None,

@@ -88,8 +88,9 @@ impl Default for GaitPrecisionOptions {
 /// One run of a gait scene: the measured speed ratio, the final centreline and the cost.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct GaitRun {
-    /// "implicit", "bdf2", "bdf2-adaptive" or "accuracy".
-    pub method: String,
+    /// How the run sets its time resolution (`implicit`, `bdf2`, `bdf2-adaptive` or
+    /// `accuracy` in the files).
+    pub method: GaitMethod,
     /// Real elements.
     #[serde(default)]
     pub elements: usize,
@@ -140,9 +141,9 @@ pub fn variant(model: &Model, kind: IntegratorKind, dt: f64, tol: Option<f64>) -
 /// Run `model` (its own integrator and schedule) and measure it ([`evaluate`], the two end
 /// frames). An integrator that cannot run the scene (the explicit one has no contact) gives a
 /// run with that status and no steps.
-pub fn gait_run(model: &Model, method: &str) -> GaitRun {
+pub fn gait_run(model: &Model, method: GaitMethod) -> GaitRun {
     let mut run = GaitRun {
-        method: method.into(),
+        method,
         elements: model.elements(),
         dt: model.dt,
         tolerance: model.adaptive.map(|a| a.tolerance),
@@ -289,9 +290,10 @@ pub fn gait_reference(
         }
     }
     let kind = opts.reference_integrator;
+    // The reference's runs are labelled implicit Euler unless they are BDF2's.
     let name = match kind {
-        IntegratorKind::Bdf2 => "bdf2",
-        _ => "implicit",
+        IntegratorKind::Bdf2 => GaitMethod::Fixed(IntegratorKind::Bdf2),
+        _ => GaitMethod::Fixed(IntegratorKind::ImplicitEuler),
     };
     let mut runs: Vec<GaitRun> = Vec::new();
     let mut dt = opts.reference_dt;
@@ -428,16 +430,19 @@ pub fn gait_precision(
         let mut runs = Vec::new();
         for &dt in &opts.euler_dt {
             runs.push((
-                "implicit",
+                GaitMethod::Fixed(IntegratorKind::ImplicitEuler),
                 variant(&m, IntegratorKind::ImplicitEuler, dt, None),
             ));
         }
         for &dt in &opts.bdf2_dt {
-            runs.push(("bdf2", variant(&m, IntegratorKind::Bdf2, dt, None)));
+            runs.push((
+                GaitMethod::Fixed(IntegratorKind::Bdf2),
+                variant(&m, IntegratorKind::Bdf2, dt, None),
+            ));
         }
         for &tol in &opts.tolerances {
             runs.push((
-                "bdf2-adaptive",
+                GaitMethod::Adaptive(IntegratorKind::Bdf2),
                 variant(&m, IntegratorKind::Bdf2, opts.adaptive_first_dt, Some(tol)),
             ));
         }
@@ -455,7 +460,7 @@ pub fn gait_precision(
         let r = &sel.report;
         let o = &sel.outcome;
         let run = GaitRun {
-            method: "accuracy".into(),
+            method: GaitMethod::Accuracy,
             elements: r.elements,
             dt: r.dt.unwrap_or(f64::NAN),
             tolerance: r.error_tolerance,
@@ -523,7 +528,7 @@ impl GaitPrecision {
             self.scene,
             self.elements,
             self.duration,
-            r.runs.last().map_or("?", |x| x.method.as_str()),
+            r.runs.last().map_or("?", |x| x.method.name()),
             r.runs.last().map_or(f64::NAN, |x| x.dt),
             r.v_ratio,
             r.change,
@@ -623,7 +628,7 @@ impl GaitPrecision {
         let mut keys: Vec<(&str, usize)> = self
             .points
             .iter()
-            .map(|p| (p.run.method.as_str(), p.run.elements))
+            .map(|p| (p.run.method.name(), p.run.elements))
             .collect();
         keys.sort_unstable();
         keys.dedup();
@@ -633,7 +638,7 @@ impl GaitPrecision {
                 let best = self
                     .points
                     .iter()
-                    .filter(|p| p.run.method == method && p.run.elements == n)
+                    .filter(|p| p.run.method.name() == method && p.run.elements == n)
                     .filter(|p| p.v_error <= error)
                     .min_by(|a, b| a.run.wall_s.total_cmp(&b.run.wall_s));
                 match best {

@@ -43,7 +43,7 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
     let json = serde_json::to_string_pretty(g).expect("serialisable");
     write(&dir.join("gait_precision.json"), &json)?;
     // One line per method and mesh, its points in order of cost (wall time).
-    let series = |method: &str, n: usize, y: &dyn Fn(&GaitPoint) -> f64| -> Vec<(f64, f64)> {
+    let series = |method: GaitMethod, n: usize, y: &dyn Fn(&GaitPoint) -> f64| -> Vec<(f64, f64)> {
         let mut v: Vec<(f64, f64)> = g
             .points
             .iter()
@@ -65,9 +65,12 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
     let wmin = walls.iter().copied().fold(f64::INFINITY, f64::min);
     let wmax = walls.iter().copied().fold(0.0, f64::max);
     let names = [
-        ("implicit", "implicit Euler"),
-        ("bdf2", "BDF2"),
-        ("bdf2-adaptive", "adaptive BDF2"),
+        (
+            GaitMethod::Fixed(IntegratorKind::ImplicitEuler),
+            "implicit Euler",
+        ),
+        (GaitMethod::Fixed(IntegratorKind::Bdf2), "BDF2"),
+        (GaitMethod::Adaptive(IntegratorKind::Bdf2), "adaptive BDF2"),
     ];
     for (file, label, y) in [
         (
@@ -93,10 +96,14 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
         let acc: Vec<(f64, f64)> = g
             .points
             .iter()
-            .filter(|p| p.run.method == "accuracy")
+            .filter(|p| p.run.method == GaitMethod::Accuracy)
             .map(|p| (p.run.wall_s, y(p)))
             .collect();
-        if let Some(a) = g.points.iter().find(|p| p.run.method == "accuracy") {
+        if let Some(a) = g
+            .points
+            .iter()
+            .find(|p| p.run.method == GaitMethod::Accuracy)
+        {
             lines.push((
                 format!(
                     "--accuracy {} (chose {} el., all probes)",

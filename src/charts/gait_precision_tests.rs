@@ -8,7 +8,7 @@ fn a_fixed_step_run_prints_its_step_not_a_nan_tolerance() {
     assert_eq!(step_text("2.0e-3", Some(1e-4)), "dt 2.0e-3 s, tol 1e-4");
     let mut lines = Vec::new();
     let run = GaitRun {
-        method: "implicit".into(),
+        method: GaitMethod::Fixed(IntegratorKind::ImplicitEuler),
         elements: 50,
         dt: 2e-3,
         tolerance: None,

@@ -39,11 +39,13 @@ use crate::sim::{drive, Schedule};
 use crate::state::State;
 
 pub mod external;
+mod gait_method;
 mod gait_precision;
 mod stability;
 mod work_precision;
 
 pub use external::{read_external, ExternalError, ExternalPoint, ExternalRun};
+pub use gait_method::GaitMethod;
 pub use gait_precision::{
     gait_precision, gait_reference, gait_run, speed_ratio, variant, write_gait_precision,
     GaitPoint, GaitPrecision, GaitPrecisionOptions, GaitReference, GaitRun,
