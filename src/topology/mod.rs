@@ -83,7 +83,8 @@
 //! `mod.rs` the types and [`topology`]; `twist.rs` tangents, transport and [`twist`];
 //! `writhe.rs` the segment-pair solid angle, [`writhe`] and [`gauss_link`]; `densities.rs`
 //! the sliding-window local densities; `csv.rs` the CSV reader; `vec.rs` vector helpers;
-//! `tests.rs` the tests.
+//! `tests.rs` the tests of the identities and invariances, `density_tests.rs` those of the
+//! densities and the CSV reader.
 
 mod csv;
 mod densities;
@@ -91,6 +92,8 @@ mod twist;
 mod vec;
 mod writhe;
 
+#[cfg(test)]
+mod density_tests;
 #[cfg(test)]
 mod tests;
 
