@@ -11,19 +11,16 @@
 # s-start-reference); BDF2 at fixed steps of 2.1e-3 s and below, 0.31727 to 0.32134 (record
 # converged-s-start, whose runs at small steps pool to 0.31892). The actual error is reported
 # against each of these. SLITHER names a built binary to use instead of building one
-# (`cargo build --release`).
+# (tools/build.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh accuracy-s-start "$0" "$@"
 fi
 target="${1:-0.01}"
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 out="out/accuracy_s_start"
 t0="$(date +%s.%N)"
 "$slither" run problems/s_start.toml --accuracy "$target" --no-plots --quiet --out "$out"

@@ -7,7 +7,7 @@
 # falls back to the conic program, which costs as much as hundreds of active-set iterations at
 # 400 elements. Runs the whole S-start with implicit Euler at dt 5e-4 on 400 elements for each
 # cap and two trajectories (the file, and mu_forward + 1e-8: the statistics depend on the
-# trajectory, which round-off changes), with examples/contact_scaling.rs, and keeps the output
+# trajectory, which round-off changes), with lab/programs/contact_scaling.rs, and keeps the output
 # as a dated record docs/results/active-set-cap/<date>.md.
 #
 #   lab/active_set_cap/active_set_cap.sh [CAPS] [ELEMENTS]   # default 40,60,80,100,150 and 400; ~7 min
@@ -21,9 +21,8 @@ fi
 caps="$2"
 elements="$3"
 case "$caps$elements" in *[!0-9,]*) echo "active_set_cap.sh: CAPS and ELEMENTS are comma-separated whole numbers" >&2; exit 2 ;; esac
-cargo build --release --quiet --example contact_scaling
-bin=target/release/examples/contact_scaling
-[ -n "${CARGO_TARGET_DIR:-}" ] && bin="$CARGO_TARGET_DIR/release/examples/contact_scaling"
+. tools/build.sh
+bin="$(lab_program contact_scaling)"
 for perturb in 0 1e-8; do
     for cap in ${caps//,/ }; do
         "$bin" --elements "$elements" --duration full --cap "$cap" --perturb "$perturb"

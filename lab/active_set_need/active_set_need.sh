@@ -19,9 +19,9 @@ cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ "${1:-}" != "--inner" ]; then
     exec tools/record.sh active-set-need "$0" --inner
 fi
-cargo build --release --quiet
-bin=target/release/slither
-[ -n "${CARGO_TARGET_DIR:-}" ] && bin="$CARGO_TARGET_DIR/release/slither"
+. tools/build.sh
+use_slither
+bin="$SLITHER"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 scenes="s_start s_start_heavy sidewinding serpenoid slide incline"

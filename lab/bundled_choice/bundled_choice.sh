@@ -9,18 +9,15 @@
 #
 #   lab/bundled_choice/bundled_choice.sh         # 16 runs, about 20 s
 #
-# SLITHER names a built binary to use instead of building one (`cargo build --release`).
+# SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh bundled-choice "$0" "$@"
 fi
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 grep -q '^integrator = "bdf2"' problems/s_start.toml || { echo "problems/s_start.toml is not BDF2" >&2; exit 1; }

@@ -9,7 +9,7 @@
 #
 #   lab/bundled_cost/bundled_cost.sh [K]       # K repeats (default 7); about 3 s per repeat
 #
-# SLITHER names a built binary to use instead of building one (`cargo build --release`).
+# SLITHER names a built binary to use instead of building one (tools/build.sh).
 # SLITHER_OLD names an older build: it runs problems/s_start_coarse.toml too, in the same
 # rounds (the file is byte for byte the bundled S-start of builds before the move to 100
 # elements), and the ratio against it is printed as well.
@@ -20,12 +20,9 @@ if [ -z "${SLITHER_RECORDING:-}" ]; then
 fi
 k="${1:-7}"
 case "$k" in '' | *[!0-9]*) echo "bundled_cost.sh: K must be a whole number, got '$k'" >&2; exit 2 ;; esac
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 runs=("$slither problems/s_start.toml s_start" "$slither problems/s_start_coarse.toml s_start_coarse")

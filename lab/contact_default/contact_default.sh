@@ -4,7 +4,7 @@
 # docs/results/active-set-need/latest.md). It stays for its records; to rerun it, check out
 # commit b95063e, the last with the active set.
 # Which contact solve should be the default: the active set and the semi-smooth Newton on the
-# scenes users run, one after the other in one window, with examples/contact_scaling.rs: the
+# scenes users run, one after the other in one window, with lab/programs/contact_scaling.rs: the
 # 50-element S-start (implicit Euler at 2e-3 s, the studies' base) and its heavy variant, the
 # bundled S-start (100 elements, BDF2 at 3.6e-3 s), the whole S-start with implicit Euler at
 # 5e-4 s on 200 and 400 elements, the first 4 s of the bundled sidewinding (100 elements,
@@ -19,8 +19,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ "${1:-}" != "--inner" ]; then
     exec tools/record.sh contact-default "$0" --inner
 fi
-cargo build --release --quiet --example contact_scaling
-bin="${CARGO_TARGET_DIR:-target}/release/examples/contact_scaling"
+. tools/build.sh
+bin="$(lab_program contact_scaling)"
 runs=(
     "--scene problems/s_start_coarse.toml --elements 50 --dt 2e-3 --duration full"
     "--scene problems/s_start_heavy.toml --elements 50 --dt 2e-3 --duration full"

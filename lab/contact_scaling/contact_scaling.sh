@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The contact Newton's scaling benchmark: the bundled S-start's first 0.5 s with
 # implicit Euler at dt 5e-4 s at 50, 100, 200 and 400 elements (pass other arguments through to
-# examples/contact_scaling.rs, e.g. --elements 200,400,800 --duration 1.5, or --duration full
+# lab/programs/contact_scaling.rs, e.g. --elements 200,400,800 --duration 1.5, or --duration full
 # for the whole scene with v_s/v_m), kept as a dated record under docs/results/contact-scaling/
 # by tools/record.sh. Per element count: Newton iterations, factorisations and conic fallbacks
 # per step, step halvings, microseconds per step per element, wall seconds per simulated second
@@ -18,4 +18,6 @@ if [ "${1:-}" = "--record" ]; then
     name="${2:?--record needs a NAME}"
     shift 2
 fi
-exec tools/record.sh "$name" cargo run --release --quiet --example contact_scaling -- "$@"
+. tools/build.sh
+scaling="$(lab_program contact_scaling)"
+exec tools/record.sh "$name" "$scaling" "$@"

@@ -10,18 +10,15 @@
 #
 #   lab/converged_s_start/converged_s_start.sh        # 21 runs at 400 elements, about 7 min on 2 cores
 #
-# SLITHER names a built binary to use instead of building one (`cargo build --release`).
+# SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh converged-s-start "$0" "$@"
 fi
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 grep -q '^integrator = "bdf2"' problems/s_start.toml || { echo "problems/s_start.toml: not BDF2" >&2; exit 1; }

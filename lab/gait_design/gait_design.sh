@@ -8,18 +8,15 @@
 #
 #   lab/gait_design/gait_design.sh            # a few minutes on 2 cores
 #
-# SLITHER names a built binary to use instead of building one (`cargo build --release`).
+# SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh gait-design "$0" "$@"
 fi
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 for study in optimize_s_start optimize_s_start_pso; do

@@ -10,8 +10,9 @@ cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh ground-points-accuracy "$0" "$@"
 fi
-cargo build --release --quiet
-bin="${CARGO_TARGET_DIR:-target}/release/slither"
+. tools/build.sh
+use_slither
+bin="$SLITHER"
 for points in nodes curve; do
     echo "== ground_points = $points"
     t0=$(date +%s.%N)

@@ -7,5 +7,7 @@
 #   lab/growth/growth.sh
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+. tools/build.sh
+use_slither
 exec tools/record.sh growth bash -c \
-    'cargo run --release --quiet -- phase problems/growth.toml --out docs/growth --quiet && python3 lab/growth/growth_table.py docs/growth/growth.json'
+    '"$SLITHER" phase problems/growth.toml --out docs/growth --quiet && python3 lab/growth/growth_table.py docs/growth/growth.json'

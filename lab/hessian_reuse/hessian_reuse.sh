@@ -14,9 +14,9 @@ if [ "${1:-}" != "--inner" ]; then
 fi
 k="$2"
 case "$k" in '' | *[!0-9]*) echo "hessian_reuse.sh: K must be a whole number, got '$k'" >&2; exit 2 ;; esac
-cargo build --release --quiet
-bin=target/release/slither
-[ -n "${CARGO_TARGET_DIR:-}" ] && bin="$CARGO_TARGET_DIR/release/slither"
+. tools/build.sh
+use_slither
+bin="$SLITHER"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 

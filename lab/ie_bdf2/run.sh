@@ -6,14 +6,15 @@
 # s_start.toml and serpenoid.toml are copies of the bundled problems/ files.
 # Runs in WORK (default out/ie_bdf2 in the repository), with the bundled S-start and serpenoid
 # and this folder's scripts and landing scenes copied there; SLITHER names the binary (default:
-# the repository's target/release/slither, built first).
+# the repository's release build, built first by tools/build.sh).
 set -u
 here="$(cd "$(dirname "$0")" && pwd)"
 repo="$(cd "$here/../.." && pwd)"
 work="${WORK:-$repo/out/ie_bdf2}"
 mkdir -p "$work/runs"
-if [ -z "${SLITHER:-}" ]; then (cd "$repo" && cargo build --release --quiet); fi
-B="${SLITHER:-$repo/target/release/slither}"
+. "$repo/tools/build.sh"
+use_slither || exit 1
+B="$SLITHER"
 cp "$repo/problems/s_start.toml" "$repo/problems/serpenoid.toml" "$here"/*.toml "$here"/*.py "$work/"
 cd "$work"
 T=runs/table.tsv

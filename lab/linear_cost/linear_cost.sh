@@ -15,9 +15,9 @@ if [ "${1:-}" != "--inner" ]; then
 fi
 k="$2"
 case "$k" in '' | *[!0-9]* | 0) echo "linear_cost.sh: K must be a positive whole number, got '$k'" >&2; exit 2 ;; esac
-cargo build --release --quiet
-bin=target/release/slither
-[ -n "${CARGO_TARGET_DIR:-}" ] && bin="$CARGO_TARGET_DIR/release/slither"
+. tools/build.sh
+use_slither
+bin="$SLITHER"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 

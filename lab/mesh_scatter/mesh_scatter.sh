@@ -15,12 +15,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh s-start-mesh-scatter "$0" "$@"
 fi
-if [ -n "${SLITHER_EXAMPLES:-}" ]; then
-    scan="$SLITHER_EXAMPLES/convergence_scan"
-else
-    cargo build --release --quiet --example convergence_scan
-    scan="${CARGO_TARGET_DIR:-target}/release/examples/convergence_scan"
-fi
+. tools/build.sh
+scan="$(lab_program convergence_scan)"
 mkdir -p out/mesh_scatter docs/images
 meshes=30,35,40,45,50,55,60,64,70,75,80,90,100,110,120,128,140,150,175,200
 reference=0.31965,0.32053

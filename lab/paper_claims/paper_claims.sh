@@ -18,9 +18,9 @@ if [ "${1:-}" != "--inner" ]; then
     exec tools/record.sh paper-claims "$0" --inner "${1:-out/paper_claims}"
 fi
 out="$2"
-cargo build --release --quiet
-bin=target/release/slither
-[ -n "${CARGO_TARGET_DIR:-}" ] && bin="$CARGO_TARGET_DIR/release/slither"
+. tools/build.sh
+use_slither
+bin="$SLITHER"
 rm -rf "$out"
 mkdir -p "$out/map" "$out/growth" docs/claims
 "$bin" run problems/s_start.toml --out "$out/s_start" --quiet

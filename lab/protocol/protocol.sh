@@ -9,9 +9,10 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 out="${1:-out/protocol}"
-cargo build --release --quiet
+. tools/build.sh
+use_slither
 for p in stiffness gravity; do
-    target/release/slither phase "docs/protocol/$p.toml" --out "$out/$p" --quiet
+    "$SLITHER" phase "docs/protocol/$p.toml" --out "$out/$p" --quiet
     mkdir -p "docs/protocol/$p"
     cp "$out/$p"/{phase.csv,phase.json,boundaries.json,phase.png} "docs/protocol/$p/"
 done

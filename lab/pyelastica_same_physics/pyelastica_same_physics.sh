@@ -92,12 +92,9 @@ EOF
 fi
 
 if [ "$stage" = slither ]; then
-    if [ -n "${SLITHER:-}" ]; then
-        slither="$SLITHER"
-    else
-        cargo build --release --quiet
-        slither="${CARGO_TARGET_DIR:-target}/release/slither"
-    fi
+    . tools/build.sh
+    use_slither
+    slither="$SLITHER"
     runs=(${SL_RUNS:-50:4e-3 50:2e-3 50:1e-3 50:5e-4 50:2.5e-4 100:4e-3 100:2e-3 100:1e-3 100:5e-4 100:2.5e-4 200:4e-3 200:2e-3 200:1e-3 200:5e-4 200:2.5e-4 400:2e-3 400:1e-3 400:5e-4 800:1e-3 800:5e-4})
     for r in "${runs[@]}"; do
         IFS=: read -r n dt <<< "$r"

@@ -11,7 +11,7 @@
 #   lab/s_start_reference/s_start_reference.sh --heavy 50:5e-4 100:5e-4
 #   lab/s_start_reference/s_start_reference.sh --ensemble 8 50:5e-4 100:5e-4
 #
-# SLITHER names a built binary to use instead of building one (`cargo build --release`).
+# SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 scene=s_start
@@ -38,12 +38,9 @@ if [ $# -lt 1 ]; then
     echo "usage: lab/s_start_reference/s_start_reference.sh [--heavy] [--ensemble K] ELEMENTS:DT [ELEMENTS:DT ...]" >&2
     exit 2
 fi
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 dir="out/${scene}_reference"
 mkdir -p "$dir"
 for model in "$@"; do

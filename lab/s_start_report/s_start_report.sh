@@ -5,19 +5,16 @@
 #
 #   lab/s_start_report/s_start_report.sh [PROBLEM.toml]     # default problems/s_start.toml
 #
-# SLITHER names a built binary to use instead of building one (`cargo build --release`).
+# SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh s-start "$0" "$@"
 fi
 problem="${1:-problems/s_start.toml}"
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 "$slither" run "$problem" --out "$out" --quiet --no-plots

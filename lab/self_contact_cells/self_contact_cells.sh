@@ -15,9 +15,9 @@ cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ "${1:-}" != "--inner" ]; then
     exec tools/record.sh self-contact-cells "$0" --inner
 fi
-cargo build --release --quiet
-bin=target/release/slither
-[ -n "${CARGO_TARGET_DIR:-}" ] && bin="$CARGO_TARGET_DIR/release/slither"
+. tools/build.sh
+use_slither
+bin="$SLITHER"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 python3 -c "import numpy" 2>/dev/null || { echo "self_contact_cells.sh: needs python3 with numpy" >&2; exit 2; }

@@ -24,9 +24,9 @@ old="$2"
 k="$3"
 [ -x "$old" ] || { echo "self_contact_cost.sh: $old is not an executable" >&2; exit 2; }
 case "$k" in '' | *[!0-9]* | 0) echo "self_contact_cost.sh: K must be a positive whole number, got '$k'" >&2; exit 2 ;; esac
-cargo build --release --quiet
-new=target/release/slither
-[ -n "${CARGO_TARGET_DIR:-}" ] && new="$CARGO_TARGET_DIR/release/slither"
+. tools/build.sh
+use_slither
+new="$SLITHER"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 

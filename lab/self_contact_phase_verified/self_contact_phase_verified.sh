@@ -16,9 +16,9 @@ if [ "${1:-}" != "--inner" ]; then
     exec tools/record.sh self-contact-phase-verified "$0" --inner "${1:-out/phase_fine_verified}"
 fi
 out="$2"
-cargo build --release --quiet
-bin=target/release/slither
-[ -n "${CARGO_TARGET_DIR:-}" ] && bin="$CARGO_TARGET_DIR/release/slither"
+. tools/build.sh
+use_slither
+bin="$SLITHER"
 "$bin" phase problems/phase_fine.toml --out "$out" --quiet \
     --set "phase.verify={ finer = true, perturbations = 4 }"
 mkdir -p docs/phase_fine_self_contact_verified

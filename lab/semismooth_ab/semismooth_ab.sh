@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The semi-smooth Newton of this build against an older one, in one window: runs, with
-# examples/contact_scaling.rs (semi-smooth contact, the defaults of each build), the whole
+# lab/programs/contact_scaling.rs (semi-smooth contact, the defaults of each build), the whole
 # S-start with implicit Euler at 5e-4 s on 200 and 400 elements, its first 1.5 s on 800
 # elements, the heavy S-start on 200 elements, 200 elements with BDF2 at 3.6e-3 and 5e-3 s
 # and the bundled file; each configuration with the old build first, then this one. Prints,
@@ -20,8 +20,8 @@ if [ "${1:-}" != "--inner" ]; then
     case "$record" in *[!A-Za-z0-9_-]*) echo "semismooth_ab.sh: RECORD may use only letters, digits, - and _" >&2; exit 2 ;; esac
     exec tools/record.sh "$record" "$0" --inner
 fi
-cargo build --release --quiet --example contact_scaling
-new="${CARGO_TARGET_DIR:-target}/release/examples/contact_scaling"
+. tools/build.sh
+new="$(lab_program contact_scaling)"
 bins=()
 if [ -n "${CONTACT_SCALING_OLD:-}" ]; then
     bins+=("$CONTACT_SCALING_OLD")

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The semi-smooth Newton's penalty ([solver] semi_smooth_penalty, a multiple of each contact
 # node's inertia stiffness): it decides the branch each iterate takes, not the solution. Runs,
-# with examples/contact_scaling.rs and for each penalty, the bundled S-start (100 elements,
+# with lab/programs/contact_scaling.rs and for each penalty, the bundled S-start (100 elements,
 # BDF2 at 3.6e-3 s), 200 elements with BDF2 at 3.6e-3 and 5e-3 s, and the whole S-start with
 # implicit Euler at 5e-4 s on 200 and 400 elements. Keeps the output as a dated record
 # docs/results/semismooth-penalty/<date>.md.
@@ -14,9 +14,8 @@ if [ "${1:-}" != "--inner" ]; then
 fi
 penalties="$2"
 case "$penalties" in *[!0-9.,e-]*) echo "semismooth_penalty.sh: PENALTIES are comma-separated positive numbers" >&2; exit 2 ;; esac
-cargo build --release --quiet --example contact_scaling
-bin=target/release/examples/contact_scaling
-[ -n "${CARGO_TARGET_DIR:-}" ] && bin="$CARGO_TARGET_DIR/release/examples/contact_scaling"
+. tools/build.sh
+bin="$(lab_program contact_scaling)"
 for pen in ${penalties//,/ }; do
     args=(--contact semi-smooth --penalty "$pen" --duration full)
     "$bin" "${args[@]}" --elements 100 --dt 3.6e-3 --integrator bdf2

@@ -14,8 +14,9 @@ if [ -z "${SLITHER_RECORDING:-}" ] && [ -z "${SLITHER_NO_RECORD:-}" ]; then
     exec tools/record.sh sidewinding-map "$0" "$@"
 fi
 out="${1:-out/sidewinding_map}"
-slither="${SLITHER:-target/release/slither}"
-[ -n "${SLITHER:-}" ] || cargo build --release --quiet
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 mkdir -p "$out"
 # The finer copy: the same phase file over the scene at twice the elements.
 awk '/^elements = / { print "elements = " $3 * 2; next } { print }' problems/sidewinding.toml \

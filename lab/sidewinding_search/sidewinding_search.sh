@@ -7,18 +7,15 @@
 #
 #   lab/sidewinding_search/sidewinding_search.sh [RANDOM_RUNS [LOCAL_STEPS]]    # default 120 20
 #
-# SLITHER names a built binary to use instead of building one (`cargo build --release`).
+# SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh sidewinding-search "$0" "$@"
 fi
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 mkdir -p docs/results/sidewinding
 day="$(date -u +%Y-%m-%d)"
 for mode in random local; do

@@ -11,7 +11,7 @@
 # MESHES and BDF2_DT override the meshes (default 50,100,200) and the fixed BDF2 steps
 # (default 3.6e-3), comma-separated.
 #
-# SLITHER names a built binary to use instead of building one (`cargo build --release`). The
+# SLITHER names a built binary to use instead of building one (tools/build.sh). The
 # reference is cached in out/work_precision/<scene>/reference.json (delete it to recompute).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -19,12 +19,9 @@ if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh work-precision "$0" "$@"
 fi
 problem="${1:-problems/s_start.toml}"
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 scene="$(basename "$problem" .toml)"
 out="out/work_precision/$scene"
 mkdir -p "$out" docs/images

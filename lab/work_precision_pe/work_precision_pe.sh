@@ -28,7 +28,7 @@
 #    times T.
 #
 # PyElastica comes from compare/.venv (created by compare/run.sh, or here the same way).
-# SLITHER names a built binary to use instead of building one (`cargo build --release`). The
+# SLITHER names a built binary to use instead of building one (tools/build.sh). The
 # machine's load is in each record; wall times on a shared machine are indicative.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
@@ -125,12 +125,9 @@ fi
 
 # Stage 2: the chart.
 [ -f "$csv" ] || { echo "lab/work_precision_pe/work_precision_pe.sh: $csv is missing: run 'lab/work_precision_pe/work_precision_pe.sh runs' first" >&2; exit 2; }
-if [ -n "${SLITHER:-}" ]; then
-    slither="$SLITHER"
-else
-    cargo build --release --quiet
-    slither="${CARGO_TARGET_DIR:-target}/release/slither"
-fi
+. tools/build.sh
+use_slither
+slither="$SLITHER"
 echo "PyElastica's points ($csv):"
 cat "$csv"
 "$slither" chart work-precision problems/pyelastica_s_start.toml --out "$out/chart" --external "$csv"
