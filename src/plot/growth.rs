@@ -8,9 +8,10 @@
 //! map's ticks are the grid's own values ([`super::phase::grid_ticks`]): plotters labels a log
 //! axis only at its powers of ten.
 use super::phase::{grid_ticks, regime_color};
-use super::{PlotError, FONT, LEGEND_PX, TICK_PX};
+use super::{draw_err, PlotError, FONT, LEGEND_PX, TICK_PX};
 use crate::observe::Regime;
 use plotters::coord::combinators::BindKeyPoints;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -77,7 +78,6 @@ pub fn growth_chart(
     verdict: &str,
 ) -> Result<(), PlotError> {
     super::register_fonts()?;
-    let err = |e: &dyn std::fmt::Display| PlotError::Draw(e.to_string());
     let all = || grid.iter().chain(line);
     let wr = log_range(all().map(|m| m.weight))?;
     let gr = log_range(all().map(|m| m.torque))?;
@@ -88,10 +88,9 @@ pub fn growth_chart(
         let pad = 0.08 * (r.end - r.start).max(0.1 * r.end);
         (r.start - pad).max(0.0)..r.end + pad
     };
-    let shown = |m: &&Mark| in_speed_range(m, &rr);
     let speeds: Vec<f64> = grid
         .iter()
-        .filter(shown)
+        .filter(|m| in_speed_range(m, &rr))
         .chain(line)
         .map(|m| m.v_s_over_v_m)
         .filter(|v| v.is_finite())
@@ -101,187 +100,209 @@ pub fn growth_chart(
         .fold((0.0f64, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
     let vpad = 0.08 * (vhi - vlo).max(0.1);
     let vr = (vlo - vpad)..(vhi + vpad);
-    let tick = |v: &f64| {
-        let s = if *v >= 10.0 {
-            format!("{v:.0}")
-        } else {
-            format!("{v:.2}")
-        };
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    };
-    let cm = |a: f64| {
-        format!("{:.3}", a * 100.0)
-            .trim_end_matches('0')
-            .trim_end_matches('.')
-            .to_string()
-            + " cm"
-    };
     crate::on_backend!(path, (1500, 720), |root| {
-        root.fill(&WHITE).map_err(|e| err(&e))?;
-        let root = root.titled(verdict, (FONT, 24)).map_err(|e| err(&e))?;
+        root.fill(&WHITE).map_err(draw_err)?;
+        let root = root.titled(verdict, (FONT, 24)).map_err(draw_err)?;
         let (charts, strip) = root.split_vertically(640);
         let (left, right) = charts.split_horizontally(750);
-        // The point's style: filled in its regime's colour, hollow when not confident.
-        let style = |m: &Mark| {
-            let c = regime_color(m.regime);
-            if m.uncertain {
-                c.stroke_width(2)
-            } else {
-                c.filled()
-            }
-        };
-        // Left: the (W, G) plane, ticked at the grid's values (the line's when there is no grid).
-        let ticks = |f: fn(&Mark) -> f64| {
-            let from = if grid.is_empty() { line } else { grid };
-            grid_values(from.iter().map(f), 8)
-        };
-        let mut chart = ChartBuilder::on(&left)
-            .caption("Sizes on the regime map", (FONT, 22))
-            .margin(15)
-            .x_label_area_size(55)
-            .y_label_area_size(70)
-            .build_cartesian_2d(
-                wr.clone().log_scale().with_key_points(ticks(|m| m.weight)),
-                gr.clone().log_scale().with_key_points(ticks(|m| m.torque)),
-            )
-            .map_err(|e| err(&e))?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc("scaled weight W (log)")
-            .y_desc("scaled torque G (log)")
-            .x_label_formatter(&tick)
-            .y_label_formatter(&tick)
-            .label_style((FONT, TICK_PX))
-            .draw()
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(grid.iter().map(|m| {
-                Rectangle::new(
-                    [
-                        (m.weight / 1.04, m.torque / 1.04),
-                        (m.weight * 1.04, m.torque * 1.04),
-                    ],
-                    style(m),
-                )
-            }))
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(LineSeries::new(
-                line.iter().map(|m| (m.weight, m.torque)),
-                BLACK.stroke_width(2),
-            ))
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(
-                line.iter()
-                    .map(|m| Circle::new((m.weight, m.torque), SIZE_RADIUS, style(m))),
-            )
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(
-                line.iter()
-                    .map(|m| Circle::new((m.weight, m.torque), SIZE_RADIUS, BLACK.stroke_width(1))),
-            )
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(line.iter().map(|m| {
-                EmptyElement::at((m.weight, m.torque))
-                    + Text::new(
-                        m.diameter.map_or(String::new(), cm),
-                        LABEL_OFFSET,
-                        (FONT, LEGEND_PX),
-                    )
-            }))
-            .map_err(|e| err(&e))?;
-        // Right: speed against W/G.
-        let mut chart = ChartBuilder::on(&right)
-            .caption("Forward speed against W / G", (FONT, 22))
-            .margin(15)
-            .x_label_area_size(55)
-            .y_label_area_size(70)
-            .build_cartesian_2d(rr.clone(), vr)
-            .map_err(|e| err(&e))?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc("W / G = rho g L^2 / (Gamma a)")
-            .y_desc("v_s / v_m")
-            .x_labels(10)
-            .x_label_formatter(&tick)
-            .y_label_formatter(&|v: &f64| format!("{v:.2}"))
-            .label_style((FONT, TICK_PX))
-            .draw()
-            .map_err(|e| err(&e))?;
-        let at = |m: &Mark| (m.weight / m.torque, m.v_s_over_v_m);
-        let finite = |m: &&Mark| m.v_s_over_v_m.is_finite();
-        chart
-            .draw_series(
-                grid.iter()
-                    .filter(finite)
-                    .filter(shown)
-                    .map(|m| Circle::new(at(m), 3, style(m))),
-            )
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(LineSeries::new(
-                line.iter().filter(finite).map(at),
-                BLACK.stroke_width(2),
-            ))
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(
-                line.iter()
-                    .filter(finite)
-                    .map(|m| Circle::new(at(m), SIZE_RADIUS, style(m))),
-            )
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(
-                line.iter()
-                    .filter(finite)
-                    .map(|m| Circle::new(at(m), SIZE_RADIUS, BLACK.stroke_width(1))),
-            )
-            .map_err(|e| err(&e))?;
-        chart
-            .draw_series(line.iter().filter(finite).map(|m| {
-                EmptyElement::at(at(m))
-                    + Text::new(
-                        m.diameter.map_or(String::new(), cm),
-                        LABEL_OFFSET,
-                        (FONT, LEGEND_PX),
-                    )
-            }))
-            .map_err(|e| err(&e))?;
-        // The regimes' colours.
-        let legend: Vec<(String, RGBColor)> =
-            [Regime::S, Regime::M, Regime::F, Regime::N, Regime::U]
-                .into_iter()
-                .map(|r| (r.to_string(), regime_color(Some(r))))
-                .chain(std::iter::once(("failed".to_string(), regime_color(None))))
-                .collect();
-        for (k, (name, c)) in legend.iter().enumerate() {
-            let x = 60 + 90 * k as i32;
-            strip
-                .draw(&Circle::new((x, 25), 7, c.filled()))
-                .map_err(|e| err(&e))?;
-            strip
-                .draw(&Text::new(name.clone(), (x + 14, 16), (FONT, LEGEND_PX)))
-                .map_err(|e| err(&e))?;
-        }
-        strip
-            .draw(&Text::new(
-                "circles: the sizes, labelled with their diameter; squares and dots: the grid's cells; hollow: the runs disagree on the label",
-                (620, 16),
-                (FONT, LEGEND_PX),
-            ))
-            .map_err(|e| err(&e))?;
-        root.present().map_err(|e| err(&e))
+        draw_map(&left, grid, line, wr, gr)?;
+        draw_speeds(&right, grid, line, rr, vr)?;
+        draw_legend(&strip)?;
+        root.present().map_err(draw_err)
     })
+}
+
+/// A tick label: whole above 10, else two decimals, trailing zeros dropped.
+fn tick(v: &f64) -> String {
+    let s = if *v >= 10.0 {
+        format!("{v:.0}")
+    } else {
+        format!("{v:.2}")
+    };
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// A diameter (m) as its label in cm, trailing zeros dropped.
+fn cm(a: f64) -> String {
+    format!("{:.3}", a * 100.0)
+        .trim_end_matches('0')
+        .trim_end_matches('.')
+        .to_string()
+        + " cm"
+}
+
+/// A point's style: filled in its regime's colour, hollow when not confident.
+fn style(m: &Mark) -> ShapeStyle {
+    let c = regime_color(m.regime);
+    if m.uncertain {
+        c.stroke_width(2)
+    } else {
+        c.filled()
+    }
+}
+
+/// The left panel: the (W, G) plane, ticked at the grid's values (the line's when there is no
+/// grid); the grid's cells as squares, the line's sizes as labelled circles joined in order.
+fn draw_map<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    grid: &[Mark],
+    line: &[Mark],
+    wr: std::ops::Range<f64>,
+    gr: std::ops::Range<f64>,
+) -> Result<(), PlotError> {
+    let ticks = |f: fn(&Mark) -> f64| {
+        let from = if grid.is_empty() { line } else { grid };
+        grid_values(from.iter().map(f), 8)
+    };
+    let mut chart = ChartBuilder::on(area)
+        .caption("Sizes on the regime map", (FONT, 22))
+        .margin(15)
+        .x_label_area_size(55)
+        .y_label_area_size(70)
+        .build_cartesian_2d(
+            wr.log_scale().with_key_points(ticks(|m| m.weight)),
+            gr.log_scale().with_key_points(ticks(|m| m.torque)),
+        )
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("scaled weight W (log)")
+        .y_desc("scaled torque G (log)")
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .label_style((FONT, TICK_PX))
+        .draw()
+        .map_err(draw_err)?;
+    chart
+        .draw_series(grid.iter().map(|m| {
+            Rectangle::new(
+                [
+                    (m.weight / 1.04, m.torque / 1.04),
+                    (m.weight * 1.04, m.torque * 1.04),
+                ],
+                style(m),
+            )
+        }))
+        .map_err(draw_err)?;
+    let at = |m: &Mark| (m.weight, m.torque);
+    draw_sizes(&mut chart, line.iter(), at)
+}
+
+/// The right panel: `v_s/v_m` against `W/G` over `rr` and `vr`, the grid's cells in range as
+/// dots, the line's sizes as labelled circles joined in order.
+fn draw_speeds<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    grid: &[Mark],
+    line: &[Mark],
+    rr: std::ops::Range<f64>,
+    vr: std::ops::Range<f64>,
+) -> Result<(), PlotError> {
+    let shown = |m: &&Mark| in_speed_range(m, &rr);
+    let mut chart = ChartBuilder::on(area)
+        .caption("Forward speed against W / G", (FONT, 22))
+        .margin(15)
+        .x_label_area_size(55)
+        .y_label_area_size(70)
+        .build_cartesian_2d(rr.clone(), vr)
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("W / G = rho g L^2 / (Gamma a)")
+        .y_desc("v_s / v_m")
+        .x_labels(10)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&|v: &f64| format!("{v:.2}"))
+        .label_style((FONT, TICK_PX))
+        .draw()
+        .map_err(draw_err)?;
+    let at = |m: &Mark| (m.weight / m.torque, m.v_s_over_v_m);
+    let finite = |m: &&Mark| m.v_s_over_v_m.is_finite();
+    chart
+        .draw_series(
+            grid.iter()
+                .filter(finite)
+                .filter(shown)
+                .map(|m| Circle::new(at(m), 3, style(m))),
+        )
+        .map_err(draw_err)?;
+    draw_sizes(&mut chart, line.iter().filter(finite), at)
+}
+
+/// The line's sizes on a panel at `at(m)`: joined in order, circles in their style with a black
+/// rim, each labelled with its diameter.
+fn draw_sizes<'a, DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    sizes: impl Iterator<Item = &'a Mark> + Clone,
+    at: impl Fn(&Mark) -> (f64, f64),
+) -> Result<(), PlotError>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    chart
+        .draw_series(LineSeries::new(
+            sizes.clone().map(&at),
+            BLACK.stroke_width(2),
+        ))
+        .map_err(draw_err)?;
+    chart
+        .draw_series(
+            sizes
+                .clone()
+                .map(|m| Circle::new(at(m), SIZE_RADIUS, style(m))),
+        )
+        .map_err(draw_err)?;
+    chart
+        .draw_series(
+            sizes
+                .clone()
+                .map(|m| Circle::new(at(m), SIZE_RADIUS, BLACK.stroke_width(1))),
+        )
+        .map_err(draw_err)?;
+    chart
+        .draw_series(sizes.map(|m| {
+            EmptyElement::at(at(m))
+                + Text::new(
+                    m.diameter.map_or(String::new(), cm),
+                    LABEL_OFFSET,
+                    (FONT, LEGEND_PX),
+                )
+        }))
+        .map_err(draw_err)?;
+    Ok(())
+}
+
+/// The strip below the panels: the regimes' colours and what the marks mean.
+fn draw_legend<DB: DrawingBackend>(strip: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+    let legend: Vec<(String, RGBColor)> = [Regime::S, Regime::M, Regime::F, Regime::N, Regime::U]
+        .into_iter()
+        .map(|r| (r.to_string(), regime_color(Some(r))))
+        .chain(std::iter::once(("failed".to_string(), regime_color(None))))
+        .collect();
+    for (k, (name, c)) in legend.iter().enumerate() {
+        let x = 60 + 90 * k as i32;
+        strip
+            .draw(&Circle::new((x, 25), 7, c.filled()))
+            .map_err(draw_err)?;
+        strip
+            .draw(&Text::new(name.clone(), (x + 14, 16), (FONT, LEGEND_PX)))
+            .map_err(draw_err)?;
+    }
+    strip
+        .draw(&Text::new(
+            "circles: the sizes, labelled with their diameter; squares and dots: the grid's cells; hollow: the runs disagree on the label",
+            (620, 16),
+            (FONT, LEGEND_PX),
+        ))
+        .map_err(draw_err)?;
+    Ok(())
 }
 
 #[cfg(test)]

@@ -187,26 +187,7 @@ fn map_body<DB: DrawingBackend>(
                 )))
                 .map_err(|e| err(&e))?;
         }
-        let ok = c.ok;
-        let sidewinds = c.sidewinding == Some(true);
-        let label = match c.regime {
-            Some(r) if ok && full => format!("{r} {:.3}", c.v_s_over_v_m),
-            Some(r) if ok && sidewinds => format!("{r}*"),
-            Some(r) if ok => r.to_string(),
-            _ if full => "failed".into(),
-            _ => "x".into(),
-        };
-        let missed = (full && c.regime == Some(Regime::M))
-            .then(|| c.regime_detail.replace('_', " ").replace(';', ", "));
-        let detail = match (missed, full && sidewinds) {
-            (Some(m), true) => Some(format!("sidewinding; {m}")),
-            (None, true) => Some("sidewinding".into()),
-            (m, false) => m,
-        };
-        // The label, and an M cell's detail under it, stacked about the cell's centre.
-        let lines: Vec<(String, u32)> = std::iter::once((label, if full { 17 } else { 13 }))
-            .chain(detail.map(|d| (d, 14)))
-            .collect();
+        let lines = cell_lines(c, full);
         let sizes: Vec<(u32, u32)> = lines
             .iter()
             .map(|(t, px)| {
@@ -233,7 +214,49 @@ fn map_body<DB: DrawingBackend>(
                 .map_err(|e| err(&e))?;
         }
     }
-    // A zero row or column: a white gap at the break across the map and "//" on the axis.
+    draw_breaks(&mut chart, xa, ya)?;
+    draw_bounds(&mut chart, xa, ya, bounds)
+}
+
+/// The text of a cell of [`regime_map`], one `(line, px)` per line stacked about the cell's
+/// centre: the regime (with `v_s / v_m` on a full-label grid, `*` for a sidewinding cell
+/// otherwise), and under it an M cell's missed S criteria and "sidewinding" (full labels only).
+fn cell_lines(c: &MapCell, full: bool) -> Vec<(String, u32)> {
+    let ok = c.ok;
+    let sidewinds = c.sidewinding == Some(true);
+    let label = match c.regime {
+        Some(r) if ok && full => format!("{r} {:.3}", c.v_s_over_v_m),
+        Some(r) if ok && sidewinds => format!("{r}*"),
+        Some(r) if ok => r.to_string(),
+        _ if full => "failed".into(),
+        _ => "x".into(),
+    };
+    let missed = (full && c.regime == Some(Regime::M))
+        .then(|| c.regime_detail.replace('_', " ").replace(';', ", "));
+    let detail = match (missed, full && sidewinds) {
+        (Some(m), true) => Some(format!("sidewinding; {m}")),
+        (None, true) => Some("sidewinding".into()),
+        (m, false) => m,
+    };
+    std::iter::once((label, if full { 17 } else { 13 }))
+        .chain(detail.map(|d| (d, 14)))
+        .collect()
+}
+
+/// A zero row or column of [`regime_map`]: a white gap at the break across the map and "//" on
+/// the axis.
+fn draw_breaks<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    xa: &GridAxis,
+    ya: &GridAxis,
+) -> Result<(), PlotError>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let err = |e: &dyn std::fmt::Display| PlotError::Draw(e.to_string());
+    let (xe, ye) = (&xa.edges, &ya.edges);
     let (x0, x1) = (xe[0], xe[xe.len() - 1]);
     let (y0, y1) = (ye[0], ye[ye.len() - 1]);
     let slashes = |horizontal: bool| {
@@ -268,7 +291,23 @@ fn map_body<DB: DrawingBackend>(
             .draw_series(slashes(false).map(|s| EmptyElement::at((b, y0)) + s))
             .map_err(|e| err(&e))?;
     }
-    // Boundary lines, over the positive values only (they are fitted in log space).
+    Ok(())
+}
+
+/// The boundary lines of [`regime_map`], over the positive values only (they are fitted in
+/// log space), with the points bisection placed.
+fn draw_bounds<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    xa: &GridAxis,
+    ya: &GridAxis,
+    bounds: &[MapLine],
+) -> Result<(), PlotError>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let err = |e: &dyn std::fmt::Display| PlotError::Draw(e.to_string());
     let (lw, lg) = (xa.log_span(), ya.log_span());
     for (k, b) in bounds.iter().enumerate() {
         let (Some(s), Some(c)) = (b.slope, b.intercept) else {
