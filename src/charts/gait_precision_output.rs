@@ -10,29 +10,7 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
         path: dir.into(),
         source,
     })?;
-    let mut csv = String::from(
-        "method,elements,dt_s,tolerance,steps,rejected,dt_min_s,dt_max_s,wall_s,v_s_over_v_m,v_error,x_error_over_L,status\n",
-    );
-    for p in &g.points {
-        let q = &p.run;
-        let _ = writeln!(
-            csv,
-            "{},{},{:e},{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},\"{}\"",
-            q.method,
-            q.elements,
-            q.dt,
-            q.tolerance.unwrap_or(f64::NAN),
-            q.steps,
-            q.rejected,
-            q.dt_range.0,
-            q.dt_range.1,
-            q.wall_s,
-            q.v_ratio,
-            p.v_error,
-            p.x_error,
-            q.status.replace('"', "'")
-        );
-    }
+    let csv = points_csv(g);
     write(&dir.join("gait_precision.csv"), &csv)?;
     if !g.external.is_empty() {
         write(
@@ -149,28 +127,7 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
                 (n.as_str(), v.clone(), m)
             })
             .collect();
-        let ref_dt = g.reference.runs.last().map_or(f64::NAN, |r| r.dt);
-        // With another code's points the title names whose converged value the lines use
-        // (and drops "Work-precision" to stay within the figure's width).
-        let title = if g.external.is_empty() {
-            format!(
-                "Work-precision: {} (T = {} s; converged: {} el., dt {ref_dt:.1e} s)",
-                g.scene, g.duration, g.elements
-            )
-        } else {
-            format!(
-                "{}, T = {} s (slither converged: {} el., dt {ref_dt:.1e} s)",
-                g.scene, g.duration, g.elements
-            )
-        };
-        let wall_label = if g.external.is_empty() {
-            "wall time (s)".to_string()
-        } else {
-            format!(
-                "wall time for the scene's {} s (s; external: wall s per simulated s x {})",
-                g.duration, g.duration
-            )
-        };
+        let (title, wall_label) = titles(g);
         plot::xy_marked(
             &dir.join(file),
             &title,
@@ -182,4 +139,59 @@ pub fn write_gait_precision(dir: &Path, g: &GaitPrecision) -> Result<(), ChartEr
         )?;
     }
     Ok(())
+}
+
+/// `gait_precision.csv`: one row per run with its errors.
+fn points_csv(g: &GaitPrecision) -> String {
+    let mut csv = String::from(
+        "method,elements,dt_s,tolerance,steps,rejected,dt_min_s,dt_max_s,wall_s,v_s_over_v_m,v_error,x_error_over_L,status\n",
+    );
+    for p in &g.points {
+        let q = &p.run;
+        let _ = writeln!(
+            csv,
+            "{},{},{:e},{:e},{},{},{:e},{:e},{:e},{:e},{:e},{:e},\"{}\"",
+            q.method,
+            q.elements,
+            q.dt,
+            q.tolerance.unwrap_or(f64::NAN),
+            q.steps,
+            q.rejected,
+            q.dt_range.0,
+            q.dt_range.1,
+            q.wall_s,
+            q.v_ratio,
+            p.v_error,
+            p.x_error,
+            q.status.replace('"', "'")
+        );
+    }
+    csv
+}
+
+/// The figures' title and wall-time axis label: with another code's points the title names
+/// whose converged value the lines use (and drops "Work-precision" to stay within the
+/// figure's width).
+fn titles(g: &GaitPrecision) -> (String, String) {
+    let ref_dt = g.reference.runs.last().map_or(f64::NAN, |r| r.dt);
+    let title = if g.external.is_empty() {
+        format!(
+            "Work-precision: {} (T = {} s; converged: {} el., dt {ref_dt:.1e} s)",
+            g.scene, g.duration, g.elements
+        )
+    } else {
+        format!(
+            "{}, T = {} s (slither converged: {} el., dt {ref_dt:.1e} s)",
+            g.scene, g.duration, g.elements
+        )
+    };
+    let wall_label = if g.external.is_empty() {
+        "wall time (s)".to_string()
+    } else {
+        format!(
+            "wall time for the scene's {} s (s; external: wall s per simulated s x {})",
+            g.duration, g.duration
+        )
+    };
+    (title, wall_label)
 }

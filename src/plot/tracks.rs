@@ -107,51 +107,14 @@ pub fn tracks(path: &Path, clip: &Clip) -> Result<(), PlotError> {
             .draw()
             .map_err(draw_err)?;
         let dot = ((clip.diameter / scale) * 0.3).round().max(1.5) as i32;
-        let nn = clip.x[0].len();
-        // Tracks: per node, runs of consecutive stuck frames.
-        for i in 0..nn {
-            let mut prev: Option<(f64, f64)> = None;
-            for ((xk, ck), &tk) in clip.x.iter().zip(&clip.contact).zip(&clip.t) {
-                let p = xk.get(i).copied().unwrap_or([f64::NAN; 3]);
-                let stuck = ck.get(i) == Some(&ContactState::Stuck) && finite(&p);
-                if !stuck {
-                    prev = None;
-                    continue;
-                }
-                let c = tcolor(tk);
-                let q = (p[0], p[1]);
-                if let Some(a) = prev {
-                    chart
-                        .draw_series(std::iter::once(PathElement::new(
-                            vec![a, q],
-                            c.stroke_width((2 * dot) as u32),
-                        )))
-                        .map_err(draw_err)?;
-                }
-                chart
-                    .draw_series(std::iter::once(Circle::new(q, dot, c.filled())))
-                    .map_err(draw_err)?;
-                prev = Some(q);
-            }
-        }
+        draw_stuck(&mut chart, clip, dot, &tcolor)?;
         // Self-contact: every node-frame touching another part of the body, in its colour.
         let purple = RGBColor(
             super::movie::SELF_CONTACT[0],
             super::movie::SELF_CONTACT[1],
             super::movie::SELF_CONTACT[2],
         );
-        let touching: Vec<Circle<(f64, f64), i32>> = clip
-            .x
-            .iter()
-            .zip(&clip.self_contact)
-            .flat_map(|(xk, sk)| {
-                xk.iter()
-                    .zip(sk)
-                    .filter(|(p, &on)| on && finite(p))
-                    .map(|(p, _)| Circle::new((p[0], p[1]), (dot / 2).max(1), purple.filled()))
-                    .collect::<Vec<_>>()
-            })
-            .collect();
+        let touching = touching_dots(clip, dot, purple);
         if !touching.is_empty() {
             chart
                 .draw_series(touching)
@@ -200,4 +163,64 @@ pub fn tracks(path: &Path, clip: &Clip) -> Result<(), PlotError> {
         frame_plot(&mut chart)?;
         root.present().map_err(draw_err)
     })
+}
+
+/// The stuck contacts of [`tracks`]: per node, a dot of radius `dot` (px) at every stuck frame
+/// in the frame's time colour, joined to the previous one when that frame was stuck too.
+fn draw_stuck<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    clip: &Clip,
+    dot: i32,
+    tcolor: &dyn Fn(f64) -> RGBColor,
+) -> Result<(), PlotError>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let finite = |p: &[f64; 3]| p.iter().all(|v| v.is_finite());
+    let nn = clip.x[0].len();
+    for i in 0..nn {
+        let mut prev: Option<(f64, f64)> = None;
+        for ((xk, ck), &tk) in clip.x.iter().zip(&clip.contact).zip(&clip.t) {
+            let p = xk.get(i).copied().unwrap_or([f64::NAN; 3]);
+            let stuck = ck.get(i) == Some(&ContactState::Stuck) && finite(&p);
+            if !stuck {
+                prev = None;
+                continue;
+            }
+            let c = tcolor(tk);
+            let q = (p[0], p[1]);
+            if let Some(a) = prev {
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        vec![a, q],
+                        c.stroke_width((2 * dot) as u32),
+                    )))
+                    .map_err(draw_err)?;
+            }
+            chart
+                .draw_series(std::iter::once(Circle::new(q, dot, c.filled())))
+                .map_err(draw_err)?;
+            prev = Some(q);
+        }
+    }
+    Ok(())
+}
+
+/// The self-contacts of [`tracks`]: a dot of half the stuck dots' radius at every node-frame
+/// touching another part of the body.
+fn touching_dots(clip: &Clip, dot: i32, purple: RGBColor) -> Vec<Circle<(f64, f64), i32>> {
+    let finite = |p: &[f64; 3]| p.iter().all(|v| v.is_finite());
+    clip.x
+        .iter()
+        .zip(&clip.self_contact)
+        .flat_map(|(xk, sk)| {
+            xk.iter()
+                .zip(sk)
+                .filter(|(p, &on)| on && finite(p))
+                .map(|(p, _)| Circle::new((p[0], p[1]), (dot / 2).max(1), purple.filled()))
+                .collect::<Vec<_>>()
+        })
+        .collect()
 }
