@@ -97,43 +97,10 @@ pub fn kymograph_styled(
     style: &KymographStyle,
 ) -> Result<KymographScale, PlotError> {
     let diverging = style.diverging;
-    if values.len() != t_over_t.len() {
-        return Err(PlotError::Mismatch(format!(
-            "kymograph: values has {} frames (rows) but t_over_t has {} entries",
-            values.len(),
-            t_over_t.len()
-        )));
-    }
-    if let Some((j, row)) = values.iter().enumerate().find(|(_, r)| r.len() != s.len()) {
-        return Err(PlotError::Mismatch(format!(
-            "kymograph: values[{j}] has {} nodes but s has {} entries",
-            row.len(),
-            s.len()
-        )));
-    }
+    check_shapes(s, t_over_t, values)?;
     let xe = edges("s", s)?;
     let ye = edges("t_over_t", t_over_t)?;
-    let vr = finite_range(values.iter().flatten().copied());
-    let vr = match (vr, style.from_zero) {
-        (Some((a, b)), true) => Some((a.min(0.0), b.max(0.0))),
-        (r, _) => r,
-    };
-    let max = vr.map_or(f64::NAN, |r| r.1);
-    // The robust end: a quantile of the magnitudes, never beyond the extreme.
-    let robust = style
-        .clip_quantile
-        .and_then(|q| quantile(values.iter().flatten().map(|v| v.abs()), q).filter(|&x| x > 0.0));
-    let (lo, hi) = if diverging {
-        let m = vr.map(|(a, b)| a.abs().max(b.abs())).unwrap_or(0.0);
-        let m = robust.map_or(m, |r| r.min(m));
-        let m = if m > 0.0 { m } else { 1.0 };
-        (-m, m)
-    } else {
-        match vr {
-            Some((a, b)) if b > a => (a, robust.map_or(b, |r| r.min(b).max(a + 1e-12 * (b - a)))),
-            r => pad(r, 0.0),
-        }
-    };
+    let (lo, hi, max) = colour_range(values, style);
     let clipped = values
         .iter()
         .flatten()
@@ -242,7 +209,71 @@ pub fn kymograph_styled(
         .draw()
         .map_err(draw_err)?;
     frame_plot(&mut cbar)?;
-    // Legend patches for the special colours, under the colour bar.
+    draw_patches(&bar, style, mb + xl)?;
+    root.present().map_err(draw_err)?;
+    Ok(KymographScale {
+        lo,
+        hi,
+        max,
+        clipped,
+    })
+}
+
+/// `values` has one row per entry of `t_over_t`, each with one value per entry of `s`.
+fn check_shapes(s: &[f64], t_over_t: &[f64], values: &[Vec<f64>]) -> Result<(), PlotError> {
+    if values.len() != t_over_t.len() {
+        return Err(PlotError::Mismatch(format!(
+            "kymograph: values has {} frames (rows) but t_over_t has {} entries",
+            values.len(),
+            t_over_t.len()
+        )));
+    }
+    if let Some((j, row)) = values.iter().enumerate().find(|(_, r)| r.len() != s.len()) {
+        return Err(PlotError::Mismatch(format!(
+            "kymograph: values[{j}] has {} nodes but s has {} entries",
+            row.len(),
+            s.len()
+        )));
+    }
+    Ok(())
+}
+
+/// The colour range `(lo, hi)` of [`kymograph_styled`] and the largest value: symmetric about
+/// 0 when diverging, from 0 with `from_zero`, its end at the `clip_quantile` of the magnitudes
+/// when that is smaller than the extreme.
+fn colour_range(values: &[Vec<f64>], style: &KymographStyle) -> (f64, f64, f64) {
+    let diverging = style.diverging;
+    let vr = finite_range(values.iter().flatten().copied());
+    let vr = match (vr, style.from_zero) {
+        (Some((a, b)), true) => Some((a.min(0.0), b.max(0.0))),
+        (r, _) => r,
+    };
+    let max = vr.map_or(f64::NAN, |r| r.1);
+    // The robust end: a quantile of the magnitudes, never beyond the extreme.
+    let robust = style
+        .clip_quantile
+        .and_then(|q| quantile(values.iter().flatten().map(|v| v.abs()), q).filter(|&x| x > 0.0));
+    let (lo, hi) = if diverging {
+        let m = vr.map(|(a, b)| a.abs().max(b.abs())).unwrap_or(0.0);
+        let m = robust.map_or(m, |r| r.min(m));
+        let m = if m > 0.0 { m } else { 1.0 };
+        (-m, m)
+    } else {
+        match vr {
+            Some((a, b)) if b > a => (a, robust.map_or(b, |r| r.min(b).max(a + 1e-12 * (b - a)))),
+            r => pad(r, 0.0),
+        }
+    };
+    (lo, hi, max)
+}
+
+/// Legend patches for the special colours (`floor`, NaN) under the colour bar, whose bottom
+/// margin and label area together are `below` px.
+fn draw_patches<DB: DrawingBackend>(
+    bar: &DrawingArea<DB, plotters::coord::Shift>,
+    style: &KymographStyle,
+    below: i32,
+) -> Result<(), PlotError> {
     let (_, bh) = bar.dim_in_pixel();
     let patches: Vec<(RGBColor, &str)> = [
         style.floor.map(|(_, l)| (FLOOR_COLOR, l)),
@@ -252,7 +283,7 @@ pub fn kymograph_styled(
     .flatten()
     .collect();
     for (k, (c, text)) in patches.iter().enumerate() {
-        let y = bh as i32 - (mb + xl) + 12 + 26 * k as i32;
+        let y = bh as i32 - below + 12 + 26 * k as i32;
         bar.draw(&Rectangle::new([(15, y), (33, y + 18)], c.filled()))
             .map_err(draw_err)?;
         bar.draw(&Rectangle::new(
@@ -263,11 +294,5 @@ pub fn kymograph_styled(
         bar.draw(&Text::new(text.to_string(), (39, y), (FONT, 15)))
             .map_err(draw_err)?;
     }
-    root.present().map_err(draw_err)?;
-    Ok(KymographScale {
-        lo,
-        hi,
-        max,
-        clipped,
-    })
+    Ok(())
 }
