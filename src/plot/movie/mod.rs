@@ -329,21 +329,46 @@ fn smooth(t: &[f64], c: &[[f64; 3]], tau: f64) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// The movie's options in range: `fps` in (0, 100], the size within 160x120 to 4000x4000 px.
+fn check_options(opts: &MovieOptions) -> Result<(), PlotError> {
+    if !(opts.fps > 0.0 && opts.fps <= 100.0) {
+        return Err(PlotError::Invalid(format!(
+            "movie: fps {} is not allowed: must be in (0, 100]",
+            opts.fps
+        )));
+    }
+    if opts.size.0 < 160 || opts.size.1 < 120 || opts.size.0 > 4000 || opts.size.1 > 4000 {
+        return Err(PlotError::Invalid(format!(
+            "movie: size {}x{} px is not allowed: 160x120 to 4000x4000",
+            opts.size.0, opts.size.1
+        )));
+    }
+    Ok(())
+}
+
+/// The side view's ground panel depth (m): deep enough for every picked frame's body (0.1 L
+/// beyond its farthest node along the line of sight of its camera), at least 0.25 L each way.
+fn side_panel_depth(clip: &Clip, picks: &[usize], cams: &[Camera]) -> f64 {
+    let l = clip.length;
+    let mut depth = 0.25 * l;
+    for (&k, cam) in picks.iter().zip(cams) {
+        let Some((c, _)) = cam.ground_hit(cam.cx, cam.cy) else {
+            continue;
+        };
+        let n = cam.fwd[0].hypot(cam.fwd[1]).max(1e-12);
+        let fh = [cam.fwd[0] / n, cam.fwd[1] / n];
+        for p in clip.x[k].iter().filter(|p| p.iter().all(|v| v.is_finite())) {
+            let d = ((p[0] - c[0]) * fh[0] + (p[1] - c[1]) * fh[1]).abs();
+            depth = depth.max(d + 0.1 * l);
+        }
+    }
+    depth
+}
+
 impl<'a> Plan<'a> {
     fn new(clip: &'a Clip, opts: MovieOptions) -> Result<Plan<'a>, PlotError> {
         clip.validate()?;
-        if !(opts.fps > 0.0 && opts.fps <= 100.0) {
-            return Err(PlotError::Invalid(format!(
-                "movie: fps {} is not allowed: must be in (0, 100]",
-                opts.fps
-            )));
-        }
-        if opts.size.0 < 160 || opts.size.1 < 120 || opts.size.0 > 4000 || opts.size.1 > 4000 {
-            return Err(PlotError::Invalid(format!(
-                "movie: size {}x{} px is not allowed: 160x120 to 4000x4000",
-                opts.size.0, opts.size.1
-            )));
-        }
+        check_options(&opts)?;
         let picks = frame_picks(clip.t.len(), opts.fps, opts.max_seconds);
         let w = opts.size.0 as f64;
         let l = clip.length;
@@ -460,21 +485,7 @@ impl<'a> Plan<'a> {
         }
         // The side view's ground panel: deep enough for every picked frame's body (0.1 L
         // beyond its farthest node along the line of sight), at least 0.25 L each way.
-        let panel = (opts.view == View::Side).then(|| {
-            let mut depth = 0.25 * l;
-            for (&k, cam) in picks.iter().zip(&cams) {
-                let Some((c, _)) = cam.ground_hit(cam.cx, cam.cy) else {
-                    continue;
-                };
-                let n = cam.fwd[0].hypot(cam.fwd[1]).max(1e-12);
-                let fh = [cam.fwd[0] / n, cam.fwd[1] / n];
-                for p in clip.x[k].iter().filter(|p| p.iter().all(|v| v.is_finite())) {
-                    let d = ((p[0] - c[0]) * fh[0] + (p[1] - c[1]) * fh[1]).abs();
-                    depth = depth.max(d + 0.1 * l);
-                }
-            }
-            depth
-        });
+        let panel = (opts.view == View::Side).then(|| side_panel_depth(clip, &picks, &cams));
         Ok(Plan {
             clip,
             opts,

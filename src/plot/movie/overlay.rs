@@ -5,7 +5,7 @@
 //! the bottom band on a narrow picture.
 
 use super::layout::{self, bar_width, flow, text_width, SWATCH};
-use super::{Colouring, Plan, View, AIR, SELF_CONTACT, SLIDING, STUCK};
+use super::{Clip, Colouring, Plan, View, AIR, SELF_CONTACT, SLIDING, STUCK};
 use crate::plot::{colormap, draw_err, PlotError, FONT};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -35,24 +35,7 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
 
     // Top band: the clock and the speed so far (on two lines on a narrow picture); the title
     // and the regime.
-    let t = clip.t[k];
-    let mut clock = format!("t = {t:.2} s");
-    if let Some(p) = clip.period.filter(|p| *p > 0.0) {
-        clock += &format!("   t/T = {:.2}", t / p);
-    }
-    let vs = clip.v_s_so_far(k);
-    let mut speed = "v_s = -".to_string();
-    if vs.is_finite() {
-        speed = format!("v_s = {vs:.3} m/s");
-        if let Some(vm) = clip.gait_speed.filter(|v| *v > 0.0) {
-            speed += &format!(" ({:.2} v_m)", vs / vm);
-        }
-    }
-    let lines = if lay.split_clock {
-        vec![clock, speed]
-    } else {
-        vec![format!("{clock}   {speed}")]
-    };
+    let lines = clock_lines(clip, k, lay.split_clock);
     let mut y = 4;
     for line in lines {
         root.draw(&Text::new(line, (layout::EDGE, y), big.clone()))
@@ -168,6 +151,29 @@ pub(super) fn draw(buf: &mut [u8], plan: &Plan, j: usize) -> Result<(), PlotErro
     }
     root.present().map_err(draw_err)?;
     Ok(())
+}
+
+/// The top band's first lines at clip frame `k`: the clock (with `t/T` for a gait with a
+/// period) and the speed so far (with `v_s/v_m`), on two lines when `split`, else on one.
+fn clock_lines(clip: &Clip, k: usize, split: bool) -> Vec<String> {
+    let t = clip.t[k];
+    let mut clock = format!("t = {t:.2} s");
+    if let Some(p) = clip.period.filter(|p| *p > 0.0) {
+        clock += &format!("   t/T = {:.2}", t / p);
+    }
+    let vs = clip.v_s_so_far(k);
+    let mut speed = "v_s = -".to_string();
+    if vs.is_finite() {
+        speed = format!("v_s = {vs:.3} m/s");
+        if let Some(vm) = clip.gait_speed.filter(|v| *v > 0.0) {
+            speed += &format!(" ({:.2} v_m)", vs / vm);
+        }
+    }
+    if split {
+        vec![clock, speed]
+    } else {
+        vec![format!("{clock}   {speed}")]
+    }
 }
 
 /// The scale at `(x, _)` on the row centred at `ym`: in the top and side views a bar of
