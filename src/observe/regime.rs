@@ -357,39 +357,7 @@ pub fn classify_with(x: &RegimeInputs, t: &Thresholds) -> (Regime, RegimeReason)
         return (Regime::F, reason(text, vec![], checks));
     }
     // Forward motion: S or M.
-    let s_checks = [
-        (
-            Criterion::Heading,
-            check(
-                "displacement_angle_deg",
-                x.displacement_angle_deg,
-                "<=",
-                t.heading_max_deg,
-            ),
-        ),
-        (
-            Criterion::TwoArcs,
-            check(
-                "two_arc_lift_over_a",
-                x.two_arc_lift_over_a,
-                ">=",
-                t.arc_lift_over_a,
-            ),
-        ),
-        (
-            Criterion::PulseFit,
-            check("lambda_pulse_r2", x.lambda_pulse_r2, ">=", t.pulse_r2_min),
-        ),
-        (
-            Criterion::PulseSpeed,
-            check(
-                "pulse_speed_error",
-                (x.lambda_pulse_speed_over_v_m - 1.0).abs(),
-                "<=",
-                t.pulse_speed_tolerance,
-            ),
-        ),
-    ];
+    let s_checks = s_criteria(x, t);
     let not_s: Vec<Criterion> = s_checks
         .iter()
         .filter(|(_, c)| !c.holds)
@@ -436,6 +404,44 @@ pub fn classify_with(x: &RegimeInputs, t: &Thresholds) -> (Regime, RegimeReason)
         .collect();
     let text = format!("{head}, not an S-start: {}", why.join(", "));
     (Regime::M, reason(text, not_s, checks))
+}
+
+/// The four S-start criteria of a forward-moving run (heading, two arcs, pulse fit, pulse
+/// speed), each with its check.
+fn s_criteria(x: &RegimeInputs, t: &Thresholds) -> [(Criterion, Check); 4] {
+    [
+        (
+            Criterion::Heading,
+            check(
+                "displacement_angle_deg",
+                x.displacement_angle_deg,
+                "<=",
+                t.heading_max_deg,
+            ),
+        ),
+        (
+            Criterion::TwoArcs,
+            check(
+                "two_arc_lift_over_a",
+                x.two_arc_lift_over_a,
+                ">=",
+                t.arc_lift_over_a,
+            ),
+        ),
+        (
+            Criterion::PulseFit,
+            check("lambda_pulse_r2", x.lambda_pulse_r2, ">=", t.pulse_r2_min),
+        ),
+        (
+            Criterion::PulseSpeed,
+            check(
+                "pulse_speed_error",
+                (x.lambda_pulse_speed_over_v_m - 1.0).abs(),
+                "<=",
+                t.pulse_speed_tolerance,
+            ),
+        ),
+    ]
 }
 
 /// How many of `cells` change regime when each threshold is multiplied by `1 - frac` and by
