@@ -4,7 +4,7 @@
 # Everything, in the order it was measured:
 #   ./run.sh base base_fine tol perturb locate variants ctol ens m200 fine cond iedt bdf2fine slap m50 m50fine soft landing landing2 m200fine analyse
 # and in the second session (rod damping):
-#   ./run.sh damping_landing damping_s_start normal_always
+#   ./run.sh damping_landing damping_s_start damping_5ms normal_always
 # s_start.toml and serpenoid.toml are copies of the bundled problems/ files.
 # Runs in WORK (default out/ie_bdf2 in the repository), with the bundled S-start and serpenoid
 # and this folder's scripts and landing scenes copied there; SLITHER names the binary (default:
@@ -113,6 +113,11 @@ damping_landing)   # second session: rod.damping_time (Kelvin-Voigt) on the land
 damping_s_start)   # the S-start with a damping time of 1 ms
   for el in 100 200; do for dt in 5e-4 2.5e-4 1.25e-4 6.25e-5; do for i in implicit bdf2; do
     r tau1e-3 s_start.toml $i $el $dt --set rod.damping_time=1e-3; done; done; done ;;
+damping_5ms)   # the S-start with a damping time of 5 ms
+  for el in 100 200; do for dt in 5e-4 2.5e-4 1.25e-4; do for i in implicit bdf2; do
+    r tau5e-3 s_start.toml $i $el $dt --set rod.damping_time=5e-3; done; done; done
+  for i in implicit bdf2; do r tau5e-3 s_start.toml $i 200 6.25e-5 --set rod.damping_time=5e-3; done
+  r tau5e-3_bundled s_start.toml bdf2 100 3.6e-3 --set rod.damping_time=5e-3 ;;
 normal_always)   # BDF2 with every normal coordinate implicit Euler: needs SLITHER built with normal_always.patch
   export SLITHER_BDF2_NORMAL=always
   for tau in 0 5e-3; do for dt in 1e-4 5e-5 2.5e-5; do r always_land4tau$tau landing4.toml bdf2 30 $dt --set rod.damping_time=$tau; done; done
