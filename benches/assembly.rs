@@ -71,6 +71,8 @@ fn bench_assembly(c: &mut Criterion) {
             kappa0: &kappa0,
             m0: &m0,
             gravity: [0.0, 0.0, -9.81],
+            rest_len: &m.rest_len,
+            elastic_scale: 1.0,
         };
         let mut asm = Assembly::new(m.ndof);
         for project in [true, false] {

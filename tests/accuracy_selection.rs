@@ -454,3 +454,24 @@ fn a_journal_record_reads_back_as_written() {
         assert_eq!((back.dt, back.error_tolerance), (run.dt, None), "{text}");
     }
 }
+
+/// A pair with a failed run (value NaN) estimates nothing: an infinite, untrusted error that
+/// never meets a target. Before, the NaN fell out of the envelope's `max` as a trusted 0, and a
+/// selection whose mesh pair had failed (adaptive BDF2 on the damped S-start at 40 elements)
+/// reported `met` with a mesh error of 0.
+#[test]
+fn a_pair_with_a_failed_run_is_never_trusted() {
+    use slither::design::selection::PairEstimate;
+    for (a, b, previous) in [
+        (f64::NAN, 0.3, None),
+        (0.3, f64::NAN, None),
+        (f64::NAN, 0.3, Some(0.01)),
+    ] {
+        let e = PairEstimate::new(a, b, previous, None, 0.5, 0.25);
+        assert!(!e.trusted, "{a} {b}: {e:?}");
+        assert!(e.fine.is_infinite() && e.coarse.is_infinite(), "{e:?}");
+        assert_eq!(e.correction, 0.0);
+    }
+    let ok = PairEstimate::new(0.30, 0.31, None, None, 0.5, 0.25);
+    assert!(ok.trusted && ok.fine.is_finite());
+}

@@ -3,6 +3,8 @@
 # simulation at a time). Usage: ./run.sh [GROUP...]; every line goes to runs/table.tsv.
 # Everything, in the order it was measured:
 #   ./run.sh base base_fine tol perturb locate variants ctol ens m200 fine cond iedt bdf2fine slap m50 m50fine soft landing landing2 m200fine analyse
+# and in the second session (rod damping):
+#   ./run.sh damping_landing damping_s_start damping_5ms normal_always
 # s_start.toml and serpenoid.toml are copies of the bundled problems/ files.
 # Runs in WORK (default out/ie_bdf2 in the repository), with the bundled S-start and serpenoid
 # and this folder's scripts and landing scenes copied there; SLITHER names the binary (default:
@@ -101,6 +103,28 @@ landing)   # candidate test scene: a curved rod thrown onto the ground (lands no
   for dt in 1e-3 5e-4 2.5e-4 1.25e-4; do for i in implicit bdf2; do r land landing.toml $i 30 $dt; r landh landing.toml $i 30 $dt --set initial.height=0.020000001; done; done ;;
 landing2)   # the same, tamer (landing2.toml)
   for dt in 1e-3 5e-4 2.5e-4 1.25e-4 6.25e-5; do for i in implicit bdf2; do r land2 landing2.toml $i 30 $dt; r land2h landing2.toml $i 30 $dt --set initial.height=0.020000001; done; done ;;
+damping_landing)   # second session: rod.damping_time (Kelvin-Voigt) on the landing scenes
+  for dt in 1e-3 5e-4 2.5e-4 1.25e-4 6.25e-5 3.125e-5 1.5625e-5 7.8125e-6; do for i in implicit bdf2; do
+    r land2tau1e-3 landing2.toml $i 30 $dt --set rod.damping_time=1e-3; done; done
+  for dt in 3.125e-5 1.5625e-5 7.8125e-6 3.90625e-6; do r land2 landing2.toml implicit 30 $dt; done
+  for tau in 0 5e-3; do for dt in 4e-4 2e-4 1e-4 5e-5 2.5e-5; do for i in implicit bdf2; do
+    r land3tau$tau landing3.toml $i 30 $dt --set rod.damping_time=$tau
+    r land4tau$tau landing4.toml $i 30 $dt --set rod.damping_time=$tau
+  done; done; done ;;
+damping_s_start)   # the S-start with a damping time of 1 ms
+  for el in 100 200; do for dt in 5e-4 2.5e-4 1.25e-4 6.25e-5; do for i in implicit bdf2; do
+    r tau1e-3 s_start.toml $i $el $dt --set rod.damping_time=1e-3; done; done; done ;;
+damping_5ms)   # the S-start with a damping time of 5 ms
+  for el in 100 200; do for dt in 5e-4 2.5e-4 1.25e-4; do for i in implicit bdf2; do
+    r tau5e-3 s_start.toml $i $el $dt --set rod.damping_time=5e-3; done; done; done
+  for i in implicit bdf2; do r tau5e-3 s_start.toml $i 200 6.25e-5 --set rod.damping_time=5e-3; done
+  r tau5e-3_bundled s_start.toml bdf2 100 3.6e-3 --set rod.damping_time=5e-3 ;;
+normal_always)   # BDF2 with every normal coordinate implicit Euler: needs SLITHER built with normal_always.patch
+  export SLITHER_BDF2_NORMAL=always
+  for tau in 0 5e-3; do for dt in 1e-4 5e-5 2.5e-5; do r always_land4tau$tau landing4.toml bdf2 30 $dt --set rod.damping_time=$tau; done; done
+  for el in 100 200; do for dt in 2.5e-4 1.25e-4; do r always_tau1e-3 s_start.toml bdf2 $el $dt --set rod.damping_time=1e-3; done; done
+  r always_bundled s_start.toml bdf2 100 3.6e-3
+  unset SLITHER_BDF2_NORMAL ;;
 m200fine)   # 200 elements at 1.5625e-5 s
   for i in implicit bdf2; do r base s_start.toml $i 200 1.5625e-5; done ;;
 analyse)   # the analyses quoted in FINDINGS.md (read the trajectories written above)

@@ -218,9 +218,9 @@ impl<'a> NodeStencil<'a> {
         NodeStencil {
             frame: &ctx.frames[i - 1],
             kappa0: ctx.kappa0[i],
-            bend: m.bend / (2.0 * m.voronoi[i]),
+            bend: ctx.elastic_scale * m.bend / (2.0 * m.voronoi[i]),
             m0: ctx.m0[i],
-            twist: m.twist / (2.0 * m.voronoi[i]),
+            twist: ctx.elastic_scale * m.twist / (2.0 * m.voronoi[i]),
         }
     }
 }

@@ -27,6 +27,20 @@
 //! * [`local`]: intrinsic coordinates, the chain rule into the band (linear), and the
 //!   per-stencil projection to positive semi-definite.
 //!
+//! **Rod damping.** With a Kelvin-Voigt damping time `tau` ([`Model::damping_time`]) every
+//! elastic strain `e` with stiffness `k` (bending, twist, stretch) also carries the viscous
+//! dissipation potential `tau k/2 |de/dt|^2`. An implicit step measures the strain rate as
+//! `(e(q) - e_o) / h'`, with the integrator's origin `e_o` and effective step `h'` (implicit
+//! Euler: `e_o = e(q_n)`, `h' = h`; BDF2: `e_o = -(a1 e(q_n) + a2 e(q_{n-1})) / a0`,
+//! `h' = h / a0`, as for friction's slip), so the step's potential gains
+//! `h' tau k/2 |(e - e_o)/h'|^2`. With `r = tau / h'` the term and the elastic one combine into
+//! one of the same form, `(1 + r) k/2 |e - e*|^2` plus a constant, about the blended rest strain
+//! `e* = (e0 + r e_o) / (1 + r)`: the terms evaluate their usual energy with the stiffness
+//! factor [`Ctx::elastic_scale`] `= 1 + r`, the blended natural curvature and twist in
+//! [`Ctx::kappa0`] and [`Ctx::m0`], and the blended rest lengths [`Ctx::rest_len`]. The
+//! derivatives are those of the elastic terms, checked against finite differences for any
+//! rest strains and stiffness.
+//!
 //! The independent derivatives the fused stencil is tested against (hyper-dual numbers,
 //! staged jets, per-term closed forms, bending and twist as separate terms) live in
 //! `reference/`, compiled for tests and benches only (cargo feature `reference`).
@@ -61,6 +75,12 @@ pub struct Ctx<'a> {
     pub m0: &'a [f64],
     /// Gravity vector (m/s^2), possibly scaled in static load stepping.
     pub gravity: [f64; 3],
+    /// Rest length of every edge that the stretching term pulls toward: the model's
+    /// [`Model::rest_len`], or with rod damping the blend described in [`crate::energy`]'s
+    /// "Rod damping".
+    pub rest_len: &'a [f64],
+    /// Factor on every elastic stiffness: 1, or `1 + tau/h'` with rod damping.
+    pub elastic_scale: f64,
 }
 
 /// One energy term.

@@ -22,8 +22,8 @@ impl Term for Stretch {
             let b = dof::node(j + 1);
             let ev = [q[b] - q[a], q[b + 1] - q[a + 1], q[b + 2] - q[a + 2]];
             let len = (ev[0] * ev[0] + ev[1] * ev[1] + ev[2] * ev[2]).sqrt();
-            let l0 = m.rest_len[j];
-            let k = m.stretch / l0;
+            let l0 = ctx.rest_len[j];
+            let k = ctx.elastic_scale * m.stretch / m.rest_len[j];
             e += 0.5 * k * (len - l0).powi(2);
             let Some(asm) = out.as_deref_mut() else {
                 continue;

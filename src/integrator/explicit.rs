@@ -205,6 +205,8 @@ impl<'m> Explicit<'m> {
             kappa0,
             m0,
             gravity: m.gravity,
+            rest_len: &m.rest_len,
+            elastic_scale: 1.0,
         };
         let mut p = Potential::default();
         let mut add = |name: &str, e: f64| {

@@ -55,6 +55,7 @@ const ON_GROUND_EXTRAPOLATION: f64 = 0.5;
 
 pub mod adaptive;
 pub mod bdf2;
+mod damping;
 pub mod euler;
 pub mod explicit;
 mod failure;
@@ -161,6 +162,12 @@ pub trait Scheme: Send {
     /// `qhat` is `q_n + h v_n`), set by [`Scheme::predictor`]. Default: none.
     fn euler_coordinates(&self) -> &[usize] {
         &[]
+    }
+    /// The strain origin and effective step of rod damping ([`crate::energy`], "Rod
+    /// damping"): `(c_n, c_p, h')` with origin `c_n e(q_n) + c_p e(q_{n-1})`, set by
+    /// [`Scheme::predictor`]. Default: implicit Euler's `(1, 0, h)`.
+    fn strain_origin(&self, h: f64) -> (f64, f64, f64) {
+        (1.0, 0.0, h)
     }
     /// Where contact slip is measured from: the velocity at the solution is
     /// `(x - x_origin) / (w^{-1/2})`, so friction dissipation is `N mu |x - x_origin|`.
@@ -269,6 +276,8 @@ impl Loads {
             kappa0: &self.kappa0,
             m0: &self.m0,
             gravity: self.gravity(m),
+            rest_len: &m.rest_len,
+            elastic_scale: 1.0,
         }
     }
 
@@ -326,6 +335,8 @@ pub struct Integrator<'m> {
     pub self_contact: Option<SelfContact>,
     /// The start's move from the last solution, `q - q_n` (scratch).
     start_move: Vec<f64>,
+    /// Rod damping, when the model has a damping time.
+    damping: Option<damping::RodDamping>,
 }
 
 impl<'m> Integrator<'m> {
@@ -364,6 +375,7 @@ impl<'m> Integrator<'m> {
             events: vec![false; model.real.len()],
             self_contact: SelfContact::of(model),
             start_move: vec![0.0; n],
+            damping: damping::RodDamping::of(model),
         }
     }
 
@@ -415,6 +427,10 @@ impl<'m> Integrator<'m> {
         self.v_prev.copy_from_slice(&s.v);
         self.scheme.predictor(m, s, h, &mut self.qhat);
         self.loads.set_time(m, s.t + h);
+        if let Some(d) = self.damping.as_mut() {
+            let origin = self.scheme.strain_origin(h);
+            d.begin_step(m, s, origin, &self.loads.kappa0, &self.loads.m0);
+        }
         s.q.copy_from_slice(&self.qhat);
         let extrapolate = self.scheme.extrapolated_start()
             && self
@@ -457,13 +473,19 @@ impl<'m> Integrator<'m> {
                 }
             }
         }
+        let (kappa0, m0, rest_len, elastic_scale) = match &self.damping {
+            Some(d) => (&d.kappa0, &d.m0, &d.rest_len, d.scale),
+            None => (&self.loads.kappa0, &self.loads.m0, &m.rest_len, 1.0),
+        };
         let mut obj = Potential {
             model: m,
             terms: &self.terms,
             frames: &s.frames,
-            kappa0: &self.loads.kappa0,
-            m0: &self.loads.m0,
+            kappa0,
+            m0,
             gravity: self.loads.gravity(m),
+            rest_len,
+            elastic_scale,
             inertia: Some(Inertia {
                 weight: self.scheme.inertia_weight(h),
                 qhat: &self.qhat,
@@ -490,6 +512,9 @@ impl<'m> Integrator<'m> {
         }
         if let Some(c) = self.contact.as_mut() {
             c.accept(m, &s.q);
+        }
+        if let Some(d) = self.damping.as_mut() {
+            d.commit();
         }
         self.scheme.update(m, &self.q_prev, &self.v_prev, h, s);
         self.v_older.copy_from_slice(&self.v_prev);

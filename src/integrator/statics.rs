@@ -37,6 +37,8 @@ impl Equilibrium<'_> {
             kappa0: &self.loads.kappa0,
             m0: &self.loads.m0,
             gravity: self.loads.gravity(self.model),
+            rest_len: &self.model.rest_len,
+            elastic_scale: 1.0,
             inertia: None,
             self_contact: None,
         }

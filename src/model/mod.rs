@@ -79,6 +79,9 @@ pub struct Model {
     pub twist: f64,
     /// Stretching rigidity `EA` (N).
     pub stretch: f64,
+    /// Kelvin-Voigt damping time `tau` (s): viscous stresses `tau` times the elastic
+    /// stiffness times the strain rate; 0: none.
+    pub damping_time: f64,
     /// Rest length of each internal edge (m).
     pub rest_len: Vec<f64>,
     /// Voronoi length of each internal node (m; 0 at the two internal ends).
@@ -340,6 +343,7 @@ impl Model {
             stretch: r
                 .stretch_stiffness
                 .unwrap_or(16.0 * r.bending_stiffness / (a * a)),
+            damping_time: r.damping_time,
             rest_len,
             voronoi,
             mass,

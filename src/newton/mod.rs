@@ -173,6 +173,10 @@ pub struct Potential<'a> {
     pub m0: &'a [f64],
     /// Gravity (m/s^2).
     pub gravity: [f64; 3],
+    /// Edge rest lengths the stretching pulls toward ([`Ctx::rest_len`]).
+    pub rest_len: &'a [f64],
+    /// Factor on the elastic stiffnesses ([`Ctx::elastic_scale`]).
+    pub elastic_scale: f64,
     /// Inertia (dynamic steps).
     pub inertia: Option<Inertia<'a>>,
     /// Self-contact barrier, if on.
@@ -187,6 +191,8 @@ impl Potential<'_> {
             kappa0: self.kappa0,
             m0: self.m0,
             gravity: self.gravity,
+            rest_len: self.rest_len,
+            elastic_scale: self.elastic_scale,
         }
     }
 }

@@ -287,6 +287,8 @@ key_table! {
         "Twist rigidity `C`.";
     ROD_STRETCH_STIFFNESS = "rod.stretch_stiffness", "N", Rule("16 B / a^2 (homogeneous circular rod)"), Positive, "",
         "Stretching rigidity `EA`; large, so the rod is nearly inextensible.";
+    ROD_DAMPING_TIME = "rod.damping_time", "s", Real(0.0), NonNegative, "",
+        "Kelvin-Voigt damping time `tau` of the rod's material (viscosity over modulus): every elastic strain (bending, twist, stretch) gets a viscous stress `tau` times its stiffness times its rate; 0: an elastic rod with no internal damping.";
     ROD_CLAMP = "rod.clamp", "", Word("none"), Text("\"none\", \"head\" or \"tail\""), "",
         "Clamped end (position and material frame held); the head is `s = 0`.";
     ROD_NATURAL_CURVATURE = "rod.natural_curvature", "1/m", Rule("[0, 0]"), Text("an array of 2 finite numbers (1/m)"), "",

@@ -148,6 +148,9 @@ pub struct RodSpec {
     pub twist_stiffness: Option<f64>,
     /// Stretching rigidity (N); absent: `16 B / a^2`, the homogeneous circular rod's `EA`.
     pub stretch_stiffness: Option<f64>,
+    /// Kelvin-Voigt damping time (s) ([`keys::ROD_DAMPING_TIME`]).
+    #[serde(default = "d_damping_time")]
+    pub damping_time: f64,
     /// Clamped end: "none" (default), "head" or "tail".
     #[serde(default)]
     pub clamp: Clamp,
@@ -163,6 +166,9 @@ fn d_elements() -> usize {
 }
 fn d_density() -> f64 {
     keys::ROD_DENSITY.real()
+}
+fn d_damping_time() -> f64 {
+    keys::ROD_DAMPING_TIME.real()
 }
 fn d_natural_twist() -> f64 {
     keys::ROD_NATURAL_TWIST.real()

@@ -74,6 +74,7 @@ pub(super) fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), Probl
     if let Some(v) = r.stretch_stiffness {
         c.key(&ROD_STRETCH_STIFFNESS, v)?;
     }
+    c.key(&ROD_DAMPING_TIME, r.damping_time)?;
     c.key_finite(&ROD_NATURAL_CURVATURE, &r.natural_curvature)?;
     c.key(&ROD_NATURAL_TWIST, r.natural_twist)?;
     initial::check(p, &c)?;
@@ -170,6 +171,14 @@ pub(super) fn validate(p: &Problem, text: &str, path: &Path) -> Result<(), Probl
                 "integrator",
                 "\"explicit\"".into(),
                 "\"implicit\" in static mode (the explicit integrator only steps in time)",
+            ));
+        }
+        if p.rod.damping_time > 0.0 {
+            return Err(c.fail(
+                "solver",
+                "integrator",
+                "\"explicit\"".into(),
+                "\"implicit\" or \"bdf2\" when rod.damping_time > 0 (rod damping is implicit)",
             ));
         }
     }

@@ -23,8 +23,17 @@ pub(crate) fn fnv1a(bytes: &[u8]) -> u64 {
 /// and `merge` are made of. Feed it the problem after every change that reaches the
 /// simulation (defaults, overrides, an accuracy choice is keyed on top of it).
 pub fn problem_hash(p: &Problem) -> u64 {
-    fnv1a(format!("{p:?}").as_bytes())
+    let mut text = format!("{p:?}");
+    for fragment in LATER_DEFAULTS {
+        text = text.replace(fragment, "");
+    }
+    fnv1a(text.as_bytes())
 }
+
+/// Keys added after studies were first keyed, as the debug text prints them at their default:
+/// left out of the hash, so that a study made before a key existed resumes, and a file that
+/// sets the key to another value is a new problem.
+const LATER_DEFAULTS: &[&str] = &["damping_time: 0.0, ", "ground_points: Nodes, "];
 
 #[cfg(test)]
 mod tests {
@@ -35,6 +44,30 @@ mod tests {
 
     fn hash(text: &str) -> u64 {
         problem_hash(&crate::problem::parse(text, Path::new("t.toml")).unwrap())
+    }
+
+    /// Keys added later (`rod.damping_time`, `solver.ground_points`) at their defaults leave
+    /// the hash as it was before they existed (the debug text without them); another value
+    /// changes it.
+    #[test]
+    fn a_later_key_at_its_default_keeps_earlier_hashes() {
+        let p = parsed(BASE);
+        let text = format!("{p:?}");
+        for fragment in LATER_DEFAULTS {
+            assert!(text.contains(fragment), "{fragment} not in {text}");
+        }
+        let before = fnv1a(
+            text.replace(LATER_DEFAULTS[0], "")
+                .replace(LATER_DEFAULTS[1], "")
+                .as_bytes(),
+        );
+        assert_eq!(problem_hash(&p), before);
+        let explicit = BASE.replace("[time]", "damping_time = 0.0\n[time]");
+        assert_eq!(hash(&explicit), before);
+        let damped = BASE.replace("[time]", "damping_time = 1e-3\n[time]");
+        assert_ne!(hash(&damped), before);
+        let curve = format!("{BASE}[solver]\nground_points = \"curve\"\n");
+        assert_ne!(hash(&curve), before);
     }
 
     /// The key hashes the problem's debug text: the integrator's variants print the names

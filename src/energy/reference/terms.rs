@@ -62,7 +62,7 @@ impl<D: StencilDerivatives> Term for Bend<D> {
         let make = |i: usize| BendStencil {
             frame: &ctx.frames[i - 1],
             kappa0: ctx.kappa0[i],
-            coef: m.bend / (2.0 * m.voronoi[i]),
+            coef: ctx.elastic_scale * m.bend / (2.0 * m.voronoi[i]),
         };
         assemble_nodes(ctx, q, out, project, make, |st, e, y| self.0.bend(st, e, y))
     }
@@ -71,7 +71,7 @@ impl<D: StencilDerivatives> Term for Bend<D> {
         let make = |i: usize| BendStencil {
             frame: &ctx.frames[i - 1],
             kappa0: ctx.kappa0[i],
-            coef: m.bend / (2.0 * m.voronoi[i]),
+            coef: ctx.elastic_scale * m.bend / (2.0 * m.voronoi[i]),
         };
         stencil::gradient_nodes(ctx, q, grad, make, |st, y| self.0.bend_gradient(st, y))
     }
@@ -86,7 +86,7 @@ impl<D: StencilDerivatives> Term for Twist<D> {
         let make = |i: usize| TwistStencil {
             frame: &ctx.frames[i - 1],
             m0: ctx.m0[i],
-            coef: m.twist / (2.0 * m.voronoi[i]),
+            coef: ctx.elastic_scale * m.twist / (2.0 * m.voronoi[i]),
         };
         assemble_nodes(ctx, q, out, project, make, |st, e, y| {
             self.0.twist(st, e, y)
@@ -97,7 +97,7 @@ impl<D: StencilDerivatives> Term for Twist<D> {
         let make = |i: usize| TwistStencil {
             frame: &ctx.frames[i - 1],
             m0: ctx.m0[i],
-            coef: m.twist / (2.0 * m.voronoi[i]),
+            coef: ctx.elastic_scale * m.twist / (2.0 * m.voronoi[i]),
         };
         stencil::gradient_nodes(ctx, q, grad, make, |st, y| self.0.twist_gradient(st, y))
     }

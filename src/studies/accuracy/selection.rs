@@ -36,7 +36,8 @@
 //!    larger estimate is refined: the step while the time estimate is above half the target
 //!    and at least the mesh's, else the mesh (up to `[accuracy] max_elements`; the step down
 //!    to `max_refinements`). With both at their limits the last model is the
-//!    answer, with `met = false`; when a refined model's run fails, the previous model is. Every
+//!    answer, with `met = false`; when a refined model's run fails, or a run of its pairs, the
+//!    previous model is (a failed run's pair estimates nothing: infinite, untrusted). Every
 //!    run is made once: a refined model reuses the runs it shares with the previous ones.
 //! 3. `summary.json` carries the estimates, the observed orders, the chosen model, every run,
 //!    the probes' wall time (every run but the chosen one) and all runs' wall time
@@ -191,6 +192,8 @@ impl std::fmt::Display for Resolution {
 /// one (the order 0.5 of 50/100/200 elements at 2.5e-4 s is followed by order 2.6 from 200
 /// to 400 elements); both are reported ([`PairEstimate::order`]).
 ///
+/// A pair with a failed run (value NaN) has an infinite, untrusted estimate.
+///
 /// A pair whose difference is not smaller than the previous pair's (`ratio >= 1`) is not
 /// converging yet: it is marked untrusted, and the selection never accepts it as meeting a
 /// target.
@@ -239,6 +242,17 @@ impl PairEstimate {
         slowest: f64,
         fastest: f64,
     ) -> Self {
+        if !(a.is_finite() && b.is_finite()) {
+            // A failed run (its value is NaN) estimates nothing: an unknown error, never met.
+            return PairEstimate {
+                coarse: f64::INFINITY,
+                fine: f64::INFINITY,
+                correction: 0.0,
+                spread: f64::INFINITY,
+                ratio: None,
+                trusted: false,
+            };
+        }
         let signed = (b - a) / b.abs();
         let d = signed.abs();
         let ratio = previous.map(|dp| {
@@ -526,6 +540,14 @@ pub fn select_with(
         }
         let time = time_estimate(&done, n, h).expect("the time pair was run");
         let mesh = mesh_estimate(&done, n, h).expect("the mesh pair was run");
+        if !(time.fine.is_finite() && mesh.fine.is_finite()) {
+            // A pair's other run failed: as for a failed model, the answer is the last one
+            // whose pairs ran.
+            if let Some((m, r)) = last_ran {
+                (n, h) = (m, r);
+                break;
+            }
+        }
         if meets(&time, &mesh, target) {
             break;
         }
