@@ -461,7 +461,7 @@ fn a_journal_record_reads_back_as_written() {
 /// reported `met` with a mesh error of 0.
 #[test]
 fn a_pair_with_a_failed_run_is_never_trusted() {
-    use slither::design::selection::PairEstimate;
+    use slither::studies::accuracy::selection::PairEstimate;
     for (a, b, previous) in [
         (f64::NAN, 0.3, None),
         (0.3, f64::NAN, None),
