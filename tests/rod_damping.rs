@@ -2,7 +2,8 @@
 //! first bending mode, with either implicit integrator, and its input checks.
 mod common;
 use common::model;
-use slither::integrator::{Integrator, Natural};
+use slither::integrator::bdf2::Bdf2;
+use slither::integrator::{Integrator, Natural, Scheme};
 use slither::model::Model;
 use slither::state::State;
 
@@ -128,4 +129,31 @@ fn rod_damping_is_refused_with_the_explicit_integrator_and_below_zero() {
         err.contains("damped.toml") && err.contains("rod.damping_time") && err.contains(">= 0"),
         "{err}"
     );
+}
+
+/// BDF2 measures a strain's rate with its own three-level formula (as it measures velocity and
+/// friction's slip): exact for a strain quadratic in time, at a step ratio other than 1. Without
+/// it (the default origin, implicit Euler's `(e - e_n)/h`) the rate of `1 + 2t + 3t^2` comes
+/// out 2 - 3h instead of 2.
+#[test]
+fn bdf2_measures_strain_rates_with_its_own_formula() {
+    let m = model(&cantilever(1e-3, "bdf2", 1e-3));
+    let mut scheme = Bdf2::default();
+    let mut s = State::initial(&m);
+    let mut qhat = vec![0.0; m.ndof];
+    let (h0, h1) = (1e-3, 1.5e-3);
+    scheme.predictor(&m, &s, h0, &mut qhat);
+    assert_eq!(
+        scheme.strain_origin(h0),
+        (1.0, 0.0, h0),
+        "the first step is implicit Euler"
+    );
+    let (q0, v0) = (s.q.clone(), s.v.clone());
+    scheme.update(&m, &q0, &v0, h0, &mut s);
+    scheme.predictor(&m, &s, h1, &mut qhat);
+    let (c_n, c_p, h_eff) = scheme.strain_origin(h1);
+    // e(t) = 1 + 2t + 3t^2 with t_{n+1} = 0, t_n = -h1, t_{n-1} = -h1 - h0: de/dt(0) = 2.
+    let e = |t: f64| 1.0 + 2.0 * t + 3.0 * t * t;
+    let rate = (e(0.0) - (c_n * e(-h1) + c_p * e(-h1 - h0))) / h_eff;
+    assert!((rate - 2.0).abs() < 1e-9, "rate {rate}");
 }

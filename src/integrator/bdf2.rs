@@ -69,6 +69,8 @@ pub struct Bdf2 {
     history: Option<(Vec<f64>, Vec<f64>, f64)>,
     /// `a0` of the current step when it uses BDF2, `None` for an implicit Euler step.
     a0: Option<f64>,
+    /// `(a1, a2)` of the current step when it uses BDF2.
+    a12: (f64, f64),
     origin: Vec<f64>,
     /// Contact normals that take an implicit Euler step in the current step (empty when the
     /// whole step is one).
@@ -98,6 +100,7 @@ impl Scheme for Bdf2 {
             (Some((q1, v1, _)), Some(w)) => {
                 let (a0, a1, a2) = coefficients(w);
                 self.a0 = Some(a0);
+                self.a12 = (a1, a2);
                 let c = h / (a0 * a0);
                 for k in 0..m.ndof {
                     let o = -(a1 * s.q[k] + a2 * q1[k]) / a0;
@@ -146,6 +149,13 @@ impl Scheme for Bdf2 {
         match self.a0 {
             Some(a0) => a0 * a0 / (h * h),
             None => 1.0 / (h * h),
+        }
+    }
+
+    fn strain_origin(&self, h: f64) -> (f64, f64, f64) {
+        match self.a0 {
+            Some(a0) => (-self.a12.0 / a0, -self.a12.1 / a0, h / a0),
+            None => (1.0, 0.0, h),
         }
     }
 
