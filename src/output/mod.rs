@@ -356,8 +356,11 @@ fn put(
     shape: &[u64],
     data: impl IntoIterator<Item = f64>,
 ) -> std::io::Result<()> {
+    // A fixed timestamp (1980-01-01, zip's epoch): the same run writes the same bytes, whenever
+    // it ran (the archive's default is the time of writing).
     let opts = npyz::zip::write::FileOptions::default()
-        .compression_method(npyz::zip::CompressionMethod::Stored);
+        .compression_method(npyz::zip::CompressionMethod::Stored)
+        .last_modified_time(npyz::zip::DateTime::default());
     let mut w = npz
         .array::<f64>(name, opts)?
         .default_dtype()
