@@ -403,7 +403,7 @@ key_table! {
     SOLVER_SEMI_SMOOTH_MERIT_MEMORY = "solver.semi_smooth_merit_memory", "", Int(8), Range::Int { lo: 1, hi: 100 }, "",
         "Semi-smooth contact: a full step is accepted when its merit falls enough below the largest of the last this many accepted iterates' (a non-monotone line search); after as many iterates without a new lowest merit the test is against the last iterate again; 1 is the monotone test.";
     SOLVER_SEMI_SMOOTH_PENALTY = "solver.semi_smooth_penalty", "multiple of the node's inertia stiffness", Real(10.0), open_closed(0.0, 1e4), "",
-        "Semi-smooth contact: the Alart-Curnier penalty `rho` of each contact, this times the node's mass over the step's squared time scale. It decides which branch (free, stick, slide) each iterate takes, not the solution.";
+        "Semi-smooth contact: the Alart-Curnier penalty `rho` of each contact, this times the node's mass over the step's squared time scale, divided by `1 + rod.damping_time/h'` on a damped rod. It decides which branch (free, stick, slide) each iterate takes, not the solution.";
     SOLVER_SEMI_SMOOTH_RETRIES = "solver.semi_smooth_retries", "", Int(2), Range::Int { lo: 0, hi: 4 }, "",
         "Semi-smooth contact: a step whose Newton fails starts again from the step's start this many times, with the penalty times 3, 0.3, 10 and 0.1 in turn, before the conic program takes over.";
     SOLVER_WARM_CONIC_ITERATIONS = "solver.warm_conic_iterations", "", Int(20), Range::Int { lo: 1, hi: 10_000 }, "",
