@@ -84,7 +84,8 @@ impl RodDamping {
         let w = 1.0 / (1.0 + r);
         self.scale = 1.0 + r;
         let (now, prev) = (&self.now, &self.prev);
-        let origin = |a: f64, b: f64| if c_p == 0.0 { a } else { c_n * a + c_p * b };
+        // Implicit Euler's (1, 0): exactly `a` (the previous strains are finite, zeros at first).
+        let origin = |a: f64, b: f64| c_n * a + c_p * b;
         for i in 0..m.nodes {
             for a in 0..2 {
                 let o = origin(now.kappa[i][a], prev.kappa[i][a]);
