@@ -5,9 +5,13 @@
 # docs/results/ground-points/<date>.md.
 #
 #   lab/ground_points/ground_points.sh [--fine] [--jobs N]
+#
+# SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ -z "${SLITHER_RECORDING:-}" ]; then
     exec tools/record.sh ground-points "$0" "$@"
 fi
+. tools/build.sh
+use_slither
 exec python3 lab/ground_points/ground_points.py "$@"
