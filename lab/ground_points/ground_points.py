@@ -38,6 +38,10 @@ def run(binary, out, n, dt, points, shift=0.0):
     cmd = [binary, "run", "problems/s_start.toml", "--out", out, "--no-plots", "--quiet"]
     for s in sets:
         cmd += ["--set", s]
+    try:  # never read an earlier run's summary
+        os.remove(os.path.join(out, "summary.json"))
+    except FileNotFoundError:
+        pass
     t0 = time.time()
     p = subprocess.run(cmd, capture_output=True, text=True)
     wall = time.time() - t0
