@@ -9,7 +9,13 @@ at 5e-4 and 2.5e-4 s), and the converged value of each model (400 elements at tw
 shift (implicit Euler at 2.5e-4 s); the error against the unshifted run is printed beside it. Prints tables; writes out/ground_points/*.csv and the chart
 docs/images/ground_points_scatter.png.
 
-    lab/ground_points/ground_points.sh [--fine] [--jobs N]
+    lab/ground_points/ground_points.sh [--fine] [--jobs N] [--points nodes,curve]
+
+--points chooses the contact models (default both). A run that fails is a row marked failed
+(listed with its error; its tables say so), not the end of the script. Every finished run is
+appended to out/ground_points/journal.jsonl under its command and the binary's hash, and a
+later call with the same binary reads it back instead of running it again: an interrupted
+measurement resumes, and the record says how many runs were read back.
 """
 import argparse
 import concurrent.futures as cf
@@ -19,7 +25,14 @@ import math
 import os
 import subprocess
 import sys
+import hashlib
+import threading
 import time
+
+JOURNAL_PATH = "out/ground_points/journal.jsonl"
+JOURNAL = {}  # key (build and command) -> row, read from JOURNAL_PATH
+BUILD = ""  # sha256 of the binary, first 16 hex digits
+LOCK = threading.Lock()
 
 MESHES = [30, 35, 40, 45, 50, 55, 60, 64, 70, 75, 80, 90, 100, 110, 120, 128, 140, 150, 175, 200]
 COARSE = MESHES[:10]
@@ -30,6 +43,7 @@ SHIFTS = sorted({round(k / (8 * n), 9) for n in ENSEMBLE for k in range(8)})
 
 
 def run(binary, out, n, dt, points, shift=0.0):
+    """One run, or its row from the journal when this binary ran the same command before."""
     sets = [f"rod.elements={n}", 'solver.integrator="implicit"', f"time.dt={dt}",
             f'solver.ground_points="{points}"']
     if shift:
@@ -38,6 +52,9 @@ def run(binary, out, n, dt, points, shift=0.0):
     cmd = [binary, "run", "problems/s_start.toml", "--out", out, "--no-plots", "--quiet"]
     for s in sets:
         cmd += ["--set", s]
+    key = BUILD + " " + " ".join(cmd[1:])
+    if key in JOURNAL:
+        return dict(JOURNAL[key], reused=True)
     try:  # never read an earlier run's summary
         os.remove(os.path.join(out, "summary.json"))
     except FileNotFoundError:
@@ -45,17 +62,24 @@ def run(binary, out, n, dt, points, shift=0.0):
     t0 = time.time()
     p = subprocess.run(cmd, capture_output=True, text=True)
     wall = time.time() - t0
+    row = dict(points=points, n=n, dt=dt, shift=shift, v=float("nan"), iters=float("nan"), wall=wall,
+               fallbacks=0, halvings=0, penetration=0.0, status="failed", error="")
     try:
         d = json.load(open(os.path.join(out, "summary.json")))
     except OSError:
-        sys.exit(f"ground_points: {' '.join(cmd)} wrote no summary (exit {p.returncode}): {p.stderr}")
-    if d.get("status") == "failed":
-        sys.exit(f"ground_points: {' '.join(cmd)} failed: {d.get('error')}")
-    st = d["stats"]
-    return dict(points=points, n=n, dt=dt, shift=shift, v=d["v_s_over_v_m"],
-                iters=d["newton_iterations_mean"], wall=wall,
-                fallbacks=st["semismooth_fallbacks"], halvings=d["step_halvings"],
-                penetration=d["max_penetration"])
+        row["error"] = f"no summary (exit {p.returncode}): {p.stderr.strip()[-300:]}"
+        d = None
+    if d is not None and d.get("status") == "failed":
+        row["error"] = d.get("error", "")
+    elif d is not None:
+        st = d["stats"]
+        row.update(v=d["v_s_over_v_m"], iters=d["newton_iterations_mean"],
+                   fallbacks=st["semismooth_fallbacks"], halvings=d["step_halvings"],
+                   penetration=d["max_penetration"], status="ok")
+    with LOCK:
+        with open(JOURNAL_PATH, "a") as fh:
+            fh.write(json.dumps(dict(key=key, row=row)) + "\n")
+    return row
 
 
 def fit_trend(ns, vs):
@@ -81,15 +105,24 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--fine", action="store_true", help="also 800 elements (about 10 min each)")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--points", default="nodes,curve",
+                    help="contact models, comma-separated (nodes, curve)")
     args = ap.parse_args()
+    models = args.points.split(",")
     binary = os.environ.get("SLITHER")
     if not binary:
         subprocess.run(["cargo", "build", "--release", "--quiet"], check=True)
         binary = os.path.join(os.environ.get("CARGO_TARGET_DIR", "target"), "release", "slither")
     root = "out/ground_points"
     os.makedirs(root, exist_ok=True)
+    global BUILD
+    BUILD = hashlib.sha256(open(binary, "rb").read()).hexdigest()[:16]
+    if os.path.exists(JOURNAL_PATH):
+        for line in open(JOURNAL_PATH):
+            e = json.loads(line)
+            JOURNAL[e["key"]] = e["row"]
     jobs = []
-    for points in ["nodes", "curve"]:
+    for points in models:
         for n in MESHES:
             jobs.append((n, 5e-4, points, 0.0))
         for n in ENSEMBLE:
@@ -116,7 +149,7 @@ def main():
             print(f"  [{i + 1}/{len(jobs)}] {rows[-1]['points']} {rows[-1]['n']} el dt {rows[-1]['dt']:g} "
                   f"shift {rows[-1]['shift']:.5f}: {rows[-1]['v']:.5f}", file=sys.stderr, flush=True)
     with open(f"{root}/runs.csv", "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
+        w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()), extrasaction="ignore")
         w.writeheader()
         for r in sorted(rows, key=lambda r: (r["points"], r["n"], r["dt"], r["shift"])):
             w.writerow(r)
@@ -127,54 +160,69 @@ def main():
                 return r
         raise KeyError((points, n, dt, shift))
 
+    reused = sum(1 for r in rows if r.get("reused"))
+    print(f"{len(rows)} runs, {reused} of them read back from {JOURNAL_PATH} (same build, same command).\n")
+    failed = [r for r in rows if r["status"] != "ok"]
+    if failed:
+        print("## Failed runs\n")
+        for r in failed:
+            print(f"- {r['points']}, {r['n']} elements, {r['dt']:g} s, shift {r['shift']:.6f}: {r['error']}")
+        print()
+
+    def pct(v, ref):
+        return f"{100 * (v / ref - 1):+.2f} %" if math.isfinite(v) and math.isfinite(ref) else "failed"
+
     print("## Converged values (implicit Euler, unshifted couples)\n")
     print("| model | 400 el, 5e-4 s | 400 el, 2.5e-4 s |" + (" 800 el, 5e-4 s |" if args.fine else ""))
     print("|---|---|---|" + ("---|" if args.fine else ""))
-    conv = {}
-    for points in ["nodes", "curve"]:
+    ref = {}
+    for points in models:
         a, b = get(points, 400, 5e-4)["v"], get(points, 400, 2.5e-4)["v"]
         line = f"| {points} | {a:.5f} | {b:.5f} |"
-        conv[points] = b
+        ref[points] = b
         if args.fine:
             c = get(points, 800, 5e-4)["v"]
             line += f" {c:.5f} |"
-            conv[points] = c
+            ref[points] = c
         print(line)
-    ref = conv
-    print(f"\nErrors below are against each model's finest value: nodes {ref['nodes']:.5f}, "
-          f"curve {ref['curve']:.5f}.\n")
+    print("\nErrors below are against each model's finest value: "
+          + ", ".join(f"{p} {ref[p]:.5f}" for p in models) + ".\n")
 
     print("## Mesh scan (implicit Euler at 5e-4 s, unshifted couples)\n")
-    print("| elements | nodes v_s/v_m | error | iterations/step | curve v_s/v_m | error | iterations/step | fallbacks |")
-    print("|---|---|---|---|---|---|---|---|")
-    for n in MESHES:
-        a, b = get("nodes", n, 5e-4), get("curve", n, 5e-4)
-        print(f"| {n} | {a['v']:.5f} | {100 * (a['v'] / ref['nodes'] - 1):+.2f} % | {a['iters']:.2f} | "
-              f"{b['v']:.5f} | {100 * (b['v'] / ref['curve'] - 1):+.2f} % | {b['iters']:.2f} | {b['fallbacks']} |")
+    print("| model | elements | v_s/v_m | error | iterations/step | conic fallbacks | wall s |")
+    print("|---|---|---|---|---|---|---|")
+    for points in models:
+        for n in MESHES:
+            a = get(points, n, 5e-4)
+            print(f"| {points} | {n} | {a['v']:.5f} | {pct(a['v'], ref[points])} | {a['iters']:.2f} | "
+                  f"{a['fallbacks']} | {a['wall']:.1f} |")
     print("\n## Scatter about a fitted trend a + b n^-p, 30 to 75 elements (10 meshes)\n")
     print("| model | a | b | p | standard deviation of the residuals | plain standard deviation |")
     print("|---|---|---|---|---|---|")
-    for points in ["nodes", "curve"]:
+    for points in models:
         vs = [get(points, n, 5e-4)["v"] for n in COARSE]
+        if not all(math.isfinite(v) for v in vs):
+            print(f"| {points} | failed runs | | | | |")
+            continue
         a, b, p, sd = fit_trend(COARSE, vs)
         mv = sum(vs) / len(vs)
         plain = math.sqrt(sum((v - mv) ** 2 for v in vs) / (len(vs) - 1))
         print(f"| {points} | {a:.5f} | {b:.4g} | {p:.2f} | {100 * sd / ref[points]:.2f} % | {100 * plain / ref[points]:.2f} % |")
 
     print("\n## The scene at each shift (400 elements, implicit Euler at 2.5e-4 s)\n")
-    print("| shift (fraction of L) | nodes v_s/v_m | change from unshifted | curve v_s/v_m | change from unshifted |")
-    print("|---|---|---|---|---|")
-    for sh in SHIFTS:
-        a, b = get("nodes", 400, 2.5e-4, sh)["v"], get("curve", 400, 2.5e-4, sh)["v"]
-        print(f"| {sh:.6f} | {a:.5f} | {100 * (a / get('nodes', 400, 2.5e-4)['v'] - 1):+.2f} % | "
-              f"{b:.5f} | {100 * (b / get('curve', 400, 2.5e-4)['v'] - 1):+.2f} % |")
+    print("| model | shift (fraction of L) | v_s/v_m | change from unshifted |")
+    print("|---|---|---|---|")
+    for points in models:
+        for sh in SHIFTS:
+            a = get(points, 400, 2.5e-4, sh)["v"]
+            print(f"| {points} | {sh:.6f} | {a:.5f} | {pct(a, get(points, 400, 2.5e-4)['v'])} |")
 
     print("\n## Couple-shift ensembles (8 shifts of k/8 element)\n")
     print("Error of each member against the 400-element run at its own shift; the mean error "
           "against the unshifted 400-element run (the earlier record's measure) beside it.\n")
     print("| model | elements | step | mean error | standard deviation | range of errors | mean error against unshifted |")
     print("|---|---|---|---|---|---|---|")
-    for points in ["nodes", "curve"]:
+    for points in models:
         for n in ENSEMBLE:
             for dt in [5e-4, 2.5e-4]:
                 errs, plain = [], []
@@ -183,34 +231,34 @@ def main():
                     v = get(points, n, dt, sh)["v"]
                     errs.append(100 * (v / get(points, 400, 2.5e-4, sh)["v"] - 1))
                     plain.append(100 * (v / get(points, 400, 2.5e-4)["v"] - 1))
+                if not all(math.isfinite(e) for e in errs + plain):
+                    print(f"| {points} | {n} | {dt:g} s | failed runs | | | |")
+                    continue
                 m = sum(errs) / 8
                 sd = math.sqrt(sum((e - m) ** 2 for e in errs) / 7)
                 print(f"| {points} | {n} | {dt:g} s | {m:+.2f} % | {sd:.2f} % | "
                       f"{min(errs):+.2f} to {max(errs):+.2f} % | {sum(plain) / 8:+.2f} % |")
 
-    print("\n## Cost (mesh scan, one process each, two at a time)\n")
-    print("| elements | nodes: iterations/step, wall s | curve: iterations/step, wall s, fallbacks, halvings | iteration ratio |")
-    print("|---|---|---|---|")
-    for n in [50, 100, 200]:
-        a, b = get("nodes", n, 5e-4), get("curve", n, 5e-4)
-        print(f"| {n} | {a['iters']:.2f}, {a['wall']:.1f} | {b['iters']:.2f}, {b['wall']:.1f}, {b['fallbacks']}, "
-              f"{b['halvings']} | {b['iters'] / a['iters']:.2f} |")
-    pen = max(r["penetration"] for r in rows if r["points"] == "curve")
-    pen_nodes = max(r["penetration"] for r in rows if r["points"] == "nodes")
-    print(f"\nLargest node below a/2 over all runs: nodes {pen_nodes:.3g} m, curve {pen:.3g} m "
-          "(curve: a node between the step's frozen contact points).")
+    ok = [r for r in rows if r["status"] == "ok"]
+    for points in models:
+        pen = max((r["penetration"] for r in ok if r["points"] == points), default=float("nan"))
+        print(f"\nLargest node below a/2 over all runs, {points}: {pen:.3g} m")
 
     chart_csv = f"{root}/chart.csv"
+    labels = {"nodes": "contact at the nodes", "curve": "contact on the curve"}
     with open(chart_csv, "w") as fh:
         fh.write("label,x,y\n")
-        for points, label in [("nodes", "contact at the nodes"), ("curve", "contact on the curve")]:
+        for points in models:
             for n in MESHES:
-                fh.write(f"{label},{n},{100 * (get(points, n, 5e-4)['v'] / ref[points] - 1):.4f}\n")
+                v = get(points, n, 5e-4)["v"]
+                if math.isfinite(v) and math.isfinite(ref[points]):
+                    fh.write(f"{labels[points]},{n},{100 * (v / ref[points] - 1):.4f}\n")
         fh.write(f"zero,{MESHES[0]},0\nzero,{MESHES[-1]},0\n")
     subprocess.run(["cargo", "run", "--release", "--quiet", "--example", "series_chart", "--", chart_csv,
                     "docs/images/ground_points_scatter.png",
                     "S-start, implicit Euler at 5e-4 s: error against the finest mesh", "elements",
                     "error of v_s/v_m (%)", "--log-x"], check=True)
+
 
 if __name__ == "__main__":
     main()

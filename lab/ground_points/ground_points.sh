@@ -4,7 +4,7 @@
 # and cost (lab/ground_points/ground_points.py); kept as the dated record
 # docs/results/ground-points/<date>.md.
 #
-#   lab/ground_points/ground_points.sh [--fine] [--jobs N]
+#   lab/ground_points/ground_points.sh [--fine] [--jobs N] [--points nodes,curve]
 #
 # SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
