@@ -98,7 +98,9 @@ mod between;
 mod branches;
 mod forces;
 mod step;
+mod watchdog;
 use branches::{norm, status_line};
+use watchdog::{MeritTest, Watch};
 
 /// The penalty factors of the retries of a failed step (`[solver] semi_smooth_retries`): on
 /// the S-start at 800 elements (the first 1.5 s at 5e-4 s) the first two turned 8 conic
@@ -220,30 +222,6 @@ struct Scratch {
     watch_lambda_new: Vec<f64>,
     watch_force_new: Vec<[f64; 2]>,
 }
-
-/// A full step taken without sufficient decrease (the watchdog): the merit it started from,
-/// which a later iterate must fall below before the iterate after it is tested.
-#[derive(Clone, Copy)]
-struct Watch {
-    theta0: f64,
-    /// Full steps left before the merit must have fallen below `theta0`.
-    left: usize,
-}
-
-/// The merit test's facts the watchdog reads ([`SemiSmooth::watchdog`]).
-struct Watchdog {
-    /// The iterate's merit.
-    theta: f64,
-    /// Whether it passed the (non-monotone) sufficient-decrease test.
-    decrease: bool,
-    armijo: f64,
-    noise: f64,
-    /// Whether a watchdog step may start here: after a full step, without self-contact pairs.
-    allowed: bool,
-}
-
-/// Full steps the watchdog allows after the one taken without decrease.
-const WATCH_STEPS: usize = 2;
 
 /// A pending sufficient-decrease test of the step taken from the saved iterate.
 #[derive(Clone, Copy)]
@@ -374,48 +352,20 @@ impl SemiSmooth {
             let (theta_q, residual) = self.balance_residual(ct, m, nw, scale);
             let theta = 0.5 * (theta_q + theta_c).max(0.0);
             if let Some(p) = pending.take() {
-                let noise = 1e-20 * (m.ndof + 3 * nc) as f64;
-                // Monotone while self-contact pairs act: the pair distance has kinks (edges
-                // that turn parallel move their closest points from one end to the other), on
-                // which full steps can cycle.
-                let monotone = !nw.asm.low_rank.is_empty();
-                let reference = if since_best < memory && !monotone {
-                    self.scratch.recent.iter().fold(p.theta0, |a, &b| a.max(b))
-                } else {
-                    p.theta0
-                };
-                let decrease = theta <= (1.0 - 2.0 * set.armijo * p.alpha) * reference + noise;
-                let wd = Watchdog {
+                let test = MeritTest {
+                    p,
                     theta,
-                    decrease,
-                    armijo: set.armijo,
-                    noise,
-                    allowed: p.alpha == 1.0 && !monotone,
+                    since_best,
+                    memory,
+                    // Monotone while self-contact pairs act: the pair distance has kinks (edges
+                    // that turn parallel move their closest points from one end to the other),
+                    // on which full steps can cycle.
+                    monotone: !nw.asm.low_rank.is_empty(),
+                    iteration: it,
                 };
-                if let Some(back) = self.watchdog(&mut watch, p, wd, ct, m, q) {
+                if let Some(back) = self.merit_test(test, &mut watch, ct, m, q)? {
                     nw.stats.backtracks += 1;
                     pending = Some(back);
-                    stats.residuals.push(-1.0);
-                    nw.stats.assembly_s += t0.elapsed().as_secs_f64();
-                    continue;
-                }
-                if !decrease && watch.is_none() {
-                    // Not enough decrease: back along the saved direction.
-                    nw.stats.backtracks += 1;
-                    let alpha = 0.5 * p.alpha;
-                    if alpha < 0.5f64.powi(set.max_backtracks as i32) {
-                        return Err(NewtonFailure::LineSearch {
-                            path: Path::SemiSmooth,
-                            iteration: it,
-                            slope: -2.0 * p.theta0,
-                        }
-                        .into());
-                    }
-                    self.step_from_saved(ct, m, q, alpha);
-                    pending = Some(Pending {
-                        theta0: p.theta0,
-                        alpha,
-                    });
                     stats.residuals.push(-1.0);
                     nw.stats.assembly_s += t0.elapsed().as_secs_f64();
                     continue;
@@ -428,18 +378,13 @@ impl SemiSmooth {
             stats.residuals.push((2.0 * theta).sqrt());
             // A watchdog's iterate has not earned its merit: it stays out of the memory.
             if watch.is_none() {
-                let recent = &mut self.scratch.recent;
-                recent.push_back(theta);
-                while recent.len() > memory {
-                    recent.pop_front();
-                }
+                self.remember(theta, memory);
             }
-            if theta < (1.0 - 2.0 * set.armijo) * best {
-                best = theta;
-                since_best = 0;
+            (best, since_best) = if theta < (1.0 - 2.0 * set.armijo) * best {
+                (theta, 0)
             } else {
-                since_best += 1;
-            }
+                (best, since_best + 1)
+            };
             self.add_between(ct, m, nw, q);
             self.add_sliding(ct, nw, q);
             self.hold_targets(ct, m, nw, q);
@@ -501,83 +446,6 @@ impl SemiSmooth {
             iterations: cap,
         }
         .into())
-    }
-
-    /// The watchdog's part of the merit test of the iterate after a step `p`. A contact
-    /// between nodes lags its normal force in its friction, so a full step whose normal force
-    /// changes much raises the merit although the next one settles it (on the damped S-start,
-    /// 100 elements, implicit Euler at 2.5e-4 s with `ground_points = "curve"`, the line
-    /// search crept at `alpha` 2^-10 for 100 iterations, then the conic program took over).
-    /// Such a step without sufficient decrease is taken (a checkpoint is kept) while a contact
-    /// between nodes touches; its merit must fall below the checkpoint's within
-    /// [`WATCH_STEPS`] more full steps, each decreasing, or the search goes back to the
-    /// checkpoint and halves its step there: `Some` is that backtrack's pending test, with the
-    /// iterate already moved.
-    fn watchdog(
-        &mut self,
-        watch: &mut Option<Watch>,
-        p: Pending,
-        wd: Watchdog,
-        ct: &ContactSet,
-        m: &Model,
-        q: &mut [f64],
-    ) -> Option<Pending> {
-        match *watch {
-            Some(w) if wd.theta <= (1.0 - 2.0 * wd.armijo) * w.theta0 + wd.noise => *watch = None,
-            Some(w) if w.left == 0 || !wd.decrease => {
-                *watch = None;
-                self.restore_watch();
-                self.step_from_saved(ct, m, q, 0.5);
-                return Some(Pending {
-                    theta0: w.theta0,
-                    alpha: 0.5,
-                });
-            }
-            Some(w) => {
-                *watch = Some(Watch {
-                    left: w.left - 1,
-                    ..w
-                })
-            }
-            None if !wd.decrease && wd.allowed && self.any_between() => {
-                self.keep_watch();
-                *watch = Some(Watch {
-                    theta0: p.theta0,
-                    left: WATCH_STEPS,
-                });
-            }
-            None => {}
-        }
-        None
-    }
-
-    /// Whether a contact between nodes touches (its held components enter by the augmented
-    /// Lagrangian, and a sliding one lags its normal force).
-    fn any_between(&self) -> bool {
-        (0..self.mode.len())
-            .any(|c| self.scratch.at_node[c].is_none() && self.mode[c] != ContactStatus::Free)
-    }
-
-    /// Keep the saved iterate, direction and force variables as the watchdog's checkpoint.
-    fn keep_watch(&mut self) {
-        let s = &mut self.scratch;
-        s.watch_q0.clone_from(&s.q0);
-        s.watch_dq.clone_from(&s.dq);
-        s.watch_lambda0.clone_from(&s.lambda0);
-        s.watch_force0.clone_from(&s.force0);
-        s.watch_lambda_new.clone_from(&s.lambda_new);
-        s.watch_force_new.clone_from(&s.force_new);
-    }
-
-    /// Make the watchdog's checkpoint the saved iterate and direction again.
-    fn restore_watch(&mut self) {
-        let s = &mut self.scratch;
-        s.q0.clone_from(&s.watch_q0);
-        s.dq.clone_from(&s.watch_dq);
-        s.lambda0.clone_from(&s.watch_lambda0);
-        s.force0.clone_from(&s.watch_force0);
-        s.lambda_new.clone_from(&s.watch_lambda_new);
-        s.force_new.clone_from(&s.watch_force_new);
     }
 
     /// Size the per-step storage; the penalty `rho` of every contact (`[solver]
