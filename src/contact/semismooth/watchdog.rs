@@ -21,13 +21,13 @@ pub(super) struct Watch {
 /// The merit test's facts the watchdog reads ([`SemiSmooth::watchdog`]).
 struct Watchdog {
     /// The iterate's merit.
-    pub(super) theta: f64,
+    theta: f64,
     /// Whether it passed the (non-monotone) sufficient-decrease test.
-    pub(super) decrease: bool,
-    pub(super) armijo: f64,
-    pub(super) noise: f64,
+    decrease: bool,
+    armijo: f64,
+    noise: f64,
     /// Whether a watchdog step may start here: after a full step, without self-contact pairs.
-    pub(super) allowed: bool,
+    allowed: bool,
 }
 
 /// Full steps the watchdog allows after the one taken without decrease.
@@ -164,15 +164,16 @@ impl SemiSmooth {
         s.watch_force_new.clone_from(&s.force_new);
     }
 
-    /// Make the watchdog's checkpoint the saved iterate and direction again.
+    /// Make the watchdog's checkpoint the saved iterate and direction again (the saved ones
+    /// it replaces are abandoned, so the two are swapped rather than copied).
     fn restore_watch(&mut self) {
         let s = &mut self.scratch;
-        s.q0.clone_from(&s.watch_q0);
-        s.dq.clone_from(&s.watch_dq);
-        s.lambda0.clone_from(&s.watch_lambda0);
-        s.force0.clone_from(&s.watch_force0);
-        s.lambda_new.clone_from(&s.watch_lambda_new);
-        s.force_new.clone_from(&s.watch_force_new);
+        std::mem::swap(&mut s.q0, &mut s.watch_q0);
+        std::mem::swap(&mut s.dq, &mut s.watch_dq);
+        std::mem::swap(&mut s.lambda0, &mut s.watch_lambda0);
+        std::mem::swap(&mut s.force0, &mut s.watch_force0);
+        std::mem::swap(&mut s.lambda_new, &mut s.watch_lambda_new);
+        std::mem::swap(&mut s.force_new, &mut s.watch_force_new);
     }
 
     /// Keep an accepted iterate's merit in the non-monotone test's memory (the last `memory`).
