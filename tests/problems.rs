@@ -103,9 +103,10 @@ fn whole_run(p: &problem::Problem) -> (sim::Outcome, f64, f64) {
 /// round-off) measured 7.15, 3.37 and 4.87 to 4.91 Newton iterations per step (the adaptive
 /// runs 3714 to 3775 accepted steps), no conic fallback and no halving, and v_s/v_m 0.3177,
 /// 0.3031 and 0.3088 to 0.3091 (the retired active set's pins were 0.31758, 0.30309 and
-/// 0.30778 to 0.30835). The bundled S-start with its damping time of 5 ms (issue 55), its penalty
-/// divided by the damping's stiffness factor: 7.36 to 8.89 iterations per step, at most one
-/// fallback in 993 steps, v_s/v_m 0.31545 in all four.
+/// 0.30778 to 0.30835). The bundled S-start with its damping time of 10 ms (issue 55), its
+/// penalty divided by the damping's stiffness factor: 8.13 to 10.37 iterations per step, one
+/// fallback in 993 steps, v_s/v_m 0.32350 to 0.32352 (with 5 ms it was 7.36 to 8.89 and
+/// 0.31545).
 ///
 /// Regression pin: iterations per step 5 % above the largest run, fallbacks on at most 0.5 %
 /// of the steps (the target of the contact work), no halving, v_s/v_m within 1e-3 relative
@@ -118,7 +119,7 @@ fn pin_semi_smooth_statistics_on_the_s_start() {
     adaptive.solver.integrator = problem::IntegratorKind::Bdf2;
     adaptive.time.adaptive = true;
     for (name, p, bound, v_ref, v_tol) in [
-        ("bundled", bundled, 9.4, 0.31545, 1e-3),
+        ("bundled", bundled, 10.9, 0.32351, 1e-3),
         ("50 elements", coarse, 3.55, 0.3031, 1e-3),
         ("adaptive BDF2", adaptive, 5.15, 0.30895, 0.01),
     ] {
