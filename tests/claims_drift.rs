@@ -8,7 +8,8 @@
 //!
 //! - **The key** locates the value in the record's output (the text after `## Output`): one or
 //!   more anchors separated by ` … `, each found after the previous one (an anchor that starts
-//!   with a letter or digit must not continue a longer word); the value is the first number
+//!   or ends with a letter or digit must not continue a longer word, nor be continued by one:
+//!   `label_purity_by_W` is not found in `label_purity_by_W_over_G`); the value is the first number
 //!   after the last anchor. `\|` in a key stands for `|` (escaped inside tables).
 //! - **The comparison** rounds the record's value to the quoted number's decimals; they must be
 //!   equal. A quoted text that is not a number (a regime letter) must equal the rest of the
@@ -161,8 +162,11 @@ fn locate(output: &str, key: &str) -> Result<usize, String> {
             } else {
                 b' '
             };
-            if first.is_ascii_alphanumeric()
-                && (prev.is_ascii_alphanumeric() || prev == b'_' || prev == b'.')
+            let last = anchor.as_bytes()[anchor.len() - 1];
+            let next = output.as_bytes().get(i + anchor.len()).copied().unwrap_or(b' ');
+            if (first.is_ascii_alphanumeric()
+                && (prev.is_ascii_alphanumeric() || prev == b'_' || prev == b'.'))
+                || (last.is_ascii_alphanumeric() && (next.is_ascii_alphanumeric() || next == b'_'))
             {
                 pos = i + 1;
                 continue;
@@ -475,4 +479,16 @@ fn untagged_decimals_in_a_marked_column_fail() {
     let bad = untagged_numbers(page);
     assert_eq!(bad.len(), 1, "{bad:?}");
     assert!(bad[0].contains("0.5"));
+}
+
+#[test]
+fn a_key_is_not_found_inside_a_longer_word() {
+    // The guide once quoted label_purity_by_W_over_G's value as label_purity_by_W's: the key
+    // must not match the start of a longer key, nor the end of one.
+    let output = "x.by_W_over_G 0.6875\nx.by_W 0.565\nprefix_by_W 9\n";
+    let pos = locate(output, "x.by_W").unwrap();
+    assert!(output[pos..].trim_start().starts_with("0.565"), "{}", &output[pos..]);
+    let pos = locate(output, "by_W_over_G").unwrap();
+    assert!(output[pos..].trim_start().starts_with("0.6875"));
+    assert!(locate(output, "by_").is_ok(), "an anchor ending in `_` may continue");
 }
