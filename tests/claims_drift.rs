@@ -163,7 +163,11 @@ fn locate(output: &str, key: &str) -> Result<usize, String> {
                 b' '
             };
             let last = anchor.as_bytes()[anchor.len() - 1];
-            let next = output.as_bytes().get(i + anchor.len()).copied().unwrap_or(b' ');
+            let next = output
+                .as_bytes()
+                .get(i + anchor.len())
+                .copied()
+                .unwrap_or(b' ');
             if (first.is_ascii_alphanumeric()
                 && (prev.is_ascii_alphanumeric() || prev == b'_' || prev == b'.'))
                 || (last.is_ascii_alphanumeric() && (next.is_ascii_alphanumeric() || next == b'_'))
@@ -487,9 +491,16 @@ fn a_key_is_not_found_inside_a_longer_word() {
     // must not match the start of a longer key, nor the end of one.
     let output = "x.by_W_over_G 0.6875\nx.by_W 0.565\nprefix_by_W 9\n";
     let pos = locate(output, "x.by_W").unwrap();
-    assert!(output[pos..].trim_start().starts_with("0.565"), "{}", &output[pos..]);
+    assert!(
+        output[pos..].trim_start().starts_with("0.565"),
+        "{}",
+        &output[pos..]
+    );
     let pos = locate(output, "by_W_over_G").unwrap();
     assert!(output[pos..].trim_start().starts_with("0.6875"));
     let pos = locate(output, "x.by_").unwrap();
-    assert!(output[pos..].starts_with("W_over_G"), "an anchor ending in `_` may continue");
+    assert!(
+        output[pos..].starts_with("W_over_G"),
+        "an anchor ending in `_` may continue"
+    );
 }
