@@ -496,7 +496,7 @@ fn a_key_is_not_found_inside_a_longer_word() {
         "{}",
         &output[pos..]
     );
-    let pos = locate(output, "by_W_over_G").unwrap();
+    let pos = locate(output, "x.by_W_over_G").unwrap();
     assert!(output[pos..].trim_start().starts_with("0.6875"));
     let pos = locate(output, "x.by_").unwrap();
     assert!(
