@@ -190,14 +190,8 @@ struct Scratch {
     grad: Vec<[f64; 3]>,
     /// The force balance: the gradient with the contact force variables.
     balance: Vec<f64>,
-    /// New values of the force variables after a full step.
-    lambda_new: Vec<f64>,
-    force_new: Vec<[f64; 2]>,
-    /// Saved iterate and direction for the deferred merit test.
-    q0: Vec<f64>,
-    dq: Vec<f64>,
-    lambda0: Vec<f64>,
-    force0: Vec<[f64; 2]>,
+    /// The step the deferred merit test judges ([`Saved`]).
+    saved: Saved,
     /// The statuses of the last iterate (a change marks the residual history).
     modes_before: Vec<ContactStatus>,
     /// The statuses of the contacts at nodes, with every contact between nodes free: what
@@ -213,14 +207,33 @@ struct Scratch {
     recent: VecDeque<f64>,
     /// The bending and twist Hessian kept within the step (`[solver] hessian_reuse`).
     hessians: HessianCache,
-    /// The watchdog's checkpoint: the saved iterate, direction and force variables of a
-    /// full step taken without its decrease (see [`Watch`]).
-    watch_q0: Vec<f64>,
-    watch_dq: Vec<f64>,
-    watch_lambda0: Vec<f64>,
-    watch_force0: Vec<[f64; 2]>,
-    watch_lambda_new: Vec<f64>,
-    watch_force_new: Vec<[f64; 2]>,
+    /// The watchdog's checkpoint: the saved step of a full step taken without its decrease
+    /// (see [`Watch`]).
+    watch: Saved,
+}
+
+/// A step as the line search moves along it: the iterate and force variables it starts from,
+/// its direction, and the force variables after the full step.
+#[derive(Default)]
+struct Saved {
+    q0: Vec<f64>,
+    dq: Vec<f64>,
+    lambda0: Vec<f64>,
+    force0: Vec<[f64; 2]>,
+    lambda_new: Vec<f64>,
+    force_new: Vec<[f64; 2]>,
+}
+
+impl Saved {
+    /// Copy `other` into this one, keeping the allocations.
+    fn copy_from(&mut self, other: &Saved) {
+        self.q0.clone_from(&other.q0);
+        self.dq.clone_from(&other.dq);
+        self.lambda0.clone_from(&other.lambda0);
+        self.force0.clone_from(&other.force0);
+        self.lambda_new.clone_from(&other.lambda_new);
+        self.force_new.clone_from(&other.force_new);
+    }
 }
 
 /// A pending sufficient-decrease test of the step taken from the saved iterate.
@@ -469,8 +482,8 @@ impl SemiSmooth {
         s.node_mode.resize(nc, ContactStatus::Free);
         s.slide.resize(nc, SlideLin::default());
         s.grad.resize(nc, [0.0; 3]);
-        s.lambda_new.resize(nc, 0.0);
-        s.force_new.resize(nc, [0.0; 2]);
+        s.saved.lambda_new.resize(nc, 0.0);
+        s.saved.force_new.resize(nc, [0.0; 2]);
         s.modes_before.resize(nc, ContactStatus::Free);
     }
 

@@ -25,8 +25,8 @@ impl SemiSmooth {
                 force[0] - self.force[c][0],
                 force[1] - self.force[c][1],
             ]));
-            self.scratch.lambda_new[c] = lam;
-            self.scratch.force_new[c] = force;
+            self.scratch.saved.lambda_new[c] = lam;
+            self.scratch.saved.force_new[c] = force;
         }
         worst
     }
@@ -53,7 +53,7 @@ impl SemiSmooth {
 
     /// Save the iterate, its force variables and the direction.
     pub(super) fn save(&mut self, q: &[f64], nw: &Newton) {
-        let s = &mut self.scratch;
+        let s = &mut self.scratch.saved;
         s.q0.clear();
         s.q0.extend_from_slice(q);
         s.dq.clear();
@@ -71,9 +71,9 @@ impl SemiSmooth {
         q: &mut [f64],
         alpha: f64,
     ) {
-        let s = &self.scratch;
+        let (s, saved) = (&self.scratch, &self.scratch.saved);
         for k in 0..m.ndof {
-            q[k] = s.q0[k] + alpha * s.dq[k];
+            q[k] = saved.q0[k] + alpha * saved.dq[k];
         }
         for c in 0..ct.len() {
             if let Some(k) = s.at_node[c].filter(|_| alpha == 1.0) {
@@ -87,9 +87,10 @@ impl SemiSmooth {
                     ContactStatus::Slide => q[k + 2] = 0.5 * m.diameter,
                 }
             }
-            self.lambda[c] = s.lambda0[c] + alpha * (s.lambda_new[c] - s.lambda0[c]);
+            self.lambda[c] = saved.lambda0[c] + alpha * (saved.lambda_new[c] - saved.lambda0[c]);
             for j in 0..2 {
-                self.force[c][j] = s.force0[c][j] + alpha * (s.force_new[c][j] - s.force0[c][j]);
+                self.force[c][j] =
+                    saved.force0[c][j] + alpha * (saved.force_new[c][j] - saved.force0[c][j]);
             }
         }
     }

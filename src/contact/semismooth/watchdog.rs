@@ -153,27 +153,17 @@ impl SemiSmooth {
             .any(|c| self.scratch.at_node[c].is_none() && self.mode[c] != ContactStatus::Free)
     }
 
-    /// Keep the saved iterate, direction and force variables as the watchdog's checkpoint.
+    /// Keep the saved step as the watchdog's checkpoint.
     fn keep_watch(&mut self) {
         let s = &mut self.scratch;
-        s.watch_q0.clone_from(&s.q0);
-        s.watch_dq.clone_from(&s.dq);
-        s.watch_lambda0.clone_from(&s.lambda0);
-        s.watch_force0.clone_from(&s.force0);
-        s.watch_lambda_new.clone_from(&s.lambda_new);
-        s.watch_force_new.clone_from(&s.force_new);
+        s.watch.copy_from(&s.saved);
     }
 
-    /// Make the watchdog's checkpoint the saved iterate and direction again (the saved ones
-    /// it replaces are abandoned, so the two are swapped rather than copied).
+    /// Make the watchdog's checkpoint the saved step again (the saved one it replaces is
+    /// abandoned, so the two are swapped rather than copied).
     fn restore_watch(&mut self) {
         let s = &mut self.scratch;
-        std::mem::swap(&mut s.q0, &mut s.watch_q0);
-        std::mem::swap(&mut s.dq, &mut s.watch_dq);
-        std::mem::swap(&mut s.lambda0, &mut s.watch_lambda0);
-        std::mem::swap(&mut s.force0, &mut s.watch_force0);
-        std::mem::swap(&mut s.lambda_new, &mut s.watch_lambda_new);
-        std::mem::swap(&mut s.force_new, &mut s.watch_force_new);
+        std::mem::swap(&mut s.saved, &mut s.watch);
     }
 
     /// Keep an accepted iterate's merit in the non-monotone test's memory (the last `memory`).
