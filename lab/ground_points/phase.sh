@@ -2,10 +2,11 @@
 # The bundled phase study (problems/phase_s_start.toml, [accuracy] target 1.5 %) with ground
 # contact at the nodes and on the curve ([solver] ground_points): the model each selection
 # chooses, the study's elapsed time, and the cells whose label changes (phase_compare.py).
-#   1. On the study's base as bundled (problems/s_start_coarse.toml, an elastic rod): the curve's
-#      selection alone (`slither run --accuracy 0.015`, the selection the study makes).
-#   2. On the base with the bundled S-start's damping time (rod.damping_time = 10 ms): both
-#      whole studies, one after the other.
+#   1. On the study's base before this comparison (problems/s_start_coarse.toml, an elastic
+#      rod): the curve's selection alone (`slither run --accuracy 0.015`, the selection the
+#      study makes).
+#   2. On the base with the bundled S-start's damping time (rod.damping_time = 10 ms, which
+#      problems/phase_s_start_base.toml now has): both whole studies, one after the other.
 # Kept as the dated record docs/results/ground-points-phase/<date>.md.
 #
 #   lab/ground_points/phase.sh          # about 10 min on 2 cores
@@ -25,7 +26,7 @@ trap 'rm -rf "$tmp"' EXIT
 choice() {
     jq -r '(.selection // .accuracy) as $s | "chosen: \($s.elements // .elements) elements, \($s.integrator) at \($s.dt // .dt) s, estimate \($s.estimated_error * 10000 | round / 100) %, probes \($s.probes_wall_time_s * 10 | round / 10) s"' "$1"
 }
-echo "== 1. elastic base (as bundled), contact on the curve: the selection"
+echo "== 1. elastic base (problems/s_start_coarse.toml), contact on the curve: the selection"
 t0="$(date +%s.%N)"
 "$SLITHER" run problems/s_start_coarse.toml --out "$tmp/elastic_curve" --no-plots --quiet \
     --accuracy 0.015 --set solver.ground_points='"curve"'
