@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The converged value at 800 elements with each ground contact model ([solver] ground_points):
+# the bundled S-start with implicit Euler at 5e-4 s, nodes and curve side by side (two
+# processes); v_s/v_m, iterations, fallbacks, halvings and wall time of each, to set beside the
+# 400-element values of record ground-points. Kept as the dated record
+# docs/results/ground-points-800/<date>.md.
+#
+#   lab/ground_points/fine.sh          # 10 to 40 min on 2 cores
+#
+# SLITHER names a built binary to use instead of building one (tools/build.sh).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+if [ -z "${SLITHER_RECORDING:-}" ]; then
+    exec tools/record.sh ground-points-800 "$0" "$@"
+fi
+. tools/build.sh
+use_slither
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+for points in nodes curve; do
+    "$SLITHER" run problems/s_start.toml --out "$tmp/$points" --no-plots --quiet --force \
+        --set rod.elements=800 --set solver.integrator='"implicit"' --set time.dt=5e-4 \
+        --set solver.ground_points="\"$points\"" >"$tmp/$points.log" 2>&1 &
+done
+wait
+echo "| contact | v_s/v_m | steps | Newton it/step | conic fallbacks | step halvings | wall s |"
+echo "|---|---|---|---|---|---|---|"
+for points in nodes curve; do
+    jq -r --arg p "$points" '"| \($p) | \(.v_s_over_v_m * 100000 | round / 100000) | \(.steps) | \(.newton_iterations_mean * 100 | round / 100) | \(.stats.semismooth_fallbacks) | \(.stats.step_halvings) | \(.wall_time_s * 10 | round / 10) |"' "$tmp/$points/summary.json" \
+        || { echo "| $points | failed: $(tail -n 3 "$tmp/$points.log" | tr '\n' ' ') |"; }
+done
