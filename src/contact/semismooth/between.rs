@@ -73,7 +73,13 @@ impl SemiSmooth {
                 // The normal force of the iterate, lagged: coupling its change along the step
                 // into the system (as the reactions do at a node, with `-rho_al J_z dq`) made the
                 // system as stiff as `rho_al` and took 22 instead of 4.2 iterations per step
-                // (100 elements, implicit Euler at 5e-4 s, the first 2.5 s).
+                // (100 elements, implicit Euler at 5e-4 s, the first 2.5 s). Coupled through
+                // the reactions' GMRES instead (`Reactions::couple` with the row `-rho_al J_z`
+                // and the normal force `lambda - rho_al r_z`; by hand, the damped S-start, BDF2
+                // at 3.4e-3 to 3.8e-3 s) it is not stiff: 10.25 instead of 10.84 iterations per
+                // step at 100 elements (nodes 10.26), but 20.51 instead of 20.65 at 200, where
+                // such a contact then cycled between stick and slide beside a sliding neighbour
+                // until the iteration cap and 3 of 5 runs halved a step.
                 let lin = s.slide[c];
                 let gxy = lin.force(&ctc.frame, ctc.slip(q), self.lambda[c].max(0.0));
                 let h = lin.hessian(&ctc.frame);
