@@ -5,7 +5,8 @@
 # 400-element values of record ground-points. Kept as the dated record
 # docs/results/ground-points-800/<date>.md.
 #
-#   lab/ground_points/fine.sh          # 10 to 40 min on 2 cores
+#   lab/ground_points/fine.sh          # nodes and curve: 20 to 100 min on 2 cores
+#   lab/ground_points/fine.sh curve    # one model only (the other's row stands in its record)
 #
 # SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
@@ -17,7 +18,12 @@ fi
 use_slither
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-for points in nodes curve; do
+models=("$@")
+[ ${#models[@]} -gt 0 ] || models=(nodes curve)
+for points in "${models[@]}"; do
+    case "$points" in nodes | curve) ;; *) echo "fine.sh: unknown model '$points' (nodes or curve)" >&2; exit 2 ;; esac
+done
+for points in "${models[@]}"; do
     "$SLITHER" run problems/s_start.toml --out "$tmp/$points" --no-plots --quiet --force \
         --set rod.elements=800 --set solver.integrator='"implicit"' --set time.dt=5e-4 \
         --set solver.ground_points="\"$points\"" >"$tmp/$points.log" 2>&1 &
@@ -25,7 +31,7 @@ done
 wait
 echo "| contact | v_s/v_m | steps | Newton it/step | conic fallbacks | step halvings | wall s |"
 echo "|---|---|---|---|---|---|---|"
-for points in nodes curve; do
+for points in "${models[@]}"; do
     jq -r --arg p "$points" '"| \($p) | \(.v_s_over_v_m * 100000 | round / 100000) | \(.steps) | \(.newton_iterations_mean * 100 | round / 100) | \(.stats.semismooth_fallbacks) | \(.stats.step_halvings) | \(.wall_time_s * 10 | round / 10) |"' "$tmp/$points/summary.json" \
         || { echo "| $points | failed: $(tail -n 3 "$tmp/$points.log" | tr '\n' ' ') |"; }
 done

@@ -197,14 +197,22 @@ impl ContactSet {
     }
 }
 
+/// The regularisation of [`lowest_point`] in units of the diameter `a`.
+pub const LOWEST_POINT_TAU: f64 = 1e-4;
+
 /// The lowest point of the body near real node `i` at `q`: the minimum over the half element
 /// on either side of `i` of the parabola through the heights of `i` and its two neighbours (at
 /// an end, the end node and the next two, over the half element inward), as the stencil of
 /// those three nodes. A parabola that does not sag (`c <= 0`: straight or arched) lies above
 /// its chords, so the node itself is the lowest point that matters; the vertex of one that
-/// does is taken with a regularisation `t = -s c / (c^2 + tau^2)`, `tau = 1e-6 a`, so that the
+/// does is taken with a regularisation `t = -s c / (c^2 + tau^2)`, `tau = 1e-4 a`, so that the
 /// point moves continuously as the curve flattens and a flat body's points sit on its nodes.
-/// A neighbour clamped in height keeps the contact at the node.
+/// `tau` lies above what Newton resolves (corrections below `[solver] tolerance`, 5e-6 a per
+/// coordinate, so up to 2e-5 a in a second difference) and below a real sag (at 800 elements
+/// a bend lifting off the ground sags about 8e-4 a, and its point moves 98 % of the way): at
+/// `1e-6 a` a flat region's unresolved height ripples (about 1e-8 m at 800 elements) put its
+/// points between nodes at random, nearly dependent contacts whose normal forces never settled
+/// (`lab/ground_points/fine.sh`). A neighbour clamped in height keeps the contact at the node.
 pub fn lowest_point(m: &Model, q: &[f64], i: usize) -> Stencil {
     let (lo, hi) = (m.real.start, m.real.end - 1);
     if hi - lo < 2 {
@@ -234,7 +242,7 @@ pub fn lowest_point(m: &Model, q: &[f64], i: usize) -> Stencil {
         0.0
     };
     let t = if c > 0.0 {
-        let tau = 1e-6 * m.diameter;
+        let tau = LOWEST_POINT_TAU * m.diameter;
         // The vertex relative to the node, regularised, then clamped to the node's interval.
         let vertex = -s / c;
         let blend = c * c / (c * c + tau * tau);
