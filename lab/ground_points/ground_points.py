@@ -16,6 +16,11 @@ docs/images/ground_points_scatter.png.
 appended to out/ground_points/journal.jsonl under its command and the binary's hash, and a
 later call with the same binary reads it back instead of running it again: an interrupted
 measurement resumes, and the record says how many runs were read back.
+
+--read-back MODEL=BUILD reads that model's runs from the journal rows of an earlier binary
+(BUILD: the first 16 hex digits of its sha256, as the journal keys them), for a model whose
+code did not change since: the cheapest of its runs is made again with this binary first, and
+the script stops unless it gives the same `v_s/v_m` to 1e-12.
 """
 import argparse
 import concurrent.futures as cf
@@ -42,8 +47,12 @@ ENSEMBLE = [50, 100, 200]
 SHIFTS = sorted({round(k / (8 * n), 9) for n in ENSEMBLE for k in range(8)})
 
 
-def run(binary, out, n, dt, points, shift=0.0):
-    """One run, or its row from the journal when this binary ran the same command before."""
+READ_BACK = {}  # model -> the build whose journal rows stand for it (--read-back)
+
+
+def run(binary, out, n, dt, points, shift=0.0, fresh=False):
+    """One run, or its row from the journal when this binary ran the same command before (or
+    the build `--read-back` names for this model; `fresh`: always run)."""
     sets = [f"rod.elements={n}", 'solver.integrator="implicit"', f"time.dt={dt}",
             f'solver.ground_points="{points}"']
     if shift:
@@ -53,7 +62,11 @@ def run(binary, out, n, dt, points, shift=0.0):
     for s in sets:
         cmd += ["--set", s]
     key = BUILD + " " + " ".join(cmd[1:])
-    if key in JOURNAL:
+    if points in READ_BACK and not fresh:
+        old = READ_BACK[points] + " " + " ".join(cmd[1:])
+        if old in JOURNAL:
+            return dict(JOURNAL[old], reused=True)
+    if key in JOURNAL and not fresh:
         return dict(JOURNAL[key], reused=True)
     try:  # never read an earlier run's summary
         os.remove(os.path.join(out, "summary.json"))
@@ -107,8 +120,15 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--points", default="nodes,curve",
                     help="contact models, comma-separated (nodes, curve)")
+    ap.add_argument("--read-back", action="append", default=[], metavar="MODEL=BUILD",
+                    help="read MODEL's runs from the journal rows of build BUILD (checked)")
     args = ap.parse_args()
     models = args.points.split(",")
+    for item in args.read_back:
+        model, _, build = item.partition("=")
+        if model not in ("nodes", "curve") or len(build) != 16:
+            sys.exit(f"--read-back {item}: expected nodes=BUILD or curve=BUILD (16 hex digits)")
+        READ_BACK[model] = build
     binary = os.environ.get("SLITHER")
     if not binary:
         subprocess.run(["cargo", "build", "--release", "--quiet"], check=True)
@@ -138,6 +158,17 @@ def main():
                 jobs.append((400, 2.5e-4, points, shift))
         if args.fine:
             jobs.append((800, 5e-4, points, 0.0))
+    for points, build in READ_BACK.items():
+        # The model's cheapest run, made again: its code must not have changed since BUILD.
+        n, dt, _, sh = min((j for j in jobs if j[2] == points), key=lambda j: j[0] / j[1])
+        c = [r for k, r in JOURNAL.items() if k.startswith(build + " ") and r["points"] == points
+             and r["n"] == n and r["dt"] == dt and abs(r["shift"] - sh) < 1e-9]
+        now = run(binary, f"{root}/{points}-{n}-{dt:g}-{sh:.6f}", n, dt, points, sh, fresh=True)
+        if not c or not abs(c[0]["v"] - now["v"]) <= 1e-12:
+            sys.exit(f"--read-back {points}={build}: {n} el at {dt:g} s gives {now['v']!r} with this "
+                     f"binary against {c[0]['v'] if c else 'no row'} then; run the model afresh")
+        print(f"{points}: runs read back from build {build} ({n} el at {dt:g} s made again: "
+              f"v_s/v_m {now['v']:.12f} both times)")
     # Longest first, so the two workers end together.
     jobs.sort(key=lambda j: -j[0] / j[1])
     rows = []

@@ -5,6 +5,7 @@
 # docs/results/ground-points/<date>.md.
 #
 #   lab/ground_points/ground_points.sh [--fine] [--jobs N] [--points nodes,curve]
+#                                      [--read-back nodes=BUILD]
 #
 # SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
