@@ -15,7 +15,9 @@ docs/images/ground_points_scatter.png.
 (listed with its error; its tables say so), not the end of the script. Every finished run is
 appended to out/ground_points/journal.jsonl under its command and the binary's hash, and a
 later call with the same binary reads it back instead of running it again: an interrupted
-measurement resumes, and the record says how many runs were read back.
+measurement resumes, and the record says how many runs were read back. A run that left no
+summary (killed, or its folder locked by another run) or was interrupted is not journaled: it
+runs again.
 
 --read-back MODEL=BUILD reads that model's runs from the journal rows of an earlier binary
 (BUILD: the first 16 hex digits of its sha256, as the journal keys them), for a model whose
@@ -82,16 +84,20 @@ def run(binary, out, n, dt, points, shift=0.0, fresh=False):
     except OSError:
         row["error"] = f"no summary (exit {p.returncode}): {p.stderr.strip()[-300:]}"
         d = None
-    if d is not None and d.get("status") == "failed":
-        row["error"] = d.get("error", "")
+    if d is not None and d.get("status") == "interrupted":
+        row["error"] = "interrupted"
+        d = None  # a partial run's answer is no answer, and it is not journaled
+    elif d is not None and d.get("status") != "completed":
+        row["error"] = d.get("error", "") or f"status {d.get('status')}"
     elif d is not None:
         st = d["stats"]
         row.update(v=d["v_s_over_v_m"], iters=d["newton_iterations_mean"],
                    fallbacks=st["semismooth_fallbacks"], halvings=d["step_halvings"],
                    penetration=d["max_penetration"], status="ok")
-    with LOCK:
-        with open(JOURNAL_PATH, "a") as fh:
-            fh.write(json.dumps(dict(key=key, row=row)) + "\n")
+    if d is not None:  # a run without a summary (killed, or its folder locked) is not kept
+        with LOCK:
+            with open(JOURNAL_PATH, "a") as fh:
+                fh.write(json.dumps(dict(key=key, row=row)) + "\n")
     return row
 
 

@@ -34,7 +34,7 @@ use std::path::Path;
 /// The `summary.json` record.
 #[derive(Serialize)]
 pub struct Summary {
-    /// "completed" or "failed".
+    /// "completed", "failed" or "interrupted".
     pub status: crate::sim::RunStatus,
     /// Failure message, if the run stopped early.
     pub error: Option<String>,
