@@ -6,6 +6,9 @@
 //! [0.3177](docs/results/s-start/latest.md "v_s_over_v_m")
 //! ```
 //!
+//! (or to a dated record, `docs/results/s-start/2026-12-05.md`, for a number that a later
+//! record of the kind no longer carries).
+//!
 //! - **The key** locates the value in the record's output (the text after `## Output`): one or
 //!   more anchors separated by ` … `, each found after the previous one (an anchor that starts
 //!   or ends with a letter or digit must not continue a longer word, nor be continued by one:
@@ -37,13 +40,14 @@ const PAGES: [&str; 2] = ["README.md", "docs/book/src/claims.md"];
 struct Link {
     line: usize,
     text: String,
-    /// The record's path relative to the repository (`docs/results/NAME/latest.md`).
+    /// The record's path relative to the repository (`docs/results/NAME/latest.md`, or a
+    /// dated record).
     record: String,
     key: Option<String>,
 }
 
 /// Every link of `page` (a file in directory `dir`, relative to the repository) to a record
-/// `docs/results/NAME/latest.md`.
+/// (`docs/results/NAME/latest.md` or a dated one, [`is_record`]).
 fn record_links(page: &str, dir: &Path) -> Vec<Link> {
     let mut links = Vec::new();
     for (n, line) in page.lines().enumerate() {
@@ -77,7 +81,7 @@ fn record_links(page: &str, dir: &Path) -> Vec<Link> {
                 break;
             };
             from = close + 2 + used;
-            if !target.ends_with("latest.md") || !target.contains("results/") {
+            if !is_record(&target) {
                 continue;
             }
             let record = normalize(&dir.join(&target));
@@ -90,6 +94,34 @@ fn record_links(page: &str, dir: &Path) -> Vec<Link> {
         }
     }
     links
+}
+
+/// Whether a link's target is a record: `results/NAME/latest.md`, or a dated one,
+/// `results/NAME/YYYY-MM-DD.md` or `YYYY-MM-DD-N.md` (a dated record never changes; the
+/// latest one is the guide's default).
+fn is_record(target: &str) -> bool {
+    if !target.contains("results/") {
+        return false;
+    }
+    let Some(name) = target
+        .rsplit('/')
+        .next()
+        .and_then(|f| f.strip_suffix(".md"))
+    else {
+        return false;
+    };
+    if name == "latest" {
+        return true;
+    }
+    let b = name.as_bytes();
+    let digits = |r: std::ops::Range<usize>| b[r].iter().all(u8::is_ascii_digit);
+    b.len() >= 10
+        && digits(0..4)
+        && b[4] == b'-'
+        && digits(5..7)
+        && b[7] == b'-'
+        && digits(8..10)
+        && (b.len() == 10 || (b.len() > 11 && b[10] == b'-' && digits(11..b.len())))
 }
 
 /// `a/b/../c` as `a/c`, with `/` separators.
@@ -467,6 +499,26 @@ fn a_changed_number_fails() {
         bad.iter().any(|b| b.contains(&changed)),
         "the check missed {changed}"
     );
+}
+
+#[test]
+fn latest_and_dated_records_are_records() {
+    for t in [
+        "docs/results/s-start/latest.md",
+        "docs/results/ground-points-phase/2026-12-05.md",
+        "../../results/ground-points/2026-12-05-3.md",
+    ] {
+        assert!(is_record(t), "{t}");
+    }
+    for t in [
+        "docs/results/legacy-measurements.md",
+        "docs/results/s-start/notes.md",
+        "docs/results/s-start/2026-12-05-.md",
+        "docs/book/src/2026-12-05.md",
+        "docs/results/s-start/2026-12-5.md",
+    ] {
+        assert!(!is_record(t), "{t}");
+    }
 }
 
 #[test]
