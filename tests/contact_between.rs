@@ -228,3 +228,123 @@ fn contacts_between_nodes_converge_without_retries_on_the_damped_s_start() {
     assert_eq!(st.contact.semismooth_fallbacks, 0);
     assert!(per_step < 3.0, "{per_step} iterations per step");
 }
+
+/// A contact model that fails every solve of one step while its contacts are on the curve
+/// (from the `fail_at`-th step it begins until the integrator puts them at the nodes), and
+/// records every `points_at_nodes` call: the integrator's fallback, seen from outside.
+struct FailsOnTheCurve {
+    inner: Box<dyn slither::contact::ContactModel>,
+    begun: usize,
+    fail_at: usize,
+    at_nodes: bool,
+    done: bool,
+    calls: std::sync::Arc<std::sync::Mutex<Vec<bool>>>,
+}
+
+impl slither::contact::ContactModel for FailsOnTheCurve {
+    fn begin_step(
+        &mut self,
+        m: &Model,
+        q_start: &[f64],
+        slip_origin: &[f64],
+        v_start: &[f64],
+        h: f64,
+        q: &mut [f64],
+    ) {
+        self.begun += 1;
+        self.inner
+            .begin_step(m, q_start, slip_origin, v_start, h, q);
+    }
+    fn solve(
+        &mut self,
+        newton: &mut slither::newton::Newton,
+        obj: &slither::newton::Potential,
+        q: &mut Vec<f64>,
+    ) -> Result<usize, slither::contact::ContactFailure> {
+        if !self.at_nodes && !self.done && self.begun >= self.fail_at {
+            return Err(slither::contact::ContactFailure::Conic {
+                status: "made to fail on the curve".into(),
+                conic_iterations: 0,
+                iteration: 1,
+            });
+        }
+        self.inner.solve(newton, obj, q)
+    }
+    fn extrapolated_start(&self) -> bool {
+        self.inner.extrapolated_start()
+    }
+    fn points_at_nodes(&mut self, on: bool) -> bool {
+        self.calls.lock().unwrap().push(on);
+        let has = self.inner.points_at_nodes(on);
+        self.at_nodes = on && has;
+        self.done |= on && has;
+        has
+    }
+    fn accept(&mut self, m: &Model, q: &[f64]) {
+        self.inner.accept(m, q);
+    }
+    fn reject(&mut self) {
+        self.inner.reject();
+    }
+    fn normal_forces(&self, m: &Model, out: &mut [f64]) {
+        self.inner.normal_forces(m, out);
+    }
+    fn stats(&self) -> &slither::contact::ContactStats {
+        self.inner.stats()
+    }
+}
+
+/// A fixed step that fails with ground contact on the curve after every halving is taken
+/// again with contact at the nodes, counted and then back on the curve; with contact at the
+/// nodes already, the failure stops the run as before. The rod slides flat (its curve's
+/// lowest points are its nodes), so the run with the fallback ends where the plain one does.
+#[test]
+fn a_step_that_fails_on_the_curve_is_taken_with_contact_at_the_nodes() {
+    use slither::problem::GroundPoints;
+    let mut m = scene(0.0, [0.5, 0.0, 0.0], 0.0, 0.0, 0.05);
+    let steps = (m.duration / m.dt).round() as usize;
+    let run = |m: &Model, fail_at: Option<usize>| {
+        let calls = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let mut integ = Integrator::new(m, Box::new(Natural));
+        if let Some(fail_at) = fail_at {
+            integ.set_contact(Some(Box::new(FailsOnTheCurve {
+                inner: slither::contact::model_for(m).unwrap(),
+                begun: 0,
+                fail_at,
+                at_nodes: false,
+                done: false,
+                calls: calls.clone(),
+            })));
+        }
+        let mut s = State::initial(m);
+        let mut error = None;
+        for _ in 0..steps {
+            if let Err(e) = integ.step(&mut s, m.dt) {
+                error = Some(e.to_string());
+                break;
+            }
+        }
+        let st = integ.stats();
+        let calls = calls.lock().unwrap().clone();
+        (s, error, st.ground_point_fallbacks, st.step_halvings, calls)
+    };
+    m.solver.ground_points = GroundPoints::Curve;
+    let (plain, e, n, _, _) = run(&m, None);
+    assert!(e.is_none() && n == 0, "{e:?}, {n} fallbacks");
+    let (fell, e, n, halvings, calls) = run(&m, Some(10));
+    println!("curve: {n} fallback, {halvings} halvings, calls {calls:?}");
+    assert!(e.is_none(), "{e:?}");
+    assert_eq!(n, 1);
+    assert_eq!(halvings, m.max_halvings);
+    assert_eq!(calls, vec![true, false]);
+    let diff = (0..plain.q.len())
+        .map(|k| (plain.q[k] - fell.q[k]).abs())
+        .fold(0.0, f64::max);
+    println!("largest difference from the plain run: {diff:e} m");
+    assert!(diff < 1e-9 * m.diameter, "{diff}");
+    m.solver.ground_points = GroundPoints::Nodes;
+    let (_, e, n, _, calls) = run(&m, Some(10));
+    println!("nodes: {e:?}");
+    assert!(e.is_some_and(|e| e.contains("after 8 halvings")));
+    assert_eq!((n, calls), (0, vec![true]));
+}

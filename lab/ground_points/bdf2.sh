@@ -29,9 +29,9 @@ done
 wait
 echo "contact: $points, 400 elements, BDF2 at fixed steps"
 echo
-echo "| step s | v_s/v_m | steps | Newton it/step | conic fallbacks | step halvings | wall s |"
-echo "|---|---|---|---|---|---|---|"
+echo "| step s | v_s/v_m | steps | Newton it/step | conic fallbacks | step halvings | steps at nodes | wall s |"
+echo "|---|---|---|---|---|---|---|---|"
 for dt in "${steps[@]}"; do
-    jq -r --arg h "$dt" '"| \($h) | \(.v_s_over_v_m * 100000 | round / 100000) | \(.steps) | \(.newton_iterations_mean * 100 | round / 100) | \(.stats.semismooth_fallbacks) | \(.stats.step_halvings) | \(.wall_time_s * 10 | round / 10) |"' "$tmp/$dt/summary.json" \
+    jq -r --arg h "$dt" '"| \($h) | \(.v_s_over_v_m * 100000 | round / 100000) | \(.steps) | \(.newton_iterations_mean * 100 | round / 100) | \(.stats.semismooth_fallbacks) | \(.stats.step_halvings) | \(.stats.ground_point_fallbacks // 0) | \(.wall_time_s * 10 | round / 10) |"' "$tmp/$dt/summary.json" \
         || { echo "| $dt | failed: $(tail -n 3 "$tmp/$dt.log" | tr '\n' ' ') |"; }
 done

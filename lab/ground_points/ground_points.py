@@ -22,7 +22,8 @@ runs again.
 --read-back MODEL=BUILD reads that model's runs from the journal rows of an earlier binary
 (BUILD: the first 16 hex digits of its sha256, as the journal keys them), for a model whose
 code did not change since: the cheapest of its runs is made again with this binary first, and
-the script stops unless it gives the same `v_s/v_m` to 1e-12.
+the script stops unless it gives the same `v_s/v_m` to 1e-12. Only completed runs are read
+back; a run that failed then is made again.
 """
 import argparse
 import concurrent.futures as cf
@@ -66,7 +67,7 @@ def run(binary, out, n, dt, points, shift=0.0, fresh=False):
     key = BUILD + " " + " ".join(cmd[1:])
     if points in READ_BACK and not fresh:
         old = READ_BACK[points] + " " + " ".join(cmd[1:])
-        if old in JOURNAL:
+        if old in JOURNAL and JOURNAL[old]["status"] == "ok":
             return dict(JOURNAL[old], reused=True)
     if key in JOURNAL and not fresh:
         return dict(JOURNAL[key], reused=True)
@@ -93,6 +94,7 @@ def run(binary, out, n, dt, points, shift=0.0, fresh=False):
         st = d["stats"]
         row.update(v=d["v_s_over_v_m"], iters=d["newton_iterations_mean"],
                    fallbacks=st["semismooth_fallbacks"], halvings=d["step_halvings"],
+                   node_steps=st.get("ground_point_fallbacks", 0),
                    penetration=d["max_penetration"], status="ok")
     if d is not None:  # a run without a summary (killed, or its folder locked) is not kept
         with LOCK:
@@ -204,6 +206,12 @@ def main():
         print("## Failed runs\n")
         for r in failed:
             print(f"- {r['points']}, {r['n']} elements, {r['dt']:g} s, shift {r['shift']:.6f}: {r['error']}")
+        print()
+    fell = [r for r in rows if r["status"] == "ok" and r.get("node_steps", 0)]
+    if fell:
+        print("## Runs with steps taken again with contact at the nodes (stats.ground_point_fallbacks)\n")
+        for r in fell:
+            print(f"- {r['points']}, {r['n']} elements, {r['dt']:g} s, shift {r['shift']:.6f}: {r['node_steps']} steps")
         print()
 
     def pct(v, ref):

@@ -110,6 +110,10 @@ impl ContactModel for Dispatcher {
         self.semismooth.is_some()
     }
 
+    fn points_at_nodes(&mut self, on: bool) -> bool {
+        self.set.points_at_nodes(on)
+    }
+
     fn solve(
         &mut self,
         nw: &mut Newton,

@@ -102,6 +102,12 @@ pub trait ContactModel: Send {
     fn reject(&mut self);
     /// Normal force on every real node (N; zero off the ground), into `out`.
     fn normal_forces(&self, m: &Model, out: &mut [f64]);
+    /// From the next step on, ground contacts between nodes (`[solver] ground_points =
+    /// "curve"`) at their nodes (`true`) or on the curve again (`false`); returns whether the
+    /// model has such contacts (default: none, and nothing changes).
+    fn points_at_nodes(&mut self, _on: bool) -> bool {
+        false
+    }
     /// The model's statistics so far (none by default).
     fn stats(&self) -> &ContactStats {
         &NO_STATS

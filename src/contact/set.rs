@@ -18,6 +18,9 @@ pub struct ContactSet {
     /// With `[solver] ground_points = "curve"`: the node whose neighbourhood each contact
     /// searches for its lowest point at every step's start (`None`: the contacts stay put).
     owners: Option<Vec<usize>>,
+    /// With owners: put every contact at its owner node instead of its lowest point (the
+    /// integrator's fallback for a step that failed on the curve, [`ContactSet::points_at_nodes`]).
+    at_nodes: bool,
     /// The contacts.
     pub contacts: Vec<Contact>,
     /// Normal force at each contact (N), the current fixed-point value.
@@ -66,6 +69,7 @@ impl ContactSet {
         let (contacts, normal): (Vec<Contact>, Vec<f64>) = contacts.into_iter().unzip();
         ContactSet {
             owners: None,
+            at_nodes: false,
             contacts,
             pending: normal.clone(),
             normal,
@@ -107,6 +111,17 @@ impl ContactSet {
         dof::node(best)
     }
 
+    /// From the next step on, every contact at its owner node (`true`) or at its lowest point
+    /// again (`false`). Returns whether the set has contacts between nodes to move
+    /// (`[solver] ground_points = "curve"`); without them it does nothing.
+    pub fn points_at_nodes(&mut self, on: bool) -> bool {
+        if self.owners.is_none() {
+            return false;
+        }
+        self.at_nodes = on;
+        true
+    }
+
     /// Mean weight per contact (N): the scale of normal-force tolerances.
     pub fn weight_scale(&self, m: &Model) -> f64 {
         (m.total_mass() * f::norm(m.gravity) / self.len().max(1) as f64).max(1e-300)
@@ -118,7 +133,11 @@ impl ContactSet {
         self.h = h;
         if let Some(owners) = &self.owners {
             for (c, &i) in self.contacts.iter_mut().zip(owners) {
-                c.stencil = lowest_point(m, q, i);
+                c.stencil = if self.at_nodes {
+                    Stencil::node(i)
+                } else {
+                    lowest_point(m, q, i)
+                };
             }
         }
         for c in &mut self.contacts {

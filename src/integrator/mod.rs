@@ -86,6 +86,9 @@ pub struct RunStats {
     pub rejected_iterations: usize,
     /// Step halvings (each failed attempt that was retried with h/2).
     pub step_halvings: usize,
+    /// Fixed steps that failed with ground contact on the curve after every halving and were
+    /// taken again with contact at the nodes (`[solver] ground_points = "curve"`).
+    pub ground_point_fallbacks: usize,
     /// Newton's own statistics.
     #[serde(flatten)]
     pub newton: newton::NewtonStats,
@@ -605,9 +608,35 @@ impl<'m> Integrator<'m> {
         }
     }
 
-    /// Advance by `h`, halving on failure (at most `max_halvings` levels).
+    /// Advance by `h`, halving on failure (at most `max_halvings` levels). With ground contact
+    /// on the curve (`[solver] ground_points = "curve"`), a step that still fails is taken
+    /// again, from where it failed to its end, with contact at the nodes (halving likewise),
+    /// counted in [`RunStats::ground_point_fallbacks`] and logged as a warning. Measured on the
+    /// S-start at 400 elements and 5e-4 s: at t = 2.027 s the conic fallback's positions
+    /// converged but its normal forces did not, at every step down to 1.95e-6 s, while the
+    /// same scene with contact at the nodes runs through.
     pub fn step(&mut self, s: &mut State, h: f64) -> Result<(), StepError> {
-        self.step_level(s, h, 0)
+        let end = s.t + h;
+        match self.step_level(s, h, 0) {
+            Err(e) if end - s.t > 0.0 && self.points_at_nodes(true) => {
+                let rest = end - s.t;
+                log::warn!(
+                    "{e} (ground contact on the curve); the step's last {rest:.3e} s from t = {} s taken again with contact at the nodes",
+                    s.t
+                );
+                self.stats.ground_point_fallbacks += 1;
+                let r = self.step_level(s, rest, 0);
+                self.points_at_nodes(false);
+                r
+            }
+            r => r,
+        }
+    }
+
+    /// Ground contacts between nodes at their nodes from the next step on (`true`), or on the
+    /// curve again; whether the contact model has such contacts.
+    fn points_at_nodes(&mut self, on: bool) -> bool {
+        self.contact.as_mut().is_some_and(|c| c.points_at_nodes(on))
     }
 
     fn step_level(&mut self, s: &mut State, h: f64, level: usize) -> Result<(), StepError> {

@@ -80,6 +80,7 @@ pub const SUMMARY: &[Field] = &[
     f("stats.newton_iterations", "", "Newton iterations over all accepted steps, including those of semi-smooth attempts that retried or fell back"),
     f("stats.rejected_iterations", "", "Newton iterations of solved steps that the adaptive error control rejected"),
     f("stats.step_halvings", "", "failed attempts retried with dt/2"),
+    f("stats.ground_point_fallbacks", "", "fixed steps that failed with ground contact on the curve after every halving and were taken with contact at the nodes"),
     f("stats.backtracks", "", "line-search backtracks"),
     f("stats.factorizations", "", "numeric factorisations of the Newton Hessian (every try, shifted ones included)"),
     f("stats.shifted_factorizations", "", "factorisations that needed a diagonal shift"),
