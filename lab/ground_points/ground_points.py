@@ -200,7 +200,7 @@ def main():
         raise KeyError((points, n, dt, shift))
 
     reused = sum(1 for r in rows if r.get("reused"))
-    print(f"{len(rows)} runs, {reused} of them read back from {JOURNAL_PATH} (same build, same command).\n")
+    print(f"{len(rows)} runs, {reused} of them read back from {JOURNAL_PATH} (the same command, by this build or the one --read-back names).\n")
     failed = [r for r in rows if r["status"] != "ok"]
     if failed:
         print("## Failed runs\n")
