@@ -297,11 +297,19 @@ impl slither::contact::ContactModel for FailsOnTheCurve {
 /// A fixed step that fails with ground contact on the curve after every halving is taken
 /// again with contact at the nodes, counted and then back on the curve; with contact at the
 /// nodes already, the failure stops the run as before. The rod slides flat (its curve's
-/// lowest points are its nodes), so the run with the fallback ends where the plain one does.
+/// lowest points are its nodes), so the run with the fallback ends where the plain one does;
+/// with implicit Euler and with BDF2 (whose history the fallback's steps continue).
 #[test]
 fn a_step_that_fails_on_the_curve_is_taken_with_contact_at_the_nodes() {
+    for integrator in ["implicit", "bdf2"] {
+        let m = common::rod_on_ground(0.0, [0.5, 0.0, 0.0], 0.0, 0.0, 0.05, integrator, MU);
+        println!("{integrator}:");
+        fallback_on(m);
+    }
+}
+
+fn fallback_on(mut m: Model) {
     use slither::problem::GroundPoints;
-    let mut m = scene(0.0, [0.5, 0.0, 0.0], 0.0, 0.0, 0.05);
     let steps = (m.duration / m.dt).round() as usize;
     let run = |m: &Model, fail_at: Option<usize>| {
         let calls = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
