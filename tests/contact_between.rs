@@ -236,7 +236,7 @@ struct FailsOnTheCurve {
     inner: Box<dyn slither::contact::ContactModel>,
     begun: usize,
     fail_at: usize,
-    at_nodes: bool,
+    /// The integrator has put the contacts at the nodes once: no more failures.
     done: bool,
     calls: std::sync::Arc<std::sync::Mutex<Vec<bool>>>,
 }
@@ -261,7 +261,7 @@ impl slither::contact::ContactModel for FailsOnTheCurve {
         obj: &slither::newton::Potential,
         q: &mut Vec<f64>,
     ) -> Result<usize, slither::contact::ContactFailure> {
-        if !self.at_nodes && !self.done && self.begun >= self.fail_at {
+        if !self.done && self.begun >= self.fail_at {
             return Err(slither::contact::ContactFailure::Conic {
                 status: "made to fail on the curve".into(),
                 conic_iterations: 0,
@@ -276,7 +276,6 @@ impl slither::contact::ContactModel for FailsOnTheCurve {
     fn points_at_nodes(&mut self, on: bool) -> bool {
         self.calls.lock().unwrap().push(on);
         let has = self.inner.points_at_nodes(on);
-        self.at_nodes = on && has;
         self.done |= on && has;
         has
     }
@@ -319,7 +318,6 @@ fn fallback_on(mut m: Model) {
                 inner: slither::contact::model_for(m).unwrap(),
                 begun: 0,
                 fail_at,
-                at_nodes: false,
                 done: false,
                 calls: calls.clone(),
             })));
