@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # The converged value at 800 elements with each ground contact model ([solver] ground_points):
-# the bundled S-start with implicit Euler (or BDF2) at 5e-4 s, nodes and curve side by side (two
-# processes); v_s/v_m, iterations, fallbacks, halvings, steps taken at the nodes (a step that
-# failed on the curve) and wall time of each, to set beside the
+# the bundled S-start with implicit Euler (or BDF2) at 5e-4 s (or a given step), nodes and
+# curve side by side (two processes); v_s/v_m, iterations, fallbacks, halvings, steps taken at
+# the nodes (a step that failed on the curve) and wall time of each, to set beside the
 # 400-element values of record ground-points. Kept as the dated record
 # docs/results/ground-points-800/<date>.md.
 #
 #   lab/ground_points/fine.sh          # nodes and curve: 20 to 100 min on 2 cores
 #   lab/ground_points/fine.sh curve    # one model only (the other's row stands in its record)
 #   lab/ground_points/fine.sh --bdf2 curve   # BDF2 instead of implicit Euler
+#   lab/ground_points/fine.sh --dt 2.5e-4 curve   # another step (s); --bdf2 first if both
 #
 # SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail
@@ -25,7 +26,12 @@ if [ "${1:-}" = --bdf2 ]; then
     integrator=bdf2
     shift
 fi
-echo "800 elements, $integrator at 5e-4 s"
+dt=5e-4
+if [ "${1:-}" = --dt ]; then
+    dt="${2:?fine.sh: --dt needs a step in s}"
+    shift 2
+fi
+echo "800 elements, $integrator at $dt s"
 models=("$@")
 [ ${#models[@]} -gt 0 ] || models=(nodes curve)
 for points in "${models[@]}"; do
@@ -33,7 +39,7 @@ for points in "${models[@]}"; do
 done
 for points in "${models[@]}"; do
     "$SLITHER" run problems/s_start.toml --out "$tmp/$points" --no-plots --quiet --force \
-        --set rod.elements=800 --set solver.integrator="\"$integrator\"" --set time.dt=5e-4 \
+        --set rod.elements=800 --set solver.integrator="\"$integrator\"" --set time.dt="$dt" \
         --set solver.ground_points="\"$points\"" >"$tmp/$points.log" 2>&1 &
 done
 wait
