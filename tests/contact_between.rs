@@ -199,13 +199,15 @@ fn the_lowest_point_of_a_curve_through_the_nodes() {
 
 /// Contacts between nodes on the damped S-start (`problems/s_start.toml` with
 /// `ground_points = "curve"`, 100 elements, implicit Euler at 2.5e-4 s, the first 0.6 s, the
-/// damping time of 5 ms at which the watchdog was measured; the file now has 10 ms). A
-/// sliding contact between nodes lags its normal force in its friction, so a full step whose
-/// normal force changes much raises the merit although the next one settles it. Without the
+/// damping time of 5 ms at which the watchdog was measured; the file now has 10 ms). When a
+/// sliding contact between nodes lagged its normal force in its friction, a full step whose
+/// normal force changed much raised the merit although the next one settled it. Without the
 /// semi-smooth Newton's watchdog the line search crept (measured: 22 retries, 7 conic
 /// fallbacks, 3.87 iterations per step; on the whole scene 92 fallbacks, and at 400 elements
 /// the conic program then failed); with it none, 2.64 iterations per step, and the same
-/// `v_s/v_m` to 4e-7.
+/// `v_s/v_m` to 4e-7. With the normal force's change coupled into the direction
+/// (`src/contact/semismooth/between.rs`) 2.28 iterations per step, against 2.59 with it
+/// lagged (the code before the coupling): the bound of 2.45 fails if the coupling is lost.
 #[test]
 fn contacts_between_nodes_converge_without_retries_on_the_damped_s_start() {
     use slither::problem;
@@ -226,7 +228,7 @@ fn contacts_between_nodes_converge_without_retries_on_the_damped_s_start() {
     );
     assert_eq!(st.contact.semismooth_retries, 0);
     assert_eq!(st.contact.semismooth_fallbacks, 0);
-    assert!(per_step < 3.0, "{per_step} iterations per step");
+    assert!(per_step < 2.45, "{per_step} iterations per step");
 }
 
 /// A contact model that fails every solve of one step while its contacts are on the curve

@@ -16,7 +16,9 @@
 //!   `A dq^{m+1} = -g - sum_c u_c (H[z_c, :] dq^m)` (a Neumann series, used before) failed to
 //!   contract on 8.7 % of the S-start's iterates (50 elements), which then fell back to the
 //!   lagged forces and converged linearly (contraction about 0.3 per iteration); GMRES takes at
-//!   most 4 iterations there.
+//!   most 4 iterations there. A sliding contact between nodes takes part in the same way, its
+//!   normal force the augmented Lagrangian's multiplier (`dN_c = -rho_al J_z dq`,
+//!   `semismooth/between.rs`) and its friction spread over its stencil.
 //! * **Force residuals in physical units.** The predicted change of every reaction over the
 //!   step gives the iterate's contact forces after the step: the semi-smooth Newton's new force
 //!   variables, and its convergence test (changes below `[solver] normal_force_tolerance * W /
@@ -25,7 +27,7 @@
 use super::{ContactSet, ContactStatus};
 use crate::band::Assembly;
 use crate::newton::Newton;
-use crate::rod::dof::HALF_BANDWIDTH as W;
+use crate::rod::dof::{self, HALF_BANDWIDTH as W};
 
 /// One row of the banded Hessian: entries `(k, k - W ..= k + W)` (zero outside `0..n`).
 type Row = [f64; 2 * W + 1];
@@ -46,6 +48,10 @@ pub struct Reactions {
     /// Dissipation gradient per unit normal force in `(x, y)`, for sliding contacts with a
     /// positive normal force (otherwise zero: a clamped force does not change to first order).
     unit: Vec<[f64; 2]>,
+    /// A sliding contact between nodes: its augmented-Lagrangian stiffness `rho_al` (its
+    /// normal force changes by `-rho_al J_z dq` over a step, `J_z` its stencil's weights at the
+    /// heights; its friction spreads over the stencil); zero for a contact at a node.
+    between: Vec<f64>,
     /// Predicted change of each reaction `(x, y, z)` over the last step.
     pub change: Vec<[f64; 3]>,
     /// The symmetric direction the last [`Reactions::couple`] started from.
@@ -81,6 +87,8 @@ impl Reactions {
         self.rows.resize(nc, [[0.0; 2 * W + 1]; 3]);
         self.unit.clear();
         self.unit.resize(nc, [0.0; 2]);
+        self.between.clear();
+        self.between.resize(nc, 0.0);
         self.change.resize(nc, [0.0; 3]);
     }
 
@@ -89,6 +97,43 @@ impl Reactions {
     pub fn set_slide(&mut self, c: usize, grad: [f64; 2], n: f64) {
         if n > 0.0 {
             self.unit[c] = [grad[0] / n, grad[1] / n];
+        }
+    }
+
+    /// Sliding contact `c` between nodes with the dissipation gradient per unit normal force
+    /// `unit` in `(x, y)` and the augmented-Lagrangian stiffness `rho_al`: its normal force
+    /// after the step, `lambda - rho_al (r + J_z dq)`, couples into the Newton system as a
+    /// contact at a node's reaction does.
+    pub fn set_slide_between(&mut self, c: usize, unit: [f64; 2], rho_al: f64) {
+        self.unit[c] = unit;
+        self.between[c] = rho_al;
+    }
+
+    /// The change of coupled contact `c`'s normal force along `v` (`V_c^T v`).
+    fn normal_change(&self, ct: &ContactSet, c: usize, v: &[f64]) -> f64 {
+        if self.between[c] > 0.0 {
+            let jz: f64 = ct.contacts[c]
+                .stencil
+                .iter()
+                .map(|(i, w)| w * v[dof::node(i) + 2])
+                .sum();
+            -self.between[c] * jz
+        } else {
+            row_dot(&self.rows[c][2], ct.node_dof(c) + 2, v)
+        }
+    }
+
+    /// Add coupled contact `c`'s friction gradient for a normal-force change `dn` (`U_c dn`)
+    /// to `z`, but at held coordinates.
+    fn add_friction(&self, ct: &ContactSet, c: usize, held: &[bool], dn: f64, z: &mut [f64]) {
+        let u = self.unit[c];
+        for (i, w) in ct.contacts[c].stencil.iter() {
+            let k = dof::node(i);
+            for r in 0..2 {
+                if !held[k + r] {
+                    z[k + r] += w * u[r] * dn;
+                }
+            }
         }
     }
 
@@ -177,8 +222,8 @@ impl Reactions {
         grow(&mut self.images, n, max_it);
         grow(&mut self.hess, max_it + 1, max_it);
         // Right-hand side: the normal-force changes of the symmetric direction.
-        for (b, &c) in self.basis[0].iter_mut().zip(&self.active) {
-            *b = row_dot(&self.rows[c][2], ct.node_dof(c) + 2, &nw.dq);
+        for i in 0..ns {
+            self.basis[0][i] = self.normal_change(ct, self.active[i], &nw.dq);
         }
         let beta = self.basis[0].iter().map(|x| x * x).sum::<f64>().sqrt();
         if beta <= tol {
@@ -193,23 +238,21 @@ impl Reactions {
         let mut converged = false;
         for j in 0..max_it {
             // w = (I + V^T A^-1 U) v_j, keeping A^-1 U v_j.
-            let z = &mut self.images[j];
+            let mut z = std::mem::take(&mut self.images[j]);
             z.fill(0.0);
             for (i, &c) in self.active.iter().enumerate() {
-                let k = ct.node_dof(c);
-                let u = self.unit[c];
-                for r in 0..2 {
-                    if !held[k + r] {
-                        z[k + r] = u[r] * self.basis[j][i];
-                    }
-                }
+                self.add_friction(ct, c, held, self.basis[j][i], &mut z);
             }
-            nw.lin.solve(z);
-            let w = &mut self.work;
+            nw.lin.solve(&mut z);
+            let mut w = std::mem::take(&mut self.work);
             w.clear();
-            w.extend(self.active.iter().enumerate().map(|(i, &c)| {
-                self.basis[j][i] + row_dot(&self.rows[c][2], ct.node_dof(c) + 2, z)
-            }));
+            w.extend(
+                self.active
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &c)| self.basis[j][i] + self.normal_change(ct, c, &z)),
+            );
+            self.images[j] = z;
             // Modified Gram-Schmidt.
             for i in 0..=j {
                 let hij: f64 = w.iter().zip(&self.basis[i]).map(|(a, b)| a * b).sum();
@@ -225,6 +268,7 @@ impl Reactions {
                     *b = a / norm;
                 }
             }
+            self.work = w;
             // Givens rotations: the least-squares residual of min |beta e1 - H y|.
             for (i, &(cs, sn)) in self.rot.iter().enumerate() {
                 let (a, b) = (self.hess[j][i], self.hess[j][i + 1]);
@@ -366,5 +410,136 @@ mod tests {
             x = y.iter().map(|a| a / norm(&y)).collect();
         }
         assert!(growth > 1.0, "spectral radius estimate {growth}");
+    }
+
+    /// With contacts between nodes among the sliding ones (every third contact a stencil of
+    /// three nodes, `set_slide_between`), the coupled direction solves the same system with
+    /// their normal-force change `-rho_al J_z dq` and their friction spread over the stencil
+    /// by its weights: `(A + sum_c U_c V_c^T) dq = -g`, checked entry by entry. A contact
+    /// between nodes holds no coordinate (its height is in `A` as the augmented Lagrangian's
+    /// `rho_al J^T J`, added here to the random band).
+    #[test]
+    fn coupled_direction_with_contacts_between_nodes() {
+        use crate::contact::{Contact, Stencil};
+        let path = std::path::Path::new("problems/s_start_coarse.toml");
+        let m = Model::new(&crate::problem::load(path).unwrap());
+        let law = *m.ground.as_ref().unwrap();
+        let n = m.ndof;
+        let (lo, hi) = (m.real.start, m.real.end);
+        let between = |i: usize| i % 3 == 1 && i > lo && i + 1 < hi;
+        let contacts: Vec<(Contact, f64)> = (lo..hi)
+            .map(|i| {
+                let st = if between(i) {
+                    let t: f64 = 0.3;
+                    let w = [0.5 * t * (t - 1.0), 1.0 - t * t, 0.5 * t * (t + 1.0)];
+                    Stencil::new(&[i - 1, i, i + 1], &w).unwrap()
+                } else {
+                    Stencil::node(i)
+                };
+                (Contact::new(st, law), 1.0)
+            })
+            .collect();
+        let ct = ContactSet::new(contacts);
+        let mut nw = Newton::new(n);
+        let mut seed = 777u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for j in 0..n {
+            for idx in nw.asm.col_ptr[j]..nw.asm.col_ptr[j + 1] {
+                nw.asm.values[idx] = if nw.asm.row_idx[idx] == j {
+                    10.0
+                } else {
+                    0.1 * rnd()
+                };
+            }
+        }
+        for g in nw.asm.grad.iter_mut() {
+            *g = rnd();
+        }
+        let nc = ct.len();
+        let rho_al = 50.0;
+        let at_node: Vec<bool> = (0..nc)
+            .map(|c| ct.contacts[c].stencil.single().is_some())
+            .collect();
+        for c in (0..nc).filter(|&c| !at_node[c]) {
+            let st = &ct.contacts[c].stencil;
+            for (i, wi) in st.iter() {
+                for (j, wj) in st.iter() {
+                    if i <= j {
+                        nw.asm
+                            .add_h(dof::node(i) + 2, dof::node(j) + 2, rho_al * wi * wj);
+                    }
+                }
+            }
+        }
+        let mode: Vec<ContactStatus> = at_node
+            .iter()
+            .map(|&a| {
+                if a {
+                    ContactStatus::Slide
+                } else {
+                    ContactStatus::Free
+                }
+            })
+            .collect();
+        let mut re = Reactions::default();
+        re.begin(nc);
+        for c in 0..nc {
+            let unit = [15.0 * rnd(), 15.0 * rnd()];
+            if !at_node[c] {
+                re.set_slide_between(c, unit, rho_al);
+            } else if c % 2 == 0 {
+                re.set_slide(c, unit, 1.0);
+            }
+        }
+        re.capture(&ct, &mode, &nw.asm);
+        let mut held = vec![false; n];
+        for c in (0..nc).filter(|&c| at_node[c]) {
+            held[ct.node_dof(c) + 2] = true;
+            nw.asm.fix(ct.node_dof(c) + 2);
+        }
+        nw.lin.factor(&nw.asm).unwrap();
+        nw.solve_direction();
+        let it = re.couple(&ct, &mut nw, &held, 1e-12);
+        assert!(it > 0 && it != UNCOUPLED, "{it} iterations");
+        let dq = nw.dq.clone();
+        let mut r: Vec<f64> = (0..n)
+            .map(|i| {
+                let lo = i.saturating_sub(W);
+                let hi = (i + W + 1).min(n);
+                (lo..hi).map(|j| nw.asm.h(i, j) * dq[j]).sum::<f64>() + nw.asm.grad[i]
+            })
+            .collect();
+        for c in 0..nc {
+            let st = &ct.contacts[c].stencil;
+            let dn = if at_node[c] {
+                row_dot(&re.rows[c][2], ct.node_dof(c) + 2, &dq)
+            } else {
+                -rho_al
+                    * st.iter()
+                        .map(|(i, w)| w * dq[dof::node(i) + 2])
+                        .sum::<f64>()
+            };
+            for (i, w) in st.iter() {
+                for a in 0..2 {
+                    if !held[dof::node(i) + a] {
+                        r[dof::node(i) + a] += w * re.unit[c][a] * dn;
+                    }
+                }
+            }
+        }
+        // Held rows are fixed in the factorisation: judge the free ones.
+        let worst = (0..n)
+            .filter(|&k| !held[k])
+            .fold(0.0f64, |a, k| a.max(r[k].abs()));
+        assert!(worst < 1e-9, "residual {worst:e} after {it} iterations");
+        assert!(
+            it > 3,
+            "a coupling this strong takes several GMRES iterations ({it})"
+        );
     }
 }

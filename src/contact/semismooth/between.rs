@@ -10,9 +10,9 @@
 //! a factor of about the body's local stiffness over `rho_al` per iteration, so at
 //! convergence the constraint holds to the force tolerance over `rho_al` and Coulomb's law is
 //! as exact as at a node. A sliding contact's friction is linearised as at a node (a force
-//! along the branch's direction scaled by the normal force, and a spring across it), with the
-//! normal force of the iterate (not coupled into the system: the reactions' coupling
-//! [`crate::contact::reactions`] holds node coordinates).
+//! along the branch's direction scaled by the normal force, and a spring across it), the
+//! normal force's change along the step coupled into the direction by the reactions' GMRES
+//! ([`crate::contact::reactions`]) as a node contact's is.
 
 use super::SemiSmooth;
 use crate::contact::status::ContactStatus;
@@ -70,18 +70,31 @@ impl SemiSmooth {
                 }
             }
             if self.mode[c] == ContactStatus::Slide {
-                // The normal force of the iterate, lagged: coupling its change along the step
-                // into the system (as the reactions do at a node, with `-rho_al J_z dq`) made the
-                // system as stiff as `rho_al` and took 22 instead of 4.2 iterations per step
-                // (100 elements, implicit Euler at 5e-4 s, the first 2.5 s). Coupled through
-                // the reactions' GMRES instead (`Reactions::couple` with the row `-rho_al J_z`
-                // and the normal force `lambda - rho_al r_z`; by hand, the damped S-start, BDF2
-                // at 3.4e-3 to 3.8e-3 s) it is not stiff: 10.25 instead of 10.84 iterations per
-                // step at 100 elements (nodes 10.26), but 20.51 instead of 20.65 at 200, where
-                // such a contact then cycled between stick and slide beside a sliding neighbour
-                // until the iteration cap and 3 of 5 runs halved a step.
+                // The friction scales with the normal force the step's objective holds at the
+                // iterate, `n = lambda - rho_al r_z` (the multiplier with the constraint's
+                // residual); its change along the step, `-rho_al J_z dq`, enters the direction
+                // through the reactions' GMRES (`Reactions::couple`) as a node contact's
+                // reaction does, and like that one it is not clamped at zero, so the friction
+                // variable after the step (`between_forces`) is the friction the direction was
+                // computed with. (Put into the Hessian instead, the coupling made the system as
+                // stiff as `rho_al`: 22 instead of 4.2 iterations per step at 100 elements,
+                // implicit Euler at 5e-4 s, the first 2.5 s.) A retry of a failed step
+                // (`couple_between` false) lags the normal force of the iterate, clamped at
+                // zero, as before the coupling: see `SemiSmooth::couple_between`.
                 let lin = s.slide[c];
-                let gxy = lin.force(&ctc.frame, ctc.slip(q), self.lambda[c].max(0.0));
+                let coupled = self.couple_between && m.solver.contact_coupling;
+                let n = if coupled {
+                    self.lambda[c] - rho * (x[2] - target[2])
+                } else {
+                    self.lambda[c].max(0.0)
+                };
+                let gxy = lin.force(&ctc.frame, ctc.slip(q), n);
+                if coupled {
+                    let unit = ctc
+                        .frame
+                        .to_world([lin.mu[0] * lin.dir[0], lin.mu[1] * lin.dir[1]]);
+                    s.reactions.set_slide_between(c, unit, rho);
+                }
                 let h = lin.hessian(&ctc.frame);
                 for (i, w) in st.iter() {
                     nw.asm.grad[dof::node(i)] += w * gxy[0];
@@ -154,7 +167,13 @@ impl SemiSmooth {
                 let sl = ctc
                     .frame
                     .to_local([x[0] + dx[0] - o[0], x[1] + dx[1] - o[1]]);
-                (lam, s.slide[c].force(&ctc.frame, sl, lam.max(0.0)))
+                // Unclamped where the direction coupled it (`add_between`).
+                let n = if self.couple_between && m.solver.contact_coupling {
+                    lam
+                } else {
+                    lam.max(0.0)
+                };
+                (lam, s.slide[c].force(&ctc.frame, sl, n))
             }
         }
     }

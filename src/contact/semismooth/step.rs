@@ -56,6 +56,7 @@ impl SemiSmooth {
         let mut spent = 0;
         let mut attempt = 0;
         let mut penalty_factor = 1.0;
+        self.couple_between = true;
         loop {
             match self.iterate(ct, stats, nw, obj, q, penalty_factor) {
                 Ok(it) => {
@@ -71,6 +72,7 @@ impl SemiSmooth {
                     log::debug!("  semi-smooth Newton failed ({why}); again from the step's start");
                     stats.semismooth_retries += 1;
                     penalty_factor = retries[attempt];
+                    self.couple_between = false;
                     attempt += 1;
                     q.copy_from_slice(&self.q_init);
                     self.restore();
