@@ -46,6 +46,10 @@ wait
 echo "| contact | v_s/v_m | steps | Newton it/step | conic fallbacks | step halvings | steps at nodes | wall s |"
 echo "|---|---|---|---|---|---|---|---|"
 for points in "${models[@]}"; do
-    jq -r --arg p "$points" '"| \($p) | \(.v_s_over_v_m * 100000 | round / 100000) | \(.steps) | \(.newton_iterations_mean * 100 | round / 100) | \(.stats.semismooth_fallbacks) | \(.stats.step_halvings) | \(.stats.ground_point_fallbacks // 0) | \(.wall_time_s * 10 | round / 10) |"' "$tmp/$points/summary.json" \
-        || { echo "| $points | failed: $(tail -n 3 "$tmp/$points.log" | tr '\n' ' ') |"; }
+    # A run that stopped has no v_s/v_m in its summary: its log's last lines say why.
+    if jq -e '.v_s_over_v_m != null' "$tmp/$points/summary.json" >/dev/null 2>&1; then
+        jq -r --arg p "$points" '"| \($p) | \(.v_s_over_v_m * 100000 | round / 100000) | \(.steps) | \(.newton_iterations_mean * 100 | round / 100) | \(.stats.semismooth_fallbacks) | \(.stats.step_halvings) | \(.stats.ground_point_fallbacks // 0) | \(.wall_time_s * 10 | round / 10) |"' "$tmp/$points/summary.json"
+    else
+        echo "| $points | failed: $(tail -n 3 "$tmp/$points.log" | tr '\n' ' ') |"
+    fi
 done
