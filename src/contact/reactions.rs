@@ -318,6 +318,46 @@ mod tests {
     use crate::model::Model;
     use crate::newton::Newton;
 
+    /// A seeded stream of uniform numbers in `[-1, 1)` (a linear congruential generator).
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+
+    /// A random banded SPD system in `nw`'s assembly: 10 on the diagonal, off-diagonal entries
+    /// in `[-0.1, 0.1)`, a gradient in `[-1, 1)`.
+    fn random_system(nw: &mut Newton, rnd: &mut impl FnMut() -> f64) {
+        let n = nw.asm.grad.len();
+        for j in 0..n {
+            for idx in nw.asm.col_ptr[j]..nw.asm.col_ptr[j + 1] {
+                nw.asm.values[idx] = if nw.asm.row_idx[idx] == j {
+                    10.0
+                } else {
+                    0.1 * rnd()
+                };
+            }
+        }
+        for g in nw.asm.grad.iter_mut() {
+            *g = rnd();
+        }
+    }
+
+    /// `A dq + g` of the assembled band.
+    fn band_residual(nw: &Newton, dq: &[f64]) -> Vec<f64> {
+        let n = dq.len();
+        (0..n)
+            .map(|i| {
+                let lo = i.saturating_sub(W);
+                let hi = (i + W + 1).min(n);
+                (lo..hi).map(|j| nw.asm.h(i, j) * dq[j]).sum::<f64>() + nw.asm.grad[i]
+            })
+            .collect()
+    }
+
     /// The coupled direction solves `(A + U V^T) dq = -g` to the requested tolerance, checked
     /// entry by entry against the matrix product (a banded SPD `A` with random entries, a
     /// quarter of the contacts sliding with random unit friction gradients, strong enough that
@@ -331,25 +371,8 @@ mod tests {
         let ct = ContactSet::ground(&m, &s.q);
         let n = m.ndof;
         let mut nw = Newton::new(n);
-        let mut seed = 12345u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
-        for j in 0..n {
-            for idx in nw.asm.col_ptr[j]..nw.asm.col_ptr[j + 1] {
-                nw.asm.values[idx] = if nw.asm.row_idx[idx] == j {
-                    10.0
-                } else {
-                    0.1 * rnd()
-                };
-            }
-        }
-        for g in nw.asm.grad.iter_mut() {
-            *g = rnd();
-        }
+        let mut rnd = uniform(12345);
+        random_system(&mut nw, &mut rnd);
         let nc = ct.len();
         let mode = vec![ContactStatus::Slide; nc];
         let mut re = Reactions::default();
@@ -375,13 +398,7 @@ mod tests {
         assert!(it > 0 && it != UNCOUPLED, "{it} iterations");
         // Residual of (A + U V^T) dq + g, and the force scale it is judged against.
         let dq = nw.dq.clone();
-        let mut r: Vec<f64> = (0..n)
-            .map(|i| {
-                let lo = i.saturating_sub(W);
-                let hi = (i + W + 1).min(n);
-                (lo..hi).map(|j| nw.asm.h(i, j) * dq[j]).sum::<f64>() + nw.asm.grad[i]
-            })
-            .collect();
+        let mut r = band_residual(&nw, &dq);
         for c in 0..nc {
             let k = ct.node_dof(c);
             let dn = row_dot(&re.rows[c][2], k + 2, &dq);
@@ -441,25 +458,8 @@ mod tests {
             .collect();
         let ct = ContactSet::new(contacts);
         let mut nw = Newton::new(n);
-        let mut seed = 777u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
-        for j in 0..n {
-            for idx in nw.asm.col_ptr[j]..nw.asm.col_ptr[j + 1] {
-                nw.asm.values[idx] = if nw.asm.row_idx[idx] == j {
-                    10.0
-                } else {
-                    0.1 * rnd()
-                };
-            }
-        }
-        for g in nw.asm.grad.iter_mut() {
-            *g = rnd();
-        }
+        let mut rnd = uniform(777);
+        random_system(&mut nw, &mut rnd);
         let nc = ct.len();
         let rho_al = 50.0;
         let at_node: Vec<bool> = (0..nc)
@@ -507,13 +507,7 @@ mod tests {
         let it = re.couple(&ct, &mut nw, &held, 1e-12);
         assert!(it > 0 && it != UNCOUPLED, "{it} iterations");
         let dq = nw.dq.clone();
-        let mut r: Vec<f64> = (0..n)
-            .map(|i| {
-                let lo = i.saturating_sub(W);
-                let hi = (i + W + 1).min(n);
-                (lo..hi).map(|j| nw.asm.h(i, j) * dq[j]).sum::<f64>() + nw.asm.grad[i]
-            })
-            .collect();
+        let mut r = band_residual(&nw, &dq);
         for c in 0..nc {
             let st = &ct.contacts[c].stencil;
             let dn = if at_node[c] {
