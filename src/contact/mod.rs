@@ -123,6 +123,7 @@ static NO_STATS: ContactStats = ContactStats {
     semismooth_steps: 0,
     semismooth_fallbacks: 0,
     semismooth_retries: 0,
+    semismooth_residual_stops: 0,
     certificates: 0,
     certificate_failures: 0,
     certificate_max_correction: 0.0,
@@ -149,6 +150,10 @@ pub struct ContactStats {
     /// Semi-smooth attempts that failed and started again from the step's start with another
     /// penalty (`[solver] semi_smooth_retries`; a step solved by a retry is no fallback).
     pub semismooth_retries: usize,
+    /// Semi-smooth steps that converged by their residual: every equation within the force
+    /// tolerance and the positions settled while the direction still moved the force
+    /// variables ([`semismooth`], convergence).
+    pub semismooth_residual_stops: usize,
     /// Semi-smooth steps certified by the conic program (`[solver] conic_certificate`).
     pub certificates: usize,
     /// Certified steps whose conic program moved the solution by more than the Newton

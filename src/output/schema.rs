@@ -95,6 +95,7 @@ pub const SUMMARY: &[Field] = &[
     f("stats.semismooth_steps", "", "contact steps solved by the semi-smooth Newton alone (solver.contact = \"semi-smooth\")"),
     f("stats.semismooth_fallbacks", "", "contact steps where the semi-smooth Newton failed and the conic path ran"),
     f("stats.semismooth_retries", "", "semi-smooth attempts that failed and started again from the step's start with another penalty (solver.semi_smooth_retries); a step a retry solves is no fallback"),
+    f("stats.semismooth_residual_stops", "", "semi-smooth steps that converged by their residual: force balance and Alart-Curnier residuals within normal_force_tolerance * W / n_c and the positions settled, while the Newton direction still moved the contact forces"),
     f("stats.certificates", "", "semi-smooth steps certified by one conic program from their solution (solver.conic_certificate = N: every N-th step; 0 without)"),
     f("stats.certificate_failures", "", "certified steps whose conic program moved the solution by more than the Newton tolerance or changed a normal force by more than normal_force_tolerance * W / n_c"),
     f("stats.certificate_max_correction", "", "largest correction of a certifying conic program, in units of solver.tolerance (positions over a, angles in rad)"),

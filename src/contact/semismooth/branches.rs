@@ -69,7 +69,8 @@ impl SemiSmooth {
     }
 
     /// Every contact's branch at `q`: its status and, sliding, its linearisation. Returns
-    /// the contacts' part of `2 theta` (relative to `scale`). `within`: a later iterate of the
+    /// the contacts' part of `2 theta` and their largest Alart-Curnier residual `|phi|` (both
+    /// relative to `scale`). `within`: a later iterate of the
     /// step, where a contact that slid at the last iterate and would now slide the other way
     /// is held stuck for this iterate instead: a contact whose true state is stuck otherwise
     /// slides back and forth, its slip overshooting by more than twice the cone's radius
@@ -82,8 +83,9 @@ impl SemiSmooth {
         q: &[f64],
         scale: f64,
         within: bool,
-    ) -> f64 {
+    ) -> (f64, f64) {
         let mut sum = 0.0;
+        let mut worst: f64 = 0.0;
         let trace = log::log_enabled!(log::Level::Trace);
         self.scratch.edge.clear();
         for c in 0..ct.len() {
@@ -109,8 +111,10 @@ impl SemiSmooth {
                     ContactStatus::Stick => char::from(b'0' + (10.0 * r).floor().min(9.0) as u8),
                 });
             }
-            sum += (b.phi_n * b.phi_n + b.phi_t[0] * b.phi_t[0] + b.phi_t[1] * b.phi_t[1])
+            let e = (b.phi_n * b.phi_n + b.phi_t[0] * b.phi_t[0] + b.phi_t[1] * b.phi_t[1])
                 / (scale * scale);
+            sum += e;
+            worst = worst.max(e);
             if mode == ContactStatus::Slide {
                 let wn = norm(b.w);
                 let cc = b.n_hat / wn;
@@ -122,7 +126,7 @@ impl SemiSmooth {
                 };
             }
         }
-        sum
+        (sum, worst.sqrt())
     }
 
     /// Whether every contact at `q` is on the branch the last direction was computed with, or
