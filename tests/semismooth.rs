@@ -331,3 +331,56 @@ fn a_failed_step_is_retried_with_other_penalties_before_the_conic_fallback() {
         "the retries changed the answer by {worst:e}"
     );
 }
+
+/// The stop by the residual (`semismooth_residual_stops`, the module doc of
+/// `contact::semismooth`): where a settled full step still moves the force variables, an
+/// iterate whose every equation is within the force tolerance is a solution. The bundled
+/// S-start at 100 elements (BDF2 at 3.6e-3 s), its first 400 steps: 71 steps stop by the
+/// residual, and the run ends 5.4e-6 a from the same run at a thousandth of both tolerances
+/// (the test before: 2.0e-6 a, no stop). Asserted: a tenth of the steps stop so, within ten
+/// Newton tolerances on positions (`5e-5 a`). A stop that ignored the Alart-Curnier residual
+/// (the force balance alone) took 136 stops and ended 3.1e-2 a away.
+#[test]
+fn a_step_stopped_by_its_residual_is_the_solution_of_tight_tolerances() {
+    let run = |scale: f64| {
+        let mut p = slither::problem::load(std::path::Path::new("problems/s_start.toml")).unwrap();
+        p.solver.tolerance *= scale;
+        p.solver.normal_force_tolerance *= scale;
+        let m = Model::new(&p);
+        let mut integ = Integrator::new(
+            &m,
+            Box::new(slither::gait::Muscles {
+                gait: m.gait.clone(),
+            }),
+        );
+        let mut s = State::initial(&m);
+        for _ in 0..400 {
+            integ.step(&mut s, m.dt).unwrap();
+        }
+        let st = integ.stats();
+        (
+            s.q,
+            st.contact.semismooth_residual_stops,
+            st.steps,
+            m.diameter,
+            m.tolerance,
+        )
+    };
+    let (q, stops, steps, a, tol) = run(1.0);
+    let (q_tight, _, _, _, _) = run(1e-3);
+    let worst = q
+        .iter()
+        .zip(&q_tight)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "{stops} of {steps} steps stopped by the residual; largest difference from the tight run {:.3e} a",
+        worst / a
+    );
+    assert!(stops >= steps / 10, "{stops} stops by the residual");
+    assert!(
+        worst <= 10.0 * tol * a,
+        "{:.3e} a from the tight run",
+        worst / a
+    );
+}
