@@ -136,7 +136,7 @@ const FAR_FORCING: f64 = 1e-2;
 /// The iterations of a step's first attempt in which sliding contacts between nodes couple
 /// their normal forces into the direction ([`SemiSmooth::couple_between`]); the attempt goes
 /// on with the lagged normal force. Coupled, such a contact beside a touching node contact now
-/// and then cycles between stick and slide until the cap of 100. On the damped S-start (BDF2,
+/// and then cycles between stick and slide until the cap (then 100). On the damped S-start (BDF2,
 /// the mean over steps of 3.4e-3 to 3.8e-3 s, iterations per step; nodes 16.34 and 10.26):
 /// at 200 elements 16.68 with 40, 17.34 with 30, 16.75 with 20 and 18.05 without a limit; at
 /// 100 elements 9.04 with 40, 9.53 with 30 and 9.41 without.
