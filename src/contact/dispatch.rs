@@ -158,6 +158,11 @@ impl ContactModel for Dispatcher {
         self.set.normal_forces(m, out);
     }
 
+    fn started_below(&self, m: &Model, out: &mut [bool]) {
+        self.set
+            .mark_started_below(m, m.tolerance * m.diameter, out);
+    }
+
     fn stats(&self) -> &ContactStats {
         &self.stats
     }

@@ -108,6 +108,9 @@ pub trait ContactModel: Send {
     fn points_at_nodes(&mut self, _on: bool) -> bool {
         false
     }
+    /// Set `out[r]` (real node `r`) for the nodes of every contact whose point started the
+    /// step below the ground by more than the Newton tolerance (default: none).
+    fn started_below(&self, _m: &Model, _out: &mut [bool]) {}
     /// The model's statistics so far (none by default).
     fn stats(&self) -> &ContactStats {
         &NO_STATS

@@ -29,6 +29,9 @@ pub struct ContactSet {
     pub pending: Vec<f64>,
     /// The normal forces at the start of the step (restored by a rejected step).
     normal_saved: Vec<f64>,
+    /// Each contact's gap at the start of the step (m): negative where the step's point, chosen
+    /// at the start, lies below the ground.
+    start_gap: Vec<f64>,
     /// The step's size `h` (s): the conic program scales its slips with it.
     pub h: f64,
 }
@@ -74,6 +77,7 @@ impl ContactSet {
             pending: normal.clone(),
             normal,
             normal_saved: Vec::new(),
+            start_gap: Vec::new(),
             h: 0.0,
         }
     }
@@ -150,7 +154,24 @@ impl ContactSet {
             c.frame = Frame::from_tangent(f::sub(x(lo), x(hi)));
             c.origin = c.stencil.position(origin);
         }
+        self.start_gap.clear();
+        self.start_gap
+            .extend(self.contacts.iter().map(|c| c.gap(q, m.diameter)));
         self.normal_saved.clone_from(&self.normal);
+    }
+
+    /// Set `out[r]` (real node `r`) for every node of a contact whose point started the step
+    /// below the ground by more than `depth` (m). On the curve a point chosen at a step's start
+    /// can lie below the ground where the parabola through a bend that lifts off dips below its
+    /// nodes; the step lifts it by that depth whatever its size, like an impact.
+    pub fn mark_started_below(&self, m: &Model, depth: f64, out: &mut [bool]) {
+        for (c, g) in self.contacts.iter().zip(&self.start_gap) {
+            if *g < -depth {
+                for (i, _) in c.stencil.iter() {
+                    out[i - m.real.start] = true;
+                }
+            }
+        }
     }
 
     /// Restore the normal forces saved at the start of the step.

@@ -37,6 +37,7 @@ impl Integrator<'_> {
                             self.events[r] = m.in_contact(self.normal_start[r])
                                 != m.in_contact(self.normal_end[r]);
                         }
+                        ct.started_below(m, &mut self.events);
                     }
                     let err = adaptive::error_norm(m, &s.q, &self.pred, c, tol, &self.events);
                     log::debug!("adaptive try t {} h {h:.4e} err {err:.4e} it {it}", s.t);
