@@ -20,7 +20,15 @@ pub struct Dispatcher {
     semismooth: Option<SemiSmooth>,
     /// The iterate at the step's start (the conic program's restart point).
     q_start: Vec<f64>,
+    /// The state's coordinates at the step's start and the slip origin (for points chosen
+    /// again, [`ContactSet::rechoose`]).
+    step_q: Vec<f64>,
+    step_origin: Vec<f64>,
 }
+
+/// How many times a step's contact points on the curve are chosen again at its solution
+/// ([`ContactSet::rechoose`]) before the step is taken as it is.
+pub const RECHOICES: usize = 4;
 
 impl Dispatcher {
     /// The ground contacts of `m` with the semi-smooth Newton (conic fallback) or, if
@@ -38,12 +46,47 @@ impl Dispatcher {
             stats: ContactStats::default(),
             conic: Conic::new(m),
             q_start: vec![0.0; m.ndof],
+            step_q: Vec::new(),
+            step_origin: Vec::new(),
         }
     }
 
     /// The contact set.
     pub fn set(&self) -> &ContactSet {
         &self.set
+    }
+
+    /// One solve of the step from `q` with the set's points as they are: the semi-smooth Newton
+    /// (its conic fallback, its certificate), or the conic program alone.
+    fn solve_once(
+        &mut self,
+        nw: &mut Newton,
+        obj: &Potential,
+        q: &mut Vec<f64>,
+    ) -> Result<usize, ContactFailure> {
+        let m = obj.model;
+        let Some(ss) = &mut self.semismooth else {
+            return self.conic.iterate(
+                &mut self.set,
+                &mut self.stats,
+                nw,
+                obj,
+                q,
+                m.max_iterations,
+            );
+        };
+        self.q_start.copy_from_slice(q);
+        match ss.solve(&mut self.set, &mut self.stats, nw, obj, q) {
+            Ok(it) => {
+                let every = m.solver.conic_certificate;
+                if every > 0 && self.stats.semismooth_steps.is_multiple_of(every) {
+                    self.conic
+                        .certify_recorded(&mut self.set, &mut self.stats, nw, obj, q)?;
+                }
+                Ok(it)
+            }
+            Err((why, spent)) => self.fall_back(nw, obj, q, why, spent),
+        }
     }
 
     /// The semi-smooth step failed (`why`, after `spent` iterations, `q` where it stopped):
@@ -98,7 +141,13 @@ impl ContactModel for Dispatcher {
         h: f64,
         q: &mut [f64],
     ) {
-        self.set.begin_step(m, q_start, slip_origin, h);
+        // Points on the curve are chosen at the step's first iterate, the predicted end of the
+        // step, where the body will lie (at the step's start: more of them chosen again).
+        self.set.begin_step_at(m, q_start, q, slip_origin, h);
+        self.step_q.clear();
+        self.step_q.extend_from_slice(q_start);
+        self.step_origin.clear();
+        self.step_origin.extend_from_slice(slip_origin);
         // Start from a feasible iterate: lift predicted penetrations onto the ground.
         self.set.lift(m, q);
         if let Some(ss) = &mut self.semismooth {
@@ -121,28 +170,19 @@ impl ContactModel for Dispatcher {
         q: &mut Vec<f64>,
     ) -> Result<usize, ContactFailure> {
         let m = obj.model;
-        let Some(ss) = &mut self.semismooth else {
-            return self.conic.iterate(
-                &mut self.set,
-                &mut self.stats,
-                nw,
-                obj,
-                q,
-                m.max_iterations,
-            );
-        };
-        self.q_start.copy_from_slice(q);
-        match ss.solve(&mut self.set, &mut self.stats, nw, obj, q) {
-            Ok(it) => {
-                let every = m.solver.conic_certificate;
-                if every > 0 && self.stats.semismooth_steps.is_multiple_of(every) {
-                    self.conic
-                        .certify_recorded(&mut self.set, &mut self.stats, nw, obj, q)?;
-                }
-                Ok(it)
+        let mut it = self.solve_once(nw, obj, q)?;
+        for _ in 0..RECHOICES {
+            if !self.set.rechoose(m, &self.step_q, &self.step_origin, q) {
+                return Ok(it);
             }
-            Err((why, spent)) => self.fall_back(nw, obj, q, why, spent),
+            self.stats.ground_point_rechoices += 1;
+            it += self.solve_once(nw, obj, q)?;
         }
+        if self.set.nodes_below(m, q) {
+            // Chosen again as often as allowed: the step stands as solved.
+            self.stats.ground_point_rechoice_limits += 1;
+        }
+        Ok(it)
     }
 
     fn accept(&mut self, _m: &Model, _q: &[f64]) {}

@@ -127,6 +127,8 @@ static NO_STATS: ContactStats = ContactStats {
     semismooth_fallbacks: 0,
     semismooth_retries: 0,
     semismooth_residual_stops: 0,
+    ground_point_rechoices: 0,
+    ground_point_rechoice_limits: 0,
     certificates: 0,
     certificate_failures: 0,
     certificate_max_correction: 0.0,
@@ -157,6 +159,12 @@ pub struct ContactStats {
     /// tolerance and the positions settled while the direction still moved the force
     /// variables ([`semismooth`], convergence).
     pub semismooth_residual_stops: usize,
+    /// Contact solves made again because a node with its contact on the curve sank below the
+    /// ground at the solution, its point chosen again there ([`ContactSet::rechoose`]).
+    pub ground_point_rechoices: usize,
+    /// Steps whose points, chosen again [`dispatch::RECHOICES`] times, still left a node below
+    /// the ground by more than [`set::PENETRATION_TOLERANCE`] `a` (taken as they were).
+    pub ground_point_rechoice_limits: usize,
     /// Semi-smooth steps certified by the conic program (`[solver] conic_certificate`).
     pub certificates: usize,
     /// Certified steps whose conic program moved the solution by more than the Newton

@@ -95,6 +95,8 @@ pub const SUMMARY: &[Field] = &[
     f("stats.semismooth_steps", "", "contact steps solved by the semi-smooth Newton alone (solver.contact = \"semi-smooth\")"),
     f("stats.semismooth_fallbacks", "", "contact steps where the semi-smooth Newton failed and the conic path ran"),
     f("stats.semismooth_retries", "", "semi-smooth attempts that failed and started again from the step's start with another penalty (solver.semi_smooth_retries); a step a retry solves is no fallback"),
+    f("stats.ground_point_rechoices", "", "contact solves made again because a node with its ground contact on the curve sank below the ground (by more than 5e-7 a) at the step's solution; its point was chosen again there"),
+    f("stats.ground_point_rechoice_limits", "", "steps whose points on the curve were chosen again 4 times and still left a node below the ground (taken as they were)"),
     f("stats.semismooth_residual_stops", "", "semi-smooth steps that converged by their residual: force balance and Alart-Curnier residuals within normal_force_tolerance * W / n_c and the positions settled, while the Newton direction still moved the contact forces"),
     f("stats.certificates", "", "semi-smooth steps certified by one conic program from their solution (solver.conic_certificate = N: every N-th step; 0 without)"),
     f("stats.certificate_failures", "", "certified steps whose conic program moved the solution by more than the Newton tolerance or changed a normal force by more than normal_force_tolerance * W / n_c"),
