@@ -387,7 +387,7 @@ key_table! {
     SOLVER_CONTACT = "solver.contact", "", Word("semi-smooth"), Text("\"semi-smooth\" or \"conic\""), "",
         "Contact solver: a semi-smooth Newton on the Alart-Curnier conditions (every status from each iterate; the conic program as fallback and certificate), or one Clarabel program per Newton iterate (`SLITHER_CONTACT=conic` overrides it). There is no active-set solver: no bundled scene needs one (record `active-set-need`).";
     SOLVER_GROUND_POINTS = "solver.ground_points", "", Word("nodes"), Text("\"nodes\" or \"curve\""), "",
-        "Where the ground touches the body: at the nodes, or at each node's lowest point of the parabola through it and its two neighbours, within half an element of it, chosen at every step's start (a contact between nodes, moving along the body as it lands and lifts; the semi-smooth Newton holds it by an augmented Lagrangian). The guide's \"Ground contact between the nodes\" has the measurements.";
+        "Where the ground touches the body: at the nodes, or at each node's lowest point of the parabola through it and its two neighbours, within half an element of it, chosen for every step at its first iterate and again at its solution where a node sinks below the ground (a contact between nodes, moving along the body as it lands and lifts; the semi-smooth Newton holds it by an augmented Lagrangian). The guide's \"Ground contact between the nodes\" has the measurements.";
     SOLVER_MAX_BACKTRACKS = "solver.max_backtracks", "", Int(40), Range::Int { lo: 1, hi: 200 }, "",
         "Line search: step halvings per Newton iterate before the step fails.";
     SOLVER_ARMIJO = "solver.armijo", "", Real(1e-4), open(0.0, 0.5), "",
