@@ -10,8 +10,10 @@ use slither::model::Model;
 use slither::{observe, output, problem, sim};
 use std::path::{Path, PathBuf};
 
-const SCENES: [&str; 8] = [
+const SCENES: [&str; 9] = [
     "problems/s_start.toml",
+    // The bundled phase study's base: the S-start on 50 elements with ground contact on the curve.
+    "problems/phase_s_start_base.toml",
     "problems/s_start_heavy.toml",
     "problems/sidewinding.toml",
     "problems/serpenoid.toml",
