@@ -20,10 +20,6 @@ pub struct Dispatcher {
     semismooth: Option<SemiSmooth>,
     /// The iterate at the step's start (the conic program's restart point).
     q_start: Vec<f64>,
-    /// The state's coordinates at the step's start and the slip origin (for points chosen
-    /// again, [`ContactSet::rechoose`]).
-    step_q: Vec<f64>,
-    step_origin: Vec<f64>,
 }
 
 /// How many times a step's contact points on the curve are chosen again at its solution
@@ -46,8 +42,6 @@ impl Dispatcher {
             stats: ContactStats::default(),
             conic: Conic::new(m),
             q_start: vec![0.0; m.ndof],
-            step_q: Vec::new(),
-            step_origin: Vec::new(),
         }
     }
 
@@ -143,11 +137,7 @@ impl ContactModel for Dispatcher {
     ) {
         // Points on the curve are chosen at the step's first iterate, the predicted end of the
         // step, where the body will lie (at the step's start: more of them chosen again).
-        self.set.begin_step_at(m, q_start, q, slip_origin, h);
-        self.step_q.clear();
-        self.step_q.extend_from_slice(q_start);
-        self.step_origin.clear();
-        self.step_origin.extend_from_slice(slip_origin);
+        self.set.begin_step(m, q_start, q, slip_origin, h);
         // Start from a feasible iterate: lift predicted penetrations onto the ground.
         self.set.lift(m, q);
         if let Some(ss) = &mut self.semismooth {
@@ -172,7 +162,7 @@ impl ContactModel for Dispatcher {
         let m = obj.model;
         let mut it = self.solve_once(nw, obj, q)?;
         for _ in 0..RECHOICES {
-            if !self.set.rechoose(m, &self.step_q, &self.step_origin, q) {
+            if !self.set.rechoose(m, q) {
                 return Ok(it);
             }
             self.stats.ground_point_rechoices += 1;

@@ -30,9 +30,13 @@ pub struct ContactSet {
     pub pending: Vec<f64>,
     /// The normal forces at the start of the step (restored by a rejected step).
     normal_saved: Vec<f64>,
-    /// Each contact's gap at the start of the step (m): negative where the step's point, chosen
-    /// at the start, lies below the ground.
+    /// Each contact's gap at the start of the step (m): negative where the step's point lies
+    /// below the ground there.
     start_gap: Vec<f64>,
+    /// With contacts on the curve: the step's start and slip origin, from which a point chosen
+    /// again at the solution takes its frame and origin ([`ContactSet::rechoose`]).
+    step_q: Vec<f64>,
+    step_origin: Vec<f64>,
     /// The step's size `h` (s): the conic program scales its slips with it.
     pub h: f64,
 }
@@ -79,6 +83,8 @@ impl ContactSet {
             normal,
             normal_saved: Vec::new(),
             start_gap: Vec::new(),
+            step_q: Vec::new(),
+            step_origin: Vec::new(),
             h: 0.0,
         }
     }
@@ -132,15 +138,10 @@ impl ContactSet {
         (m.total_mass() * f::norm(m.gravity) / self.len().max(1) as f64).max(1e-300)
     }
 
-    /// Start a step of size `h`: freeze the contact frames (from `q`) and the slip origins
-    /// (from `origin`), and save the normal forces.
-    pub fn begin_step(&mut self, m: &Model, q: &[f64], origin: &[f64], h: f64) {
-        self.begin_step_at(m, q, q, origin, h);
-    }
-
-    /// [`ContactSet::begin_step`] with the points on the curve chosen at `choose` (the step's
-    /// first iterate) instead of at `q`.
-    pub fn begin_step_at(&mut self, m: &Model, q: &[f64], choose: &[f64], origin: &[f64], h: f64) {
+    /// Start a step of size `h` from `q`: choose the points on the curve at `choose` (the step's
+    /// first iterate, the predicted end of the step), freeze the contact frames (from `q`) and
+    /// the slip origins (from `origin`), and save the normal forces.
+    pub fn begin_step(&mut self, m: &Model, q: &[f64], choose: &[f64], origin: &[f64], h: f64) {
         self.h = h;
         if let Some(owners) = &self.owners {
             for (c, &i) in self.contacts.iter_mut().zip(owners) {
@@ -149,6 +150,12 @@ impl ContactSet {
                 } else {
                     lowest_point(m, choose, i)
                 };
+            }
+            if !self.at_nodes {
+                self.step_q.clear();
+                self.step_q.extend_from_slice(q);
+                self.step_origin.clear();
+                self.step_origin.extend_from_slice(origin);
             }
         }
         for c in &mut self.contacts {
@@ -161,8 +168,8 @@ impl ContactSet {
     }
 
     /// Set `out[r]` (real node `r`) for every node of a contact whose point started the step
-    /// below the ground by more than `depth` (m). On the curve a point chosen at a step's start
-    /// can lie below the ground where the parabola through a bend that lifts off dips below its
+    /// below the ground by more than `depth` (m). On the curve a point can lie below the ground
+    /// at the step's start where the parabola through a bend that lifts off dips below its
     /// nodes; the step lifts it by that depth whatever its size, like an impact.
     pub fn mark_started_below(&self, m: &Model, depth: f64, out: &mut [bool]) {
         for (c, g) in self.contacts.iter().zip(&self.start_gap) {
@@ -176,7 +183,7 @@ impl ContactSet {
 
     /// Choose again, at the step's solution `q`, the point of every contact on the curve whose
     /// node lies below the ground there by more than [`PENETRATION_TOLERANCE`] `a`; its frame
-    /// and slip origin are set from the step's start (`q_start`, `origin`) as
+    /// and slip origin are set from the step's start and slip origin as
     /// [`ContactSet::begin_step`] sets them. Returns whether any point changed.
     ///
     /// A point chosen before the step is solved is the lowest of the curve there, not at the
@@ -189,7 +196,7 @@ impl ContactSet {
     /// below its nodes where the body (straight between nodes) does not, and a point chosen
     /// there and the node beside it would take turns sinking (the head's contact did, in 7 of
     /// 991 steps of that run).
-    pub fn rechoose(&mut self, m: &Model, q_start: &[f64], origin: &[f64], q: &[f64]) -> bool {
+    pub fn rechoose(&mut self, m: &Model, q: &[f64]) -> bool {
         let Some(owners) = &self.owners else {
             return false;
         };
@@ -204,8 +211,8 @@ impl ContactSet {
             let p = lowest_point(m, q, i);
             let ct = &mut self.contacts[c];
             ct.stencil = p;
-            set_frame(m, ct, q_start, origin);
-            self.start_gap[c] = ct.gap(q_start, m.diameter);
+            set_frame(m, ct, &self.step_q, &self.step_origin);
+            self.start_gap[c] = ct.gap(&self.step_q, m.diameter);
             changed = true;
         }
         changed

@@ -17,8 +17,8 @@
 //! raised to `z = a/2` (the ground), and a node whose contact state (normal force above
 //! [`Model::in_contact`]'s threshold) differs between the start and the end of the step is
 //! left out of the norm for that step, as are the nodes of a contact on the curve whose point
-//! starts the step below the ground by more than the Newton tolerance (a point chosen at the
-//! step's start where the parabola through a bend that lifts off dips below its nodes: the step
+//! starts the step below the ground by more than the Newton tolerance (a point where the
+//! parabola through a bend that lifts off dips below its nodes: the step
 //! lifts it by that depth whatever its size; counted in, the 20-element S-start stopped with
 //! its step below `dt_min`, `tests/contact_between.rs`). The neighbours of such a node, the sticking and sliding
 //! nodes and every lifted node still count: a contact event shrinks the step through the
