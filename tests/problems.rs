@@ -109,7 +109,9 @@ fn whole_run(p: &problem::Problem) -> (sim::Outcome, f64, f64) {
 /// 0.31545). With the semi-smooth Newton's stop by the residual (2026-12-06), the same four
 /// runs of each: 6.19 to 6.31, 3.278 to 3.279 and 4.87 to 4.93 iterations per step (3741 to
 /// 3773 accepted steps), no fallback, no halving, v_s/v_m 0.32350 to 0.32352, 0.30309 and
-/// 0.3085 to 0.3091.
+/// 0.3085 to 0.3091. The bundled S-start with its contacts on the curve (issue 53, with the
+/// dead zone of the lowest point): 6.78 to 6.97 iterations per step, no fallback, no halving,
+/// v_s/v_m 0.324143 (6.63 to 6.78 and 0.324139 without the dead zone).
 ///
 /// Regression pin: iterations per step 5 % above the largest run, fallbacks on at most 0.5 %
 /// of the steps (the target of the contact work), no halving, v_s/v_m within 1e-3 relative
@@ -122,7 +124,7 @@ fn pin_semi_smooth_statistics_on_the_s_start() {
     adaptive.solver.integrator = problem::IntegratorKind::Bdf2;
     adaptive.time.adaptive = true;
     for (name, p, bound, v_ref, v_tol) in [
-        ("bundled", bundled, 6.63, 0.32351, 1e-3),
+        ("bundled", bundled, 7.32, 0.32414, 1e-3),
         ("50 elements", coarse, 3.45, 0.3031, 1e-3),
         ("adaptive BDF2", adaptive, 5.18, 0.30895, 0.01),
     ] {

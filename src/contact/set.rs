@@ -315,12 +315,23 @@ fn set_frame(m: &Model, c: &mut Contact, q: &[f64], origin: &[f64]) {
 /// The regularisation of [`lowest_point`] in units of the diameter `a`.
 pub const LOWEST_POINT_TAU: f64 = 1e-4;
 
+/// The sag (second difference of three nodes' heights) in units of the diameter `a` below
+/// which a contact on the curve stays at its node ([`lowest_point`]): the largest second
+/// difference of Newton's unresolved corrections at the default `[solver] tolerance` (5e-6 `a`
+/// per coordinate, four of them in a second difference). Without it the points of a body lying
+/// flat sat between nodes by `s c / tau^2` of an element, set by those ripples: solver noise
+/// became a shift of the normal forces of order 1e-4 of a weight, above the tolerance, and two
+/// runs of the bundled S-start at the default and a thousandth of the tolerances parted by
+/// 6.6e-5 `a` in 400 steps (2.7e-6 `a` with it; 5.4e-6 `a` with node contacts).
+pub const LOWEST_POINT_DEAD_ZONE: f64 = 2e-5;
+
 /// The lowest point of the body near real node `i` at `q`: the minimum over the half element
 /// on either side of `i` of the parabola through the heights of `i` and its two neighbours (at
 /// an end, the end node and the next two, over the half element inward), as the stencil of
 /// those three nodes. A parabola that does not sag (`c <= 0`: straight or arched) lies above
-/// its chords, so the node itself is the lowest point that matters; the vertex of one that
-/// does is taken with a regularisation `t = -s c / (c^2 + tau^2)`, `tau = 1e-4 a`, so that the
+/// its chords, so the node itself is the lowest point that matters, and so is it for one that
+/// sags by less than [`LOWEST_POINT_DEAD_ZONE`] `d`; the vertex of one that sags more is
+/// approached by the fraction `(c - d)^2 / ((c - d)^2 + tau^2)`, `tau = 1e-4 a`, so that the
 /// point moves continuously as the curve flattens and a flat body's points sit on its nodes.
 /// `tau` lies above what Newton resolves (corrections below `[solver] tolerance`, 5e-6 a per
 /// coordinate, so up to 2e-5 a in a second difference) and below a real sag (at 800 elements
@@ -360,7 +371,9 @@ pub fn lowest_point(m: &Model, q: &[f64], i: usize) -> Stencil {
         let tau = LOWEST_POINT_TAU * m.diameter;
         // The vertex relative to the node, regularised, then clamped to the node's interval.
         let vertex = -s / c;
-        let blend = c * c / (c * c + tau * tau);
+        // The sag beyond the dead zone, where Newton's unresolved ripples lie.
+        let ce = (c - LOWEST_POINT_DEAD_ZONE * m.diameter).max(0.0);
+        let blend = ce * ce / (ce * ce + tau * tau);
         (node_t + blend * (vertex - node_t)).clamp(range.0, range.1)
     } else {
         node_t
