@@ -30,6 +30,7 @@ echo "new: $SLITHER on problems/s_start.toml of $(git rev-parse --short HEAD) ($
 for k in $(seq 1 "$rounds"); do
     for which in old new; do
         if [ "$which" = old ]; then bin="$old_bin"; file="$tmp/old.toml"; else bin="$SLITHER"; file=problems/s_start.toml; fi
+        rm -rf "$tmp/$which" # a fresh directory: --accuracy reuses the probe runs it finds there
         t0=$(date +%s.%N)
         "$bin" run "$file" --out "$tmp/$which" --no-plots --quiet --force --accuracy 0.01 >"$tmp/$which.log" 2>&1
         t1=$(date +%s.%N)
