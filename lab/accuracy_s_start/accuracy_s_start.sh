@@ -8,10 +8,10 @@
 #
 # The converged value, on the bundled file's damped rod (rod.damping_time = 10 ms) with its
 # ground contact on the curve ([solver] ground_points = "curve", the bundled file's since issue
-# 53): records ground-points-800 (800 elements: implicit Euler at 2.5e-4 and 5e-4 s, 0.32213
-# and 0.32215; BDF2 at 5e-4 s, 0.32245) and ground-points (400 elements, implicit Euler at
-# 2.5e-4 s, 0.32238), made before the lowest point's dead zone (which moves the bundled run by
-# 1e-5 relative). The actual error is reported
+# 53): records ground-points-800 of 2026-12-06, the tenth to twelfth (800 elements: implicit
+# Euler at 2.5e-4 and 5e-4 s, 0.32211 and 0.32216; BDF2 at 5e-4 s, 0.32245), ground-points
+# (400 elements, implicit Euler at 2.5e-4 s, 0.32239) and converged-s-start (400 elements,
+# implicit Euler's mean of 6 runs at small steps, 0.32241). The actual error is reported
 # against each of these. SLITHER names a built binary to use instead of building one
 # (tools/build.sh).
 set -euo pipefail
@@ -28,7 +28,7 @@ t0="$(date +%s.%N)"
 "$slither" run problems/s_start.toml --accuracy "$target" --no-plots --quiet --out "$out"
 t1="$(date +%s.%N)"
 echo "whole command: $(awk "BEGIN { printf \"%.1f s\", $t1 - $t0 }")"
-jq -r --argjson refs '[[0.32213, "800 el., implicit Euler 2.5e-4 s"], [0.32215, "800 el., implicit Euler 5e-4 s"], [0.32245, "800 el., BDF2 5e-4 s"], [0.32238, "400 el., implicit Euler 2.5e-4 s"]]' '
+jq -r --argjson refs '[[0.32211, "800 el., implicit Euler 2.5e-4 s"], [0.32216, "800 el., implicit Euler 5e-4 s"], [0.32245, "800 el., BDF2 5e-4 s"], [0.32239, "400 el., implicit Euler 2.5e-4 s"], [0.32241, "400 el., implicit Euler, mean of 6 runs at small steps"]]' '
   .accuracy as $a | .v_s_over_v_m as $v |
   "probes:",
   ($a.runs[] | "  \(.elements) el., dt \(.dt // "-") s, tolerance \(.error_tolerance // "-"): v_s/v_m \(.v_s_over_v_m), \(.steps) steps, \(.wall_time_s) s, \(.status)"),
