@@ -8,7 +8,8 @@
 # BDF2 at most 2.1e-3 s, where neither integrator's values drift with the step), the mean, the
 # standard deviation and the range. Kept as a dated record docs/results/converged-s-start/<date>.md.
 #
-#   lab/converged_s_start/converged_s_start.sh        # 21 runs at 400 elements, about 7 min on 2 cores
+#   lab/converged_s_start/converged_s_start.sh        # 21 runs at 400 elements, about 4 min on 2 cores
+#                                                     # (contact on the curve; 20 min with node contacts)
 #
 # SLITHER names a built binary to use instead of building one (tools/build.sh).
 set -euo pipefail

@@ -4,7 +4,8 @@
 # 200 elements, with each halving's change and the gap between the two integrators; the jitter
 # of each mesh (three steps 5 to 10 % from 1.25e-4 s) and the halving criterion against it;
 # then the elastic rod (rod.damping_time = 0) at 200 elements for comparison. Kept as a dated
-# record docs/results/ie-bdf2-one-answer/<date>.md. About 15 minutes on 2 cores.
+# record docs/results/ie-bdf2-one-answer/<date>.md. About 3 minutes on 2 cores (contact on the
+# curve; 5 with node contacts).
 #
 #   lab/ie_bdf2/one_answer.sh
 #

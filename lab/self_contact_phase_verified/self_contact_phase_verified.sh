@@ -9,7 +9,7 @@
 # are copied to docs/phase_fine_self_contact_verified/; kept as a dated record
 # docs/results/self-contact-phase-verified/<date>.md.
 #
-#   lab/self_contact_phase_verified/self_contact_phase_verified.sh [OUT]
+#   lab/self_contact_phase_verified/self_contact_phase_verified.sh [OUT]   # about 28 min on 2 cores
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 if [ "${1:-}" != "--inner" ]; then
