@@ -367,12 +367,12 @@ pub fn lowest_point(m: &Model, q: &[f64], i: usize) -> Stencil {
     } else {
         0.0
     };
-    let t = if c > 0.0 {
+    // The sag beyond the dead zone, where Newton's unresolved ripples lie.
+    let ce = c - LOWEST_POINT_DEAD_ZONE * m.diameter;
+    let t = if ce > 0.0 {
         let tau = LOWEST_POINT_TAU * m.diameter;
         // The vertex relative to the node, regularised, then clamped to the node's interval.
         let vertex = -s / c;
-        // The sag beyond the dead zone, where Newton's unresolved ripples lie.
-        let ce = (c - LOWEST_POINT_DEAD_ZONE * m.diameter).max(0.0);
         let blend = ce * ce / (ce * ce + tau * tau);
         (node_t + blend * (vertex - node_t)).clamp(range.0, range.1)
     } else {
